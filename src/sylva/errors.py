@@ -1,0 +1,91 @@
+"""Errors raised by sylva.
+
+Every error a user can cause derives from :class:`SylvaError`.  Errors about text carry the
+file name, the 1-based line and column, the offending source line and a caret, and say what
+was expected, so that the command line can print them without a traceback.
+"""
+
+from __future__ import annotations
+
+__all__ = ["GrowthLimitError", "LSystemSemanticError", "LSystemSyntaxError", "SylvaError"]
+
+
+class SylvaError(Exception):
+    """Root of every error sylva raises on bad input or exhausted limits."""
+
+
+class LSystemSyntaxError(SylvaError, ValueError):
+    """Text that does not parse, with its location.
+
+    Parameters
+    ----------
+    message : str
+        What went wrong and what was expected.
+    filename : str, optional
+        The file the text came from (``"<string>"`` when it came from a string).
+    line, column : int, optional
+        1-based position of the error.
+    source_line : str, optional
+        The text of the line, shown with a caret under ``column``.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        filename: str | None = None,
+        line: int | None = None,
+        column: int | None = None,
+        source_line: str | None = None,
+    ) -> None:
+        self.message = message
+        self.filename = filename or "<string>"
+        self.line = line
+        self.column = column
+        self.source_line = source_line
+        super().__init__(self._format())
+
+    def _format(self) -> str:
+        where = self.filename
+        if self.line is not None:
+            where += f":{self.line}"
+            if self.column is not None:
+                where += f":{self.column}"
+        text = f"{where}: {self.message}"
+        if self.source_line is not None:
+            src = self.source_line.rstrip("\r\n").expandtabs(1)
+            text += "\n    " + src
+            if self.column is not None:
+                text += "\n    " + " " * max(self.column - 1, 0) + "^"
+        return text
+
+    @classmethod
+    def at(
+        cls,
+        message: str,
+        text: str,
+        line: int,
+        column: int,
+        filename: str | None = None,
+    ) -> LSystemSyntaxError:
+        """Build an error at ``line``/``column`` of ``text``, quoting that line."""
+        lines = text.splitlines()
+        src = lines[line - 1] if 0 < line <= len(lines) else None
+        return cls(message, filename=filename, line=line, column=column, source_line=src)
+
+
+class LSystemSemanticError(LSystemSyntaxError):
+    """Text that parses but means nothing valid (an unknown variable, a missing axiom …)."""
+
+
+class GrowthLimitError(SylvaError):
+    """A derivation would pass the module or memory limit.
+
+    The word derived before the limit was hit is kept in :attr:`word` (it may be ``None``
+    when the very first step is too large), and :attr:`step` says how many steps it holds.
+    """
+
+    def __init__(self, message: str, *, word=None, step: int | None = None) -> None:
+        self.word = word
+        self.step = step
+        super().__init__(message)

@@ -1,0 +1,235 @@
+"""The common program of every dialect: frozen dataclasses.
+
+A dialect parses text into a :class:`Program`; the engine derives words from it; the turtle
+reads its :attr:`Program.settings`.  Nothing here knows about any text syntax.
+
+Examples
+--------
+>>> from sylva.lsystem.ast import Module, Num, Pattern, Program, Rule
+>>> p = Program(axiom=(Module("a"),), rules=(Rule(Pattern("a"), (Module("b"),)),))
+>>> p.rules[0].predecessor.symbol
+'a'
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+
+__all__ = [
+    "Binary",
+    "Call",
+    "Expr",
+    "Module",
+    "Num",
+    "Pattern",
+    "Program",
+    "Rule",
+    "Span",
+    "Unary",
+    "Var",
+]
+
+BRACKETS = frozenset("[]")
+
+
+@dataclass(frozen=True, slots=True)
+class Span:
+    """Where something was written: 1-based line and column in ``filename``."""
+
+    line: int
+    column: int
+    filename: str | None = None
+
+
+# --------------------------------------------------------------------------- expressions
+@dataclass(frozen=True, slots=True)
+class Num:
+    """A numeric literal (``True`` is 1.0, ``False`` is 0.0)."""
+
+    value: float
+
+
+@dataclass(frozen=True, slots=True)
+class Var:
+    """A variable: a bound parameter or a global constant."""
+
+    name: str
+    span: Span | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Unary:
+    """``-x`` or ``!x``."""
+
+    op: str
+    operand: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Binary:
+    """``l op r`` for the operators of seed 001 §3.4."""
+
+    op: str
+    left: Expr
+    right: Expr
+
+
+@dataclass(frozen=True, slots=True)
+class Call:
+    """A call of one of the built-in functions (``sin``, ``sqrt``, ``sum`` …)."""
+
+    func: str
+    args: tuple[Expr, ...]
+    span: Span | None = field(default=None, compare=False)
+
+
+Expr = Num | Var | Unary | Binary | Call
+
+
+# --------------------------------------------------------------------------- modules
+@dataclass(frozen=True, slots=True)
+class Module:
+    """A module with formal parameters, as in a successor or the axiom: ``F(l*2)``."""
+
+    symbol: str
+    args: tuple[Expr, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class Pattern:
+    """A module with binding names, as in a predecessor or context: ``A(x, y)``.
+
+    In a right context ``Pattern("[")`` and ``Pattern("]")`` delimit lateral subtrees.
+    """
+
+    symbol: str
+    params: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class Rule:
+    """One production ``left < predecessor > right : condition ->(weight) successor``.
+
+    ``render`` marks a render rule (``->>``), applied once to make the word the turtle
+    draws.  ``weight`` is an expression (usually a constant) evaluated per application.
+    """
+
+    predecessor: Pattern
+    successor: tuple[Module, ...] = ()
+    left: tuple[Pattern, ...] = ()
+    right: tuple[Pattern, ...] = ()
+    condition: Expr | None = None
+    weight: Expr = Num(1.0)
+    render: bool = False
+    span: Span | None = field(default=None, compare=False)
+
+    @property
+    def has_context(self) -> bool:
+        return bool(self.left or self.right)
+
+    @property
+    def tier(self) -> int:
+        """Priority tier of seed 001: 0 conditional, 1 context, 2 context-free."""
+        if self.condition is not None:
+            return 0
+        return 1 if self.has_context else 2
+
+
+def _freeze(mapping: Mapping | None) -> Mapping:
+    return MappingProxyType(dict(mapping or {}))
+
+
+@dataclass(frozen=True)
+class Program:
+    """An L-system in any dialect.
+
+    Attributes
+    ----------
+    axiom : tuple of Module
+        The initial word; its parameters are expressions over :attr:`constants`.
+    rules : tuple of Rule
+        Productions and render rules, in the order written.
+    constants : Mapping[str, float]
+        Global numeric constants (user variables), in the order assigned.
+    ignore : frozenset of str
+        Symbols skipped when contexts are matched.
+    consider : frozenset of str or None
+        When set, only these symbols (and brackets) are seen by context matching.
+    settings : Mapping[str, object]
+        Special variables for the turtle and renderer (``rot``, ``len``, ``thick``,
+        ``color``, ``bg``, ``detail``, the ``*_delta`` increments, ``reduction``, ``yaw`` …)
+        and ``turtle``, the name of the command table (``"lsys"``, ``"abop"``,
+        ``"classic"``, ``"engine"``).  Only what the source set is present; the turtle
+        supplies the defaults of its dialect.
+    steps : int or None
+        The number of derivation steps the source asks for (``iteration`` of seed 000,
+        ``steps`` in ``.lsys``), if any.
+    seed : int or None
+        The random seed the source asks for, if any.
+    dialect : str
+        The language the program was read from.
+    name : str or None
+        A name (file stem, or the engine format's index).
+    filename : str or None
+        Where the program was read from.
+    """
+
+    axiom: tuple[Module, ...]
+    rules: tuple[Rule, ...] = ()
+    constants: Mapping[str, float] = field(default_factory=dict)
+    ignore: frozenset[str] = frozenset()
+    consider: frozenset[str] | None = None
+    settings: Mapping[str, object] = field(default_factory=dict)
+    steps: int | None = None
+    seed: int | None = None
+    dialect: str = "lsys"
+    name: str | None = None
+    filename: str | None = field(default=None, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "axiom", tuple(self.axiom))
+        object.__setattr__(self, "rules", tuple(self.rules))
+        object.__setattr__(self, "constants", _freeze(self.constants))
+        object.__setattr__(self, "settings", _freeze(self.settings))
+        object.__setattr__(self, "ignore", frozenset(self.ignore))
+        if self.consider is not None:
+            object.__setattr__(self, "consider", frozenset(self.consider))
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Program):
+            return NotImplemented
+        return (
+            self.axiom == other.axiom
+            and self.rules == other.rules
+            and dict(self.constants) == dict(other.constants)
+            and self.ignore == other.ignore
+            and self.consider == other.consider
+            and dict(self.settings) == dict(other.settings)
+            and self.steps == other.steps
+            and self.seed == other.seed
+        )
+
+    __hash__ = None  # type: ignore[assignment]
+
+    @property
+    def productions(self) -> tuple[Rule, ...]:
+        """The rules used for derivation (not render rules)."""
+        return tuple(r for r in self.rules if not r.render)
+
+    @property
+    def render_rules(self) -> tuple[Rule, ...]:
+        """The render rules (``->>``)."""
+        return tuple(r for r in self.rules if r.render)
+
+    @property
+    def turtle(self) -> str:
+        """The name of the turtle command table this program is written for."""
+        return str(self.settings.get("turtle", "lsys"))
+
+    def replace(self, **changes) -> Program:
+        """A copy with some fields changed."""
+        from dataclasses import replace
+
+        return replace(self, **changes)
