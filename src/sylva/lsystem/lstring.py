@@ -2,7 +2,8 @@
 
 A :class:`ModuleString` holds ``n`` modules as
 
-* ``ids``: ``int32[n]`` — each module's symbol id in an :class:`Alphabet`;
+* ``ids``: ``uint16[n]`` — each module's symbol id in an :class:`Alphabet` (two bytes a
+  module keep big words cheap to write: page faults, not arithmetic, bound a step);
 * ``offsets``: ``int64[n + 1]`` — module ``i`` has parameters ``values[offsets[i]:offsets[i+1]]``;
 * ``values``: ``float64[m]`` — every parameter of every module, in order.
 
@@ -30,12 +31,14 @@ from collections.abc import Iterable, Iterator, Sequence
 import numpy as np
 from numba import njit
 
-from ..errors import LSystemSyntaxError
+from ..errors import LSystemSyntaxError, SylvaError
 
-__all__ = ["OPEN", "CLOSE", "Alphabet", "ModuleString", "format_number", "format_symbol"]
+__all__ = ["CLOSE", "ID_DTYPE", "MAX_SYMBOLS", "OPEN", "Alphabet", "ModuleString", "format_number", "format_symbol"]
 
 OPEN = 0
 CLOSE = 1
+ID_DTYPE = np.uint16
+MAX_SYMBOLS = 65535
 
 # Characters that are syntax in a word and cannot be one-character module names.
 _SYNTAX = set('()",#') | set(" \t\r\n")
@@ -60,6 +63,10 @@ class Alphabet:
         i = self._index.get(name)
         if i is None:
             i = len(self._names)
+            if i >= MAX_SYMBOLS:
+                raise SylvaError(
+                    f"more than {MAX_SYMBOLS} different symbols: {name!r} does not fit"
+                )
             self._names.append(name)
             self._index[name] = i
         return i
@@ -160,7 +167,7 @@ def _parents(ids, match):  # pragma: no cover - compiled
 class ModuleString:
     """An immutable sequence of modules stored in NumPy arrays (see the module docstring)."""
 
-    __slots__ = ("alphabet", "ids", "offsets", "values", "_match", "_parent", "_depth")
+    __slots__ = ("alphabet", "ids", "_offsets", "values", "_match", "_parent", "_depth")
 
     def __init__(
         self,
@@ -170,16 +177,19 @@ class ModuleString:
         values: np.ndarray | None = None,
     ) -> None:
         self.alphabet = alphabet
-        self.ids = np.ascontiguousarray(ids, dtype=np.int32)
+        self.ids = np.ascontiguousarray(ids, dtype=ID_DTYPE)
         n = self.ids.shape[0]
-        if offsets is None:
-            offsets = np.zeros(n + 1, np.int64)
-        self.offsets = np.ascontiguousarray(offsets, dtype=np.int64)
         self.values = np.ascontiguousarray(
             values if values is not None else np.empty(0), dtype=np.float64
         )
-        if self.offsets.shape[0] != n + 1:
-            raise ValueError("offsets must have one entry more than ids")
+        if offsets is None:
+            if self.values.shape[0]:
+                raise ValueError("values without offsets")
+            self._offsets = None  # no parameters anywhere: made on demand
+        else:
+            self._offsets = np.ascontiguousarray(offsets, dtype=np.int64)
+            if self._offsets.shape[0] != n + 1:
+                raise ValueError("offsets must have one entry more than ids")
         self._match: np.ndarray | None = None
         self._parent: np.ndarray | None = None
         self._depth: np.ndarray | None = None
@@ -230,7 +240,7 @@ class ModuleString:
             pos = m.end()
         offsets = np.zeros(len(ids) + 1, np.int64)
         np.cumsum(counts, out=offsets[1:])
-        return cls(alphabet, np.array(ids, np.int32), offsets, np.array(values, np.float64))
+        return cls(alphabet, np.array(ids, ID_DTYPE), offsets, np.array(values, np.float64))
 
     @classmethod
     def from_modules(
@@ -253,7 +263,7 @@ class ModuleString:
             values.extend(float(p) for p in params)
         offsets = np.zeros(len(ids) + 1, np.int64)
         np.cumsum(counts, out=offsets[1:])
-        return cls(alphabet, np.array(ids, np.int32), offsets, np.array(values, np.float64))
+        return cls(alphabet, np.array(ids, ID_DTYPE), offsets, np.array(values, np.float64))
 
     @classmethod
     def concat(cls, parts: Sequence[ModuleString]) -> ModuleString:
@@ -263,6 +273,8 @@ class ModuleString:
         alphabet = parts[0].alphabet
         ids = np.concatenate([p.ids for p in parts])
         values = np.concatenate([p.values for p in parts])
+        if not any(p.has_params for p in parts):
+            return cls(alphabet, ids)
         counts = np.concatenate([np.diff(p.offsets) for p in parts])
         offsets = np.zeros(ids.shape[0] + 1, np.int64)
         np.cumsum(counts, out=offsets[1:])
@@ -277,6 +289,8 @@ class ModuleString:
             start, stop, step = key.indices(len(self))
             if step != 1:
                 raise ValueError("a ModuleString slice must be contiguous")
+            if not self.has_params:
+                return ModuleString(self.alphabet, self.ids[start:stop])
             o = self.offsets[start : stop + 1] if stop > start else self.offsets[start : start + 1]
             vals = self.values[o[0] : o[-1]]
             return ModuleString(self.alphabet, self.ids[start:stop], o - o[0], vals)
@@ -306,10 +320,12 @@ class ModuleString:
             same_ids = np.array_equal(self.ids, other.ids)
         else:
             same_ids = self.symbols() == other.symbols()
-        return (
-            same_ids
-            and np.array_equal(self.offsets, other.offsets)
-            and np.array_equal(self.values, other.values)
+        if not same_ids:
+            return False
+        if not self.has_params and not other.has_params:
+            return True
+        return np.array_equal(self.offsets, other.offsets) and np.array_equal(
+            self.values, other.values
         )
 
     __hash__ = None  # type: ignore[assignment]
@@ -322,6 +338,13 @@ class ModuleString:
         return self.to_text()
 
     # ------------------------------------------------------------------ views
+    @property
+    def offsets(self) -> np.ndarray:
+        """``int64[n + 1]``: where each module's parameters start in :attr:`values`."""
+        if self._offsets is None:
+            self._offsets = np.zeros(self.ids.shape[0] + 1, np.int64)
+        return self._offsets
+
     @property
     def has_params(self) -> bool:
         return self.values.shape[0] > 0
@@ -384,33 +407,42 @@ class ModuleString:
     def match(self) -> np.ndarray:
         """``int64[n]``: index of the matching bracket for ``[``/``]``, else -1.
 
-        Computed without a Python loop: brackets are sorted by nesting level and position,
-        and each opening bracket pairs with the next bracket of its level.  Unbalanced
-        brackets are paired as far as they go and the rest left at -1.
+        Computed in one compiled pass with a stack; :meth:`match_vectorised` computes the
+        same without a Python loop and is kept as its reference.
         """
         if self._match is None:
-            ids = self.ids
-            n = ids.shape[0]
-            m = np.full(n, -1, np.int64)
-            is_open = ids == OPEN
-            is_close = ids == CLOSE
-            br = np.flatnonzero(is_open | is_close)
-            if br.size:
-                step = np.where(is_open[br], 1, -1)
-                after = np.cumsum(step)
-                level = np.where(step > 0, after, after + 1)  # level of the pair
-                order = np.lexsort((br, level))
-                sb = br[order]
-                sl = level[order]
-                so = is_open[sb]
-                # an opener followed (in its level) by a closer forms a pair
-                pair = so[:-1] & ~so[1:] & (sl[:-1] == sl[1:])
-                a = sb[:-1][pair]
-                b = sb[1:][pair]
-                m[a] = b
-                m[b] = a
-            self._match = m
+            from ._kernels import match_brackets
+
+            self._match = match_brackets(self.ids)
         return self._match
+
+    def match_vectorised(self) -> np.ndarray:
+        """The bracket partners of :attr:`match`, computed with array operations only.
+
+        Brackets are sorted by nesting level and position, and each opening bracket pairs
+        with the next bracket of its level.  Unbalanced brackets are left at -1.
+        """
+        ids = self.ids
+        n = ids.shape[0]
+        m = np.full(n, -1, np.int64)
+        is_open = ids == OPEN
+        is_close = ids == CLOSE
+        br = np.flatnonzero(is_open | is_close)
+        if br.size:
+            step = np.where(is_open[br], 1, -1)
+            after = np.cumsum(step)
+            level = np.where(step > 0, after, after + 1)  # level of the pair
+            order = np.lexsort((br, level))
+            sb = br[order]
+            sl = level[order]
+            so = is_open[sb]
+            # an opener followed (in its level) by a closer forms a pair
+            pair = so[:-1] & ~so[1:] & (sl[:-1] == sl[1:])
+            a = sb[:-1][pair]
+            b = sb[1:][pair]
+            m[a] = b
+            m[b] = a
+        return m
 
     def _tree(self) -> None:
         self._parent, self._depth = _parents(self.ids, self.match)

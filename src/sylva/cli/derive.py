@@ -1,0 +1,124 @@
+"""``sylva derive``: print the word an L-system grows."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from ..errors import SylvaError
+from ..lsystem import DEFAULT_MODULE_LIMIT, Derivation, ModuleString, Program
+
+__all__ = ["load_program", "register"]
+
+
+def load_program(source: str, dialect: str | None = None) -> Program:
+    """A program from a path, or the name of a built-in example."""
+    from ..lsystem import load
+
+    p = Path(source)
+    if p.exists():
+        return load(p, dialect=dialect)
+    from ..data import find
+
+    try:
+        ex = find(source)
+    except SylvaError:
+        raise SylvaError(
+            f"{source}: no such file, and no built-in example of that name "
+            "(`sylva examples` lists them)"
+        ) from None
+    return load(ex.path, dialect=dialect)
+
+
+def add_common(p: argparse.ArgumentParser) -> None:
+    p.add_argument("file", metavar="FILE", help="an L-system file, or a built-in example name")
+    p.add_argument("-n", "--steps", type=int, default=None,
+                   help="derivation steps (default: the file's own count, else 0)")
+    p.add_argument("--seed", type=int, default=None, help="seed of the random choices")
+    p.add_argument("--dialect", choices=["lsys", "classic", "engine"], default=None,
+                   help="force the language of FILE (default: detected)")
+    p.add_argument("--limit", type=int, default=DEFAULT_MODULE_LIMIT,
+                   help=f"stop before a word passes this many modules "
+                        f"(default {DEFAULT_MODULE_LIMIT:,})")
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "derive",
+        help="derive an L-system and print the word",
+        description="Derive an L-system and print the word it grows (one line), every "
+        "step's word (--each, step 0 first) or statistics (--stats).",
+    )
+    add_common(p)
+    p.add_argument("--each", action="store_true", help="print one line per step, step 0 first")
+    p.add_argument("--stats", action="store_true",
+                   help="print length, per-symbol counts and branch depth instead of the word")
+    p.add_argument("--render", action="store_true",
+                   help="print the render word (render rules applied) instead")
+    p.set_defaults(func=run)
+
+
+def stats_text(word: ModuleString, step: int, elapsed: float | None = None) -> str:
+    counts = word.counts()
+    lines = [
+        f"step: {step}",
+        f"modules: {len(word)}",
+        f"parameters: {word.values.shape[0]}",
+        f"branch depth: {word.max_depth()}",
+    ]
+    if elapsed is not None:
+        lines.append(f"time: {elapsed:.3f} s")
+    lines.append("symbols:")
+    from ..lsystem.lstring import format_symbol
+
+    for name, k in sorted(counts.items(), key=lambda kv: (-kv[1], kv[0])):
+        lines.append(f"  {format_symbol(name)}\t{k}")
+    return "\n".join(lines)
+
+
+def derive_with_progress(d: Derivation, steps: int, each=None) -> None:
+    """Advance ``d`` by ``steps``, with a progress bar on stderr once it takes a while."""
+    from tqdm import tqdm
+
+    with tqdm(total=steps, desc="deriving", unit="step", file=sys.stderr, delay=1.0,
+              leave=False, disable=None if steps > 1 else True) as bar:
+        for _ in range(steps):
+            d.advance()
+            bar.set_postfix_str(f"{len(d.word):,} modules", refresh=False)
+            bar.update()
+            if each is not None:
+                each(d)
+
+
+def run(args) -> int:
+    program = load_program(args.file, args.dialect)
+    steps = args.steps if args.steps is not None else (program.steps or 0)
+    if steps < 0:
+        raise SylvaError("the number of steps (-n) cannot be negative")
+    d = Derivation(program, seed=args.seed, limit=args.limit)
+    out = sys.stdout
+
+    def show(dd: Derivation) -> None:
+        w = dd.render_word() if args.render else dd.word
+        if args.stats:
+            out.write(stats_text(w, dd.step) + "\n\n")
+        else:
+            out.write(w.to_text() + "\n")
+
+    t0 = time.perf_counter()
+    if args.each:
+        show(d)
+        derive_with_progress(d, steps, show)
+    else:
+        if steps > 1 and not args.render:
+            d.advance(steps)
+        else:
+            derive_with_progress(d, steps)
+        w = d.render_word() if args.render else d.word
+        if args.stats:
+            out.write(stats_text(w, d.step, time.perf_counter() - t0) + "\n")
+        else:
+            out.write(w.to_text() + "\n")
+    return 0

@@ -1,0 +1,756 @@
+"""Derivation: rewriting every module of a word in parallel, for every class of L-system.
+
+One engine serves every dialect.  A step rewrites *all instances of a symbol at once*:
+
+1. the positions of each symbol that has rules are found;
+2. for each priority tier (conditional > context > context-free, seed 001 §2.4) every
+   rule of the tier is tested on all still-undecided instances together — contexts by a
+   compiled matcher, parameter counts by array comparisons, conditions as masks computed
+   by the compiled expression;
+3. among the applicable rules of the first tier that has any, one rule per instance is
+   drawn by weight with a single vectorised draw;
+4. the successors are assembled by a compiled kernel and their parameters evaluated per
+   rule for all its instances at once.
+
+Context-free systems without parameters take a faster road: one compiled pass over a
+table of successors.  Both roads draw their random numbers from a counter-based hash of
+``(seed, step, position)``, so they produce the same word, and the same seed gives the same
+word on every machine, whatever the order of evaluation.
+
+Examples
+--------
+>>> from sylva.lsystem.ast import Module, Pattern, Program, Rule
+>>> algae = Program(axiom=(Module("a"),),
+...                 rules=(Rule(Pattern("a"), (Module("a"), Module("b"))),
+...                        Rule(Pattern("b"), (Module("a"),))))
+>>> [str(w) for w in iterate(algae, 4)]
+['a', 'ab', 'aba', 'abaab', 'abaababa']
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import GrowthLimitError, LSystemSemanticError
+from . import _kernels
+from .ast import Program, Rule
+from .expr import compile_expr, truth
+from .lstring import CLOSE, ID_DTYPE, OPEN, Alphabet, ModuleString
+from .matching import ignored_table, pattern_match
+
+__all__ = [
+    "DEFAULT_MODULE_LIMIT",
+    "Derivation",
+    "derive",
+    "iterate",
+    "render_word",
+]
+
+DEFAULT_MODULE_LIMIT = 50_000_000
+_MASK = (1 << 64) - 1
+
+
+def _splitmix(z: int) -> int:
+    z = (z + 0x9E3779B97F4A7C15) & _MASK
+    z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & _MASK
+    z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & _MASK
+    return z ^ (z >> 31)
+
+
+def step_key(seed: int, step: int, render: bool = False) -> np.uint64:
+    """The 64-bit key of the random numbers of one step (a hash of seed and step)."""
+    return np.uint64(_splitmix((seed & _MASK) ^ _splitmix(step * 2 + (1 if render else 0))))
+
+
+def _available_memory() -> int | None:
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+# ----------------------------------------------------------------------------- compiled rules
+@dataclass
+class _CRule:
+    index: int
+    rule: Rule
+    pred: int
+    pred_arity: int
+    left: np.ndarray
+    left_arity: np.ndarray
+    right: np.ndarray
+    right_arity: np.ndarray
+    right_match: np.ndarray
+    bindings: list[tuple[str, str, int, int]]  # name, where, pattern index, parameter
+    cond: Callable | None
+    weight: Callable
+    weight_const: float | None
+    succ_ids: np.ndarray
+    succ_nparams: np.ndarray
+    args: list[Callable]
+
+    @property
+    def needs_env(self) -> bool:
+        return bool(self.bindings)
+
+
+class _RuleSet:
+    """The rules of one kind (productions or render rules) compiled for an alphabet."""
+
+    def __init__(self, rules: Sequence[Rule], alphabet: Alphabet, constants) -> None:
+        self.alphabet = alphabet
+        self.rules: list[_CRule] = [
+            self._compile(i, r, alphabet, constants) for i, r in enumerate(rules)
+        ]
+        by: dict[int, list[list[_CRule]]] = {}
+        for cr in self.rules:
+            by.setdefault(cr.pred, [[], [], []])[cr.rule.tier].append(cr)
+        self.by_symbol = by
+        # flattened successor tables for the assembly kernel
+        lens = [len(cr.succ_ids) for cr in self.rules]
+        self.rule_len = np.array(lens, np.int64)
+        self.rule_ids_start = np.zeros(len(lens), np.int64)
+        if lens:
+            self.rule_ids_start[1:] = np.cumsum(lens)[:-1]
+        self.rule_ids = (
+            np.concatenate([cr.succ_ids for cr in self.rules]).astype(ID_DTYPE)
+            if self.rules
+            else np.zeros(0, ID_DTYPE)
+        )
+        self.rule_nparams = (
+            np.concatenate([cr.succ_nparams for cr in self.rules]).astype(np.int64)
+            if self.rules
+            else np.zeros(0, np.int64)
+        )
+        self.rule_nvals = np.array([int(cr.succ_nparams.sum()) for cr in self.rules], np.int64)
+        self._build_fast_table()
+
+    @staticmethod
+    def _compile(index: int, rule: Rule, alphabet: Alphabet, constants) -> _CRule:
+        pred = rule.predecessor
+        if pred.symbol in ("[", "]"):
+            raise _rule_error(rule, f"a bracket {pred.symbol!r} cannot be rewritten")
+        for p in rule.left:
+            if p.symbol in ("[", "]"):
+                raise _rule_error(rule, "a left context cannot contain brackets")
+        bindings: list[tuple[str, str, int, int]] = []
+        for j, p in enumerate(rule.left):
+            bindings += [(name, "left", j, k) for k, name in enumerate(p.params)]
+        bindings += [(name, "pred", 0, k) for k, name in enumerate(pred.params)]
+        for j, p in enumerate(rule.right):
+            bindings += [(name, "right", j, k) for k, name in enumerate(p.params)]
+        names = tuple(dict.fromkeys(b[0] for b in bindings))
+        right_ids = np.array([alphabet.id(p.symbol) for p in rule.right], ID_DTYPE)
+        try:
+            pattern_match(right_ids)
+        except ValueError:
+            raise _rule_error(rule, "unbalanced brackets in the right context") from None
+
+        def comp(e):
+            try:
+                return compile_expr(e, bound=names, constants=constants)
+            except LSystemSemanticError as exc:
+                if exc.line is None and rule.span is not None:
+                    raise _rule_error(rule, exc.message) from None
+                raise
+
+        cond = comp(rule.condition) if rule.condition is not None else None
+        weight = comp(rule.weight)
+        wc = getattr(weight, "constant", None)
+        args: list[Callable] = []
+        for m in rule.successor:
+            args += [comp(a) for a in m.args]
+        return _CRule(
+            index=index,
+            rule=rule,
+            pred=alphabet.id(pred.symbol),
+            pred_arity=len(pred.params),
+            left=np.array([alphabet.id(p.symbol) for p in rule.left], ID_DTYPE),
+            left_arity=np.array([len(p.params) for p in rule.left], np.int64),
+            right=right_ids,
+            right_match=pattern_match(right_ids),
+            right_arity=np.array([len(p.params) for p in rule.right], np.int64),
+            bindings=bindings,
+            cond=cond,
+            weight=weight,
+            weight_const=wc,
+            succ_ids=np.array([alphabet.id(m.symbol) for m in rule.successor], ID_DTYPE),
+            succ_nparams=np.array([len(m.args) for m in rule.successor], np.int64),
+            args=args,
+        )
+
+    def _build_fast_table(self) -> None:
+        """A successor table when every rule is context-free, unconditional, parameter-free."""
+        self.fast = all(
+            cr.cond is None
+            and not cr.rule.has_context
+            and cr.pred_arity == 0
+            and cr.weight_const is not None
+            and not cr.succ_nparams.any()
+            for cr in self.rules
+        )
+        if not self.fast:
+            return
+        size = len(self.alphabet)
+        self.nalt = np.zeros(size, np.int64)
+        self.alt_start = np.zeros(size, np.int64)
+        order: list[_CRule] = []
+        cum: list[float] = []
+        for sym, tiers in sorted(self.by_symbol.items()):
+            alts = [cr for cr in tiers[2] if cr.weight_const > 0]
+            self.alt_start[sym] = len(order)
+            self.nalt[sym] = len(alts)
+            total = 0.0
+            for cr in alts:
+                total += cr.weight_const
+                cum.append(total)
+                order.append(cr)
+            if not alts and tiers[2]:
+                # every rule has weight 0: the identity applies
+                self.nalt[sym] = 0
+        self.alt_rule = np.array([cr.index for cr in order], np.int64)
+        self.cum_w = np.array(cum, np.float64)
+        self.alt_succ_start = self.rule_ids_start[self.alt_rule] if order else np.zeros(0, np.int64)
+        self.alt_succ_len = self.rule_len[self.alt_rule] if order else np.zeros(0, np.int64)
+        self.max_len = int(self.alt_succ_len.max()) if order else 1
+
+    def grow(self) -> None:
+        """Re-size per-symbol tables after the alphabet grew (ids are append-only)."""
+        if self.fast and self.nalt.shape[0] < len(self.alphabet):
+            extra = len(self.alphabet) - self.nalt.shape[0]
+            self.nalt = np.concatenate([self.nalt, np.zeros(extra, np.int64)])
+            self.alt_start = np.concatenate([self.alt_start, np.zeros(extra, np.int64)])
+
+
+def _rule_error(rule: Rule, message: str) -> LSystemSemanticError:
+    span = rule.span
+    if span is None:
+        return LSystemSemanticError(message)
+    return LSystemSemanticError(
+        message, filename=span.filename, line=span.line, column=span.column
+    )
+
+
+# ----------------------------------------------------------------------------- the step
+class _Compiled:
+    """A program compiled once: alphabet, axiom word, rule sets, ignore table."""
+
+    def __init__(self, program: Program) -> None:
+        self.program = program
+        alphabet = Alphabet()
+        constants = dict(program.constants)
+        # axiom (parameters are expressions over the constants)
+        mods = []
+        for m in program.axiom:
+            vals = []
+            for a in m.args:
+                f = compile_expr(a, constants=constants)
+                vals.append(float(f({}, 1)[0]))
+            mods.append((m.symbol, vals))
+        self.axiom = ModuleString.from_modules(mods, alphabet)
+        self.axiom.check_brackets(program.filename)
+        self.alphabet = alphabet
+        self.productions = _RuleSet(program.productions, alphabet, constants)
+        self.render = _RuleSet(program.render_rules, alphabet, constants)
+        ign = [alphabet.id(s) for s in program.ignore]
+        cons = None
+        if program.consider is not None:
+            cons = [alphabet.id(s) for s in program.consider]
+        self._ign = ign
+        self._cons = cons
+        self.ignored = ignored_table(len(alphabet), ign, cons)
+
+    def ignored_for(self, word: ModuleString) -> np.ndarray:
+        if self.ignored.shape[0] < len(word.alphabet):
+            self.ignored = ignored_table(len(word.alphabet), self._ign, self._cons)
+        return self.ignored
+
+
+def _check_limit(n_out: int, n_vals: int, limit: int, word: ModuleString, step: int) -> None:
+    if n_out > limit:
+        raise GrowthLimitError(
+            f"step {step + 1} would grow the word from {len(word):,} to {n_out:,} modules, "
+            f"past the limit of {limit:,}; derive fewer steps or raise the limit "
+            "(--limit on the command line)",
+            word=word,
+            step=step,
+        )
+    need = n_out * 20 + n_vals * 8
+    avail = _available_memory()
+    if avail is not None and need > 0.7 * avail:
+        raise GrowthLimitError(
+            f"step {step + 1} would need about {need / 2**30:.1f} GiB for {n_out:,} modules "
+            f"but only {avail / 2**30:.1f} GiB of memory is free; derive fewer steps",
+            word=word,
+            step=step,
+        )
+
+
+def _apply_cut(word: ModuleString, cut_id: int) -> ModuleString:
+    if cut_id < 0 or not (word.ids == cut_id).any():
+        return word
+    keep = _kernels.cut_mask(word.ids, cut_id)
+    if not word.has_params:
+        return ModuleString(word.alphabet, word.ids[keep])
+    counts = np.diff(word.offsets)
+    vals = word.values[np.repeat(keep, counts)]
+    kept = counts[keep]
+    off = np.zeros(kept.shape[0] + 1, np.int64)
+    np.cumsum(kept, out=off[1:])
+    return ModuleString(word.alphabet, word.ids[keep], off, vals)
+
+
+def _step_fast(word: ModuleString, rs: _RuleSet, key: np.uint64, limit: int, step: int):
+    rs.grow()
+    n = len(word)
+    if n * rs.max_len > limit:
+        total = _kernels.count_table(
+            word.ids, key, True, rs.nalt, rs.alt_start, rs.cum_w, rs.alt_succ_len
+        )
+        _check_limit(int(total), 0, limit, word, step)
+    elif n * rs.max_len > 10_000_000:
+        _check_limit(0, 0, limit, word, step)  # memory only
+    kernel = _kernels.rewrite_table if n >= 200_000 else _kernels.rewrite_table_serial
+    ids = kernel(
+        word.ids,
+        key,
+        True,
+        rs.nalt,
+        rs.alt_start,
+        rs.cum_w,
+        rs.alt_succ_start,
+        rs.alt_succ_len,
+        rs.rule_ids,
+    )
+    return ModuleString(word.alphabet, ids)
+
+
+def _expand_d0l(word: ModuleString, rs: _RuleSet, steps: int, limit: int) -> ModuleString:
+    """``steps`` deterministic context-free steps at once, by expansion of whole blocks.
+
+    The word after ``k`` steps of a symbol is the concatenation of the ``k - 1``-step words
+    of its successor's symbols (seed 000's recursive generator, memoised per symbol and
+    level), so the final word is assembled from a few large block copies instead of symbol
+    by symbol.  Lengths are computed exactly first, so the limit is checked before any
+    memory is used.
+    """
+    rs.grow()
+    succ = {
+        int(s): rs.rule_ids[rs.alt_succ_start[rs.alt_start[s]] :][
+            : rs.alt_succ_len[rs.alt_start[s]]
+        ]
+        for s in np.flatnonzero(rs.nalt)
+    }
+    present = np.flatnonzero(np.bincount(word.ids, minlength=len(word.alphabet)))
+    # symbols reachable from the word
+    reach = set(int(s) for s in present)
+    todo = list(reach)
+    while todo:
+        s = todo.pop()
+        for t in succ.get(s, ()):
+            t = int(t)
+            if t not in reach:
+                reach.add(t)
+                todo.append(t)
+    counts = np.bincount(word.ids, minlength=len(word.alphabet))
+    length = {s: 1 for s in reach}
+    for k in range(steps):
+        new_len = {
+            s: (sum(length[int(t)] for t in succ[s]) if s in succ else 1) for s in reach
+        }
+        total = sum(int(counts[s]) * new_len[s] for s in reach)
+        if total > limit or total > 2_000_000:
+            _check_limit(total, 0, limit, word, k)
+        length = new_len
+    single = {s: np.array([s], ID_DTYPE) for s in reach}
+    empty = np.zeros(0, ID_DTYPE)
+
+    def grow(s: int, exp: dict[int, np.ndarray]) -> np.ndarray:
+        if s not in succ:
+            return single[s]
+        parts = [exp[int(t)] for t in succ[s]]
+        return np.concatenate(parts) if parts else empty
+
+    exp = dict(single)
+    for _ in range(steps):
+        exp = {s: grow(s, exp) for s in reach}
+    ids = word.ids.tolist()
+    if len(ids) == 1:
+        out = exp[ids[0]].copy()
+    else:
+        out = np.concatenate([exp[s] for s in ids])
+    return ModuleString(word.alphabet, out)
+
+
+def _env(word: ModuleString, cr: _CRule, cand, lpos, rpos, sel) -> dict[str, np.ndarray]:
+    env: dict[str, np.ndarray] = {}
+    off = word.offsets
+    vals = word.values
+    for name, where, j, k in cr.bindings:
+        if where == "pred":
+            p = cand[sel]
+        elif where == "left":
+            p = lpos[sel, j]
+        else:
+            p = rpos[sel, j]
+        env[name] = vals[off[p] + k]
+    return env
+
+
+def _step_general(
+    word: ModuleString,
+    rs: _RuleSet,
+    comp: _Compiled,
+    key: np.uint64,
+    limit: int,
+    step: int,
+) -> ModuleString:
+    n = len(word)
+    ids = word.ids
+    choice = np.full(n, -1, np.int64)
+    pending: list[tuple[_CRule, np.ndarray, dict[str, np.ndarray], np.ndarray]] = []
+    ignored = comp.ignored_for(word) if any(cr.rule.has_context for cr in rs.rules) else None
+    nparams = word.nparams if word.has_params else None
+    for sym, tiers in rs.by_symbol.items():
+        undecided = np.flatnonzero(ids == sym)
+        if undecided.size == 0:
+            continue
+        for tier in tiers:
+            if not tier or undecided.size == 0:
+                continue
+            k = undecided.size
+            weights = np.zeros((k, len(tier)), np.float64)
+            staged = []
+            for r, cr in enumerate(tier):
+                if cr.pred_arity:
+                    ok = (
+                        nparams[undecided] >= cr.pred_arity
+                        if nparams is not None
+                        else np.zeros(k, np.bool_)
+                    )
+                else:
+                    ok = np.ones(k, np.bool_)
+                lpos = rpos = None
+                if cr.left.size:
+                    okl, lpos = _kernels.match_left(
+                        ids, word.match, word.offsets, ignored, undecided, cr.left, cr.left_arity
+                    )
+                    ok &= okl
+                if cr.right.size:
+                    okr, rpos = _kernels.match_right(
+                        ids,
+                        word.match,
+                        word.offsets,
+                        ignored,
+                        undecided,
+                        cr.right,
+                        cr.right_match,
+                        cr.right_arity,
+                    )
+                    ok &= okr
+                sel = np.flatnonzero(ok)
+                if sel.size == 0:
+                    continue
+                env = _env(word, cr, undecided, lpos, rpos, sel) if cr.needs_env else {}
+                if cr.cond is not None:
+                    c = truth(cr.cond(env, sel.size))
+                    if not c.all():
+                        sel = sel[c]
+                        env = {name: v[c] for name, v in env.items()}
+                    if sel.size == 0:
+                        continue
+                w = (
+                    np.full(sel.size, cr.weight_const)
+                    if cr.weight_const is not None
+                    else cr.weight(env, sel.size)
+                )
+                positive = w > 0
+                if not positive.all():
+                    sel = sel[positive]
+                    w = w[positive]
+                    env = {name: v[positive] for name, v in env.items()}
+                weights[sel, r] = w
+                staged.append((r, cr, sel, env))
+            if not staged:
+                continue
+            applicable = (weights > 0).any(axis=1)
+            if len(staged) == 1:
+                r, cr, sel, env = staged[0]
+                chosen_r = np.full(k, r, np.int64)
+            else:
+                rows = np.flatnonzero(applicable)
+                cum = np.cumsum(weights[rows], axis=1)
+                u = _kernels.uniform(key, undecided[rows]) * cum[:, -1]
+                pick = (cum <= u[:, None]).sum(axis=1)
+                pick = np.minimum(pick, len(tier) - 1)
+                chosen_r = np.full(k, -1, np.int64)
+                chosen_r[rows] = pick
+            for r, cr, sel, env in staged:
+                mine = chosen_r[sel] == r
+                if not mine.any():
+                    continue
+                s2 = sel[mine]
+                pos = undecided[s2]
+                choice[pos] = cr.index
+                if cr.args:
+                    env2 = {name: v[mine] for name, v in env.items()} if env else env
+                    pending.append((cr, pos, env2, s2))
+            undecided = undecided[~applicable]
+    # sizes and the growth limit
+    chosen = choice >= 0
+    if chosen.any():
+        n_out = int(n - np.count_nonzero(chosen) + rs.rule_len[choice[chosen]].sum())
+        n_vals = int(word.values.shape[0] + rs.rule_nvals[choice[chosen]].sum())
+    else:
+        n_out, n_vals = n, int(word.values.shape[0])
+    if n_out > 1_000_000 or n_out > limit:
+        _check_limit(n_out, n_vals, limit, word, step)
+    new_ids, new_off, new_vals, _, val_start = _kernels.assemble(
+        ids,
+        word.offsets,
+        word.values,
+        choice,
+        rs.rule_len,
+        rs.rule_nvals,
+        rs.rule_ids_start,
+        rs.rule_ids,
+        rs.rule_nparams,
+    )
+    for cr, pos, env, _ in pending:
+        base = val_start[pos]
+        m = pos.size
+        for q, f in enumerate(cr.args):
+            new_vals[base + q] = f(env, m)
+    if new_vals.size and not np.isfinite(new_vals).all():
+        bad = int(np.flatnonzero(~np.isfinite(new_vals))[0])
+        mod = int(np.searchsorted(new_off, bad, side="right") - 1)
+        name = word.alphabet.name(int(new_ids[mod]))
+        raise GrowthLimitError(
+            f"step {step + 1} computed a non-finite parameter ({new_vals[bad]}) for module "
+            f"{name!r} at position {mod}: check divisions and powers in the rules",
+            word=word,
+            step=step,
+        )
+    if not new_vals.size:
+        return ModuleString(word.alphabet, new_ids)
+    return ModuleString(word.alphabet, new_ids, new_off, new_vals)
+
+
+def _step(word, rs, comp, key, limit, step):
+    if not rs.rules:
+        return word
+    if rs.fast and not word.has_params:
+        out = _step_fast(word, rs, key, limit, step)
+    else:
+        out = _step_general(word, rs, comp, key, limit, step)
+    cut = out.alphabet.get("%")
+    if cut >= 0:
+        out = _apply_cut(out, cut)
+    return out
+
+
+# ----------------------------------------------------------------------------- public API
+def _resolve_seed(seed: int | None, program: Program) -> int:
+    if seed is None:
+        seed = program.seed
+    if seed is None:
+        seed = int(np.random.SeedSequence().entropy) & _MASK
+    return int(seed) & _MASK
+
+
+class Derivation:
+    """A derivation in progress: the current word, its step number, stepping and render words.
+
+    Parameters
+    ----------
+    program : Program
+    seed : int, optional
+        The seed of the random choices; defaults to the program's ``seed`` or, when it has
+        none, a fresh one (kept in :attr:`seed` so the run can be repeated).
+    limit : int
+        The module limit; a step that would pass it raises
+        :class:`~sylva.errors.GrowthLimitError` and keeps the current word.
+
+    Examples
+    --------
+    >>> from sylva.lsystem.ast import Module, Pattern, Program, Rule
+    >>> p = Program(axiom=(Module("a"),), rules=(Rule(Pattern("a"), (Module("b"),)),
+    ...                                        Rule(Pattern("b"), (Module("a"), Module("a")))))
+    >>> d = Derivation(p)
+    >>> str(d.advance(4)), d.step
+    ('aaaa', 4)
+    >>> str(d.back()), d.step
+    ('bb', 3)
+    """
+
+    def __init__(
+        self, program: Program, *, seed: int | None = None, limit: int = DEFAULT_MODULE_LIMIT
+    ) -> None:
+        self.program = program
+        self.seed = _resolve_seed(seed, program)
+        self.limit = int(limit)
+        self._compiled = _Compiled(program)
+        self.word: ModuleString = self._compiled.axiom
+        self.step = 0
+        self._history: list[ModuleString] = []
+
+    @property
+    def alphabet(self) -> Alphabet:
+        return self._compiled.alphabet
+
+    def reset(self) -> ModuleString:
+        """Back to the axiom."""
+        self.word = self._compiled.axiom
+        self.step = 0
+        self._history.clear()
+        return self.word
+
+    def advance(self, n: int = 1) -> ModuleString:
+        """Derive ``n`` more steps and return the new current word."""
+        n = int(n)
+        rs = self._compiled.productions
+        if (
+            n > 1
+            and rs.rules
+            and rs.fast
+            and not self.word.has_params
+            and len(self.word) < 100_000
+            and (rs.nalt <= 1).all()
+            and "%" not in self.alphabet
+        ):
+            # deterministic, context-free, parameter-free: expand whole blocks at once
+            self._history.clear()
+            self.word = _expand_d0l(self.word, rs, n, self.limit)
+            self.step += n
+            return self.word
+        for _ in range(n):
+            self._advance_one()
+        return self.word
+
+    def _advance_one(self) -> None:
+        comp = self._compiled
+        key = step_key(self.seed, self.step)
+        new = _step(self.word, comp.productions, comp, key, self.limit, self.step)
+        self._history.append(self.word)
+        if len(self._history) > 8:
+            self._history.pop(0)
+        self.word = new
+        self.step += 1
+
+    def back(self) -> ModuleString:
+        """One step back (re-derived from the axiom when it is no longer cached)."""
+        if self.step == 0:
+            return self.word
+        if self._history:
+            self.word = self._history.pop()
+            self.step -= 1
+            return self.word
+        target = self.step - 1
+        self.reset()
+        return self.advance(target)
+
+    def render_word(self) -> ModuleString:
+        """The word the turtle draws: render rules applied once to the current word."""
+        comp = self._compiled
+        if not comp.render.rules:
+            return self.word
+        key = step_key(self.seed, self.step, render=True)
+        return _step(self.word, comp.render, comp, key, self.limit, self.step)
+
+    def __iter__(self) -> Iterator[ModuleString]:
+        """Yield the current word, then each following word, without end."""
+        yield self.word
+        while True:
+            self._advance_one()
+            yield self.word
+
+
+def _steps(program: Program, steps: int | None) -> int:
+    if steps is None:
+        steps = program.steps if program.steps is not None else 0
+    steps = int(steps)
+    if steps < 0:
+        raise ValueError("the number of steps cannot be negative")
+    return steps
+
+
+def derive(
+    program: Program,
+    steps: int | None = None,
+    *,
+    seed: int | None = None,
+    limit: int = DEFAULT_MODULE_LIMIT,
+) -> ModuleString:
+    """The word after ``steps`` derivation steps (default: the program's own count, else 0).
+
+    >>> from sylva.lsystem.ast import Module, Pattern, Program, Rule
+    >>> koch = Program(axiom=(Module("F"),), rules=(Rule(Pattern("F"),
+    ...     tuple(Module(c) for c in "F+F--F+F")),))
+    >>> len(derive(koch, 3))
+    148
+    """
+    d = Derivation(program, seed=seed, limit=limit)
+    return d.advance(_steps(program, steps))
+
+
+def iterate(
+    program: Program,
+    steps: int | None = None,
+    *,
+    seed: int | None = None,
+    limit: int = DEFAULT_MODULE_LIMIT,
+) -> Iterator[ModuleString]:
+    """Yield the words of steps ``0 … steps`` (step 0 is the axiom)."""
+    d = Derivation(program, seed=seed, limit=limit)
+    n = _steps(program, steps)
+    yield d.word
+    for _ in range(n):
+        yield d.advance()
+
+
+def render_word(
+    program: Program,
+    word: ModuleString,
+    *,
+    seed: int | None = None,
+    step: int = 0,
+) -> ModuleString:
+    """Apply the render rules (``->>``) of ``program`` once to ``word``.
+
+    ``word`` should come from a derivation of the same program (it shares its alphabet);
+    a word read from text is re-coded first.
+    """
+    comp = _Compiled(program)
+    if not comp.render.rules:
+        return word
+    if word.alphabet is not comp.alphabet:
+        word = ModuleString.from_modules(iter(word), comp.alphabet)
+        comp.render.grow()
+    key = step_key(_resolve_seed(seed, program), step, render=True)
+    return _step(word, comp.render, comp, key, DEFAULT_MODULE_LIMIT, step)
+
+
+def rewrite(
+    program: Program, word: ModuleString, *, seed: int | None = None, step: int = 0
+) -> ModuleString:
+    """One derivation step of ``program`` applied to an arbitrary ``word``."""
+    comp = _Compiled(program)
+    if word.alphabet is not comp.alphabet:
+        word = ModuleString.from_modules(iter(word), comp.alphabet)
+        comp.productions.grow()
+    key = step_key(_resolve_seed(seed, program), step)
+    return _step(word, comp.productions, comp, key, DEFAULT_MODULE_LIMIT, step)
+
+
+_ = (OPEN, CLOSE)
