@@ -159,7 +159,7 @@ def test_seed000_stochastic_bush_is_uniform_and_varies_with_seed():
     p = load(find("seed000-bush-stochastic").path)
     fs = [derive(p, seed=s).count("F") for s in range(40)]
     assert len(set(fs)) > 10
-    assert 450 <= min(fs) and max(fs) <= 1500  # seed 000's observed range is 462-1416
+    assert min(fs) >= 450 and max(fs) <= 1500  # seed 000's observed range is 462-1416
     assert 600 < np.mean(fs) < 880  # seed 000: mean about 738
 
 
@@ -306,7 +306,7 @@ def test_abop_1_24_plants_grow_as_their_rules_count(name, n, length):
 
 @pytest.mark.parametrize(
     "name, expected",
-    [("abop-1.6-quadratic-koch-island", "F-F+F+FF-F-F+F-F-F+F+FF-F-F+F-F-F+F+FF-F-F+F-F-F+F+FF-F-F+F"),
+    [("abop-1.6-quadratic-koch-island", "-".join(["F-F+F+FF-F-F+F"] * 4)),
      ("abop-1.10a-dragon-curve", None)],
 )
 def test_abop_koch_and_dragon(name, expected):
@@ -326,8 +326,12 @@ def test_same_seed_same_word_and_different_seed_differs():
 
 
 def _general(p, n, seed):
+    from sylva.lsystem.engine import _Compiled
+
     d = Derivation(p, seed=seed)
+    d._compiled = _Compiled(p)  # a private copy: the cached one stays fast
     d._compiled.productions.fast = False
+    assert d._compiled is not Derivation(p)._compiled
     for _ in range(n):
         d.advance(1)
     return d.word

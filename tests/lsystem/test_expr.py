@@ -42,7 +42,9 @@ def test_functions_take_radians():
 
 
 def test_bound_names_shadow_constants():
-    f = compile_expr(Binary("+", Var("x"), Var("k")), bound=("x",), constants={"x": 100.0, "k": 1.0})
+    f = compile_expr(
+        Binary("+", Var("x"), Var("k")), bound=("x",), constants={"x": 100.0, "k": 1.0}
+    )
     assert f({"x": np.array([1.0, 2.0])}, 2).tolist() == [2.0, 3.0]
 
 

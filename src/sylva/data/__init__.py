@@ -58,6 +58,8 @@ def find(name: str) -> Example:
     if exact:
         return exact[0]
     hits = [e for e in all_ if e.name.endswith(name) or e.name.split("-", 1)[-1] == name]
+    if not hits:
+        hits = [e for e in all_ if name in e.name]
     if len(hits) == 1:
         return hits[0]
     if not hits:

@@ -1,6 +1,12 @@
-"""L-systems: the common program, the compact word and the derivation engine."""
+"""L-systems: the common program, its three languages, the compact word and the engine.
+
+>>> from sylva.lsystem import derive, loads
+>>> str(derive(loads("axiom = a\\na -> ab\\nb -> a"), 4))
+'abaababa'
+"""
 
 from .ast import Module, Pattern, Program, Rule
+from .dialects import detect, dumps, load, load_all, loads, parse_expr, parse_rule, parse_word
 from .engine import DEFAULT_MODULE_LIMIT, Derivation, derive, iterate, render_word, rewrite
 from .lstring import Alphabet, ModuleString
 
@@ -14,7 +20,15 @@ __all__ = [
     "Program",
     "Rule",
     "derive",
+    "detect",
+    "dumps",
     "iterate",
+    "load",
+    "load_all",
+    "loads",
+    "parse_expr",
+    "parse_rule",
+    "parse_word",
     "render_word",
     "rewrite",
 ]

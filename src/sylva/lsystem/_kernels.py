@@ -263,7 +263,9 @@ def rewrite_table(ids, key, stochastic, nalt, alt_start, cum_w, succ_start, succ
 
 
 @njit(cache=True)
-def rewrite_table_serial(ids, key, stochastic, nalt, alt_start, cum_w, succ_start, succ_len, succ_ids):
+def rewrite_table_serial(
+    ids, key, stochastic, nalt, alt_start, cum_w, succ_start, succ_len, succ_ids
+):
     """:func:`rewrite_table` on one thread (for small words, where threads cost more).
 
     Per symbol ``s``: ``nalt[s]`` alternatives starting at ``alt_start[s]``; alternative
@@ -384,6 +386,30 @@ def assemble(ids, offsets, values, choice, rule_len, rule_nvals, rule_ids_start,
                 v += rule_nparams[st + q]
     new_off[tot] = totv
     return new_ids, new_off, new_vals, out_start, val_start
+
+
+@njit(cache=True)
+def assemble_ids(ids, choice, rule_len, rule_ids_start, rule_ids):  # pragma: no cover
+    """:func:`assemble` for words and rules without parameters: the new ids only."""
+    n = ids.shape[0]
+    tot = 0
+    for i in range(n):
+        r = choice[i]
+        tot += 1 if r < 0 else rule_len[r]
+    out = np.empty(tot, ids.dtype)
+    o = 0
+    for i in range(n):
+        r = choice[i]
+        if r < 0:
+            out[o] = ids[i]
+            o += 1
+        else:
+            st = rule_ids_start[r]
+            ln = rule_len[r]
+            for q in range(ln):
+                out[o + q] = rule_ids[st + q]
+            o += ln
+    return out
 
 
 @njit(cache=True)

@@ -251,14 +251,23 @@ class _Compiled:
         alphabet = Alphabet()
         constants = dict(program.constants)
         # axiom (parameters are expressions over the constants)
-        mods = []
+        index: dict[str, int] = {}
         for m in program.axiom:
-            vals = []
+            if m.symbol not in index:
+                index[m.symbol] = alphabet.id(m.symbol)
+        ids = [index[m.symbol] for m in program.axiom]
+        counts = [len(m.args) for m in program.axiom]
+        values: list[float] = []
+        for m in program.axiom:
             for a in m.args:
-                f = compile_expr(a, constants=constants)
-                vals.append(float(f({}, 1)[0]))
-            mods.append((m.symbol, vals))
-        self.axiom = ModuleString.from_modules(mods, alphabet)
+                values.append(float(compile_expr(a, constants=constants)({}, 1)[0]))
+        if values:
+            offsets = np.zeros(len(ids) + 1, np.int64)
+            np.cumsum(counts, out=offsets[1:])
+            self.axiom = ModuleString(alphabet, np.array(ids, ID_DTYPE), offsets,
+                                      np.array(values, np.float64))
+        else:
+            self.axiom = ModuleString(alphabet, np.array(ids, ID_DTYPE))
         self.axiom.check_brackets(program.filename)
         self.alphabet = alphabet
         self.productions = _RuleSet(program.productions, alphabet, constants)
@@ -275,6 +284,15 @@ class _Compiled:
         if self.ignored.shape[0] < len(word.alphabet):
             self.ignored = ignored_table(len(word.alphabet), self._ign, self._cons)
         return self.ignored
+
+
+def _compiled(program: Program) -> _Compiled:
+    """The compiled form of ``program``, made once and kept on the (frozen) program."""
+    comp = program.__dict__.get("_sylva_compiled")
+    if comp is None:
+        comp = _Compiled(program)
+        object.__setattr__(program, "_sylva_compiled", comp)
+    return comp
 
 
 def _check_limit(n_out: int, n_vals: int, limit: int, word: ModuleString, step: int) -> None:
@@ -336,7 +354,9 @@ def _step_fast(word: ModuleString, rs: _RuleSet, key: np.uint64, limit: int, ste
     return ModuleString(word.alphabet, ids)
 
 
-def _expand_d0l(word: ModuleString, rs: _RuleSet, steps: int, limit: int) -> ModuleString:
+def _expand_d0l(
+    word: ModuleString, rs: _RuleSet, steps: int, limit: int, step0: int = 0
+) -> ModuleString:
     """``steps`` deterministic context-free steps at once, by expansion of whole blocks.
 
     The word after ``k`` steps of a symbol is the concatenation of the ``k - 1``-step words
@@ -365,13 +385,20 @@ def _expand_d0l(word: ModuleString, rs: _RuleSet, steps: int, limit: int) -> Mod
                 todo.append(t)
     counts = np.bincount(word.ids, minlength=len(word.alphabet))
     length = {s: 1 for s in reach}
+    before = len(word)
     for k in range(steps):
         new_len = {
             s: (sum(length[int(t)] for t in succ[s]) if s in succ else 1) for s in reach
         }
         total = sum(int(counts[s]) * new_len[s] for s in reach)
         if total > limit or total > 2_000_000:
-            _check_limit(total, 0, limit, word, k)
+            try:
+                _check_limit(total, 0, limit, word, step0 + k)
+            except GrowthLimitError as exc:
+                exc.step = k  # steps that still fit
+                exc.args = (str(exc).replace(f"from {len(word):,}", f"from {before:,}"),)
+                raise
+        before = total
         length = new_len
     single = {s: np.array([s], ID_DTYPE) for s in reach}
     empty = np.zeros(0, ID_DTYPE)
@@ -419,7 +446,7 @@ def _step_general(
     n = len(word)
     ids = word.ids
     choice = np.full(n, -1, np.int64)
-    pending: list[tuple[_CRule, np.ndarray, dict[str, np.ndarray], np.ndarray]] = []
+    pending: list[tuple[_CRule, np.ndarray, dict[str, np.ndarray]]] = []
     ignored = comp.ignored_for(word) if any(cr.rule.has_context for cr in rs.rules) else None
     nparams = word.nparams if word.has_params else None
     for sym, tiers in rs.by_symbol.items():
@@ -430,7 +457,7 @@ def _step_general(
             if not tier or undecided.size == 0:
                 continue
             k = undecided.size
-            weights = np.zeros((k, len(tier)), np.float64)
+            weights = np.zeros((k, len(tier)), np.float64) if len(tier) > 1 else None
             staged = []
             for r, cr in enumerate(tier):
                 if cr.pred_arity:
@@ -480,32 +507,41 @@ def _step_general(
                     sel = sel[positive]
                     w = w[positive]
                     env = {name: v[positive] for name, v in env.items()}
-                weights[sel, r] = w
+                if weights is not None:
+                    weights[sel, r] = w
                 staged.append((r, cr, sel, env))
             if not staged:
                 continue
-            applicable = (weights > 0).any(axis=1)
             if len(staged) == 1:
+                # one applicable rule in this tier: no draw
                 r, cr, sel, env = staged[0]
-                chosen_r = np.full(k, r, np.int64)
-            else:
-                rows = np.flatnonzero(applicable)
-                cum = np.cumsum(weights[rows], axis=1)
-                u = _kernels.uniform(key, undecided[rows]) * cum[:, -1]
-                pick = (cum <= u[:, None]).sum(axis=1)
-                pick = np.minimum(pick, len(tier) - 1)
-                chosen_r = np.full(k, -1, np.int64)
-                chosen_r[rows] = pick
+                pos = undecided[sel]
+                choice[pos] = cr.index
+                if cr.args:
+                    pending.append((cr, pos, env))
+                if sel.size == k:
+                    undecided = undecided[:0]
+                else:
+                    rest = np.ones(k, np.bool_)
+                    rest[sel] = False
+                    undecided = undecided[rest]
+                continue
+            applicable = (weights > 0).any(axis=1)
+            rows = np.flatnonzero(applicable)
+            cum = np.cumsum(weights[rows], axis=1)
+            u = _kernels.uniform(key, undecided[rows]) * cum[:, -1]
+            pick = np.minimum((cum <= u[:, None]).sum(axis=1), len(tier) - 1)
+            chosen_r = np.full(k, -1, np.int64)
+            chosen_r[rows] = pick
             for r, cr, sel, env in staged:
                 mine = chosen_r[sel] == r
                 if not mine.any():
                     continue
-                s2 = sel[mine]
-                pos = undecided[s2]
+                pos = undecided[sel[mine]]
                 choice[pos] = cr.index
                 if cr.args:
                     env2 = {name: v[mine] for name, v in env.items()} if env else env
-                    pending.append((cr, pos, env2, s2))
+                    pending.append((cr, pos, env2))
             undecided = undecided[~applicable]
     # sizes and the growth limit
     chosen = choice >= 0
@@ -516,6 +552,9 @@ def _step_general(
         n_out, n_vals = n, int(word.values.shape[0])
     if n_out > 1_000_000 or n_out > limit:
         _check_limit(n_out, n_vals, limit, word, step)
+    if not word.has_params and not pending and not rs.rule_nvals.any():
+        new_ids = _kernels.assemble_ids(ids, choice, rs.rule_len, rs.rule_ids_start, rs.rule_ids)
+        return ModuleString(word.alphabet, new_ids)
     new_ids, new_off, new_vals, _, val_start = _kernels.assemble(
         ids,
         word.offsets,
@@ -527,7 +566,7 @@ def _step_general(
         rs.rule_ids,
         rs.rule_nparams,
     )
-    for cr, pos, env, _ in pending:
+    for cr, pos, env in pending:
         base = val_start[pos]
         m = pos.size
         for q, f in enumerate(cr.args):
@@ -600,7 +639,7 @@ class Derivation:
         self.program = program
         self.seed = _resolve_seed(seed, program)
         self.limit = int(limit)
-        self._compiled = _Compiled(program)
+        self._compiled = _compiled(program)
         self.word: ModuleString = self._compiled.axiom
         self.step = 0
         self._history: list[ModuleString] = []
@@ -631,8 +670,17 @@ class Derivation:
         ):
             # deterministic, context-free, parameter-free: expand whole blocks at once
             self._history.clear()
-            self.word = _expand_d0l(self.word, rs, n, self.limit)
-            self.step += n
+            try:
+                self.word = _expand_d0l(self.word, rs, n, self.limit, self.step)
+                self.step += n
+            except GrowthLimitError as exc:
+                # keep what fits: the word of the last step under the limit
+                fit = int(exc.step or 0)
+                if fit:
+                    self.word = _expand_d0l(self.word, rs, fit, self.limit, self.step)
+                    self.step += fit
+                exc.word, exc.step = self.word, self.step
+                raise
             return self.word
         for _ in range(n):
             self._advance_one()
@@ -731,7 +779,7 @@ def render_word(
     ``word`` should come from a derivation of the same program (it shares its alphabet);
     a word read from text is re-coded first.
     """
-    comp = _Compiled(program)
+    comp = _compiled(program)
     if not comp.render.rules:
         return word
     if word.alphabet is not comp.alphabet:
@@ -745,7 +793,7 @@ def rewrite(
     program: Program, word: ModuleString, *, seed: int | None = None, step: int = 0
 ) -> ModuleString:
     """One derivation step of ``program`` applied to an arbitrary ``word``."""
-    comp = _Compiled(program)
+    comp = _compiled(program)
     if word.alphabet is not comp.alphabet:
         word = ModuleString.from_modules(iter(word), comp.alphabet)
         comp.productions.grow()

@@ -33,7 +33,16 @@ from numba import njit
 
 from ..errors import LSystemSyntaxError, SylvaError
 
-__all__ = ["CLOSE", "ID_DTYPE", "MAX_SYMBOLS", "OPEN", "Alphabet", "ModuleString", "format_number", "format_symbol"]
+__all__ = [
+    "CLOSE",
+    "ID_DTYPE",
+    "MAX_SYMBOLS",
+    "OPEN",
+    "Alphabet",
+    "ModuleString",
+    "format_number",
+    "format_symbol",
+]
 
 OPEN = 0
 CLOSE = 1
@@ -399,7 +408,11 @@ class ModuleString:
             where = int(np.argmax(d < 0)) if d.min() < 0 else len(self)
             raise LSystemSyntaxError(
                 f"unbalanced brackets: module {where} of the word "
-                + ("closes a branch that was never opened" if d.min() < 0 else "leaves a branch open"),
+                + (
+                    "closes a branch that was never opened"
+                    if d.min() < 0
+                    else "leaves a branch open"
+                ),
                 filename=filename,
             )
 

@@ -1,0 +1,130 @@
+"""Derivation speed: sylva against lindenmayer 1.5.4 (npm), measured in the same run.
+
+    python benchmarks/derive.py [--repeat N] [--no-peer]
+
+Each figure is the median of several runs after a warm-up (compilation excluded).  The
+peer runs when ``node`` is on PATH; ``npm ci`` in ``benchmarks/peers`` is done on demand.
+Figures are symbols (or modules) of the final word per second of the whole derivation,
+except for the context-sensitive rows, which count every module rewritten in every step.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from sylva.lsystem import derive, loads
+
+PEERS = Path(__file__).parent / "peers"
+
+WORKLOADS = {
+    # name: (sylva program text, steps, target M/s, how the size is counted)
+    "koch": ("axiom = F++F++F\nF -> F-F++F-F", 10, 400.0),
+    "plant": ("axiom = X\nX -> F[+X]F[-X]+X\nF -> FF", 11, 400.0),
+    "stochastic": (
+        "axiom = F\nF ->(33) F[+F]F[-F]F\nF ->(33) F[+F]F\nF ->(34) F[-F]F",
+        10,
+        150.0,
+    ),
+    "signal": ("axiom = b" + "a" * 99_999 + "\nb < a -> b\nb -> a", 5, 43.0),
+    "bracketed": (None, 5, 20.0),
+    "parametric": ("R = 1.456\naxiom = A(1)\nA(s) -> F(s)[+A(s/R)][-A(s/R)]", 18, 8.0),
+}
+LABELS = {
+    "koch": "D0L Koch, 10 steps",
+    "plant": "bracketed plant ABOP 1.24d, 11 steps",
+    "stochastic": "stochastic plant ABOP 1.27, 10 steps",
+    "signal": "flat context-sensitive signal, 100 k modules",
+    "bracketed": "bracketed context-sensitive, tree of 116 k modules",
+    "parametric": "parametric A(s) -> F(s)[+A(s/R)][-A(s/R)], 18 steps",
+}
+
+
+def bracketed_axiom() -> str:
+    plant = derive(loads("axiom = X\nX -> F[+X][-X]FX\nF -> FF"), 9)
+    return "S" + plant.to_text()
+
+
+def program(name: str):
+    text, steps, _ = WORKLOADS[name]
+    if name == "bracketed":
+        text = "ignore = +-\naxiom = " + bracketed_axiom() + "\nS < F -> S\nS -> F"
+    return loads(text), steps
+
+
+def measure(name: str, repeat: int) -> tuple[float, int]:
+    p, steps = program(name)
+    derive(p, min(steps, 3), seed=1)  # compile the kernels this workload uses
+    times = []
+    w = None
+    for _ in range(repeat):
+        t = time.perf_counter()
+        w = derive(p, steps, seed=1)
+        times.append(time.perf_counter() - t)
+    size = len(w) * (steps if name in ("signal", "bracketed") else 1)
+    return statistics.median(times), size
+
+
+def peer(names: list[str]) -> dict:
+    node = shutil.which("node")
+    if node is None:
+        return {}
+    if not (PEERS / "node_modules" / "lindenmayer").exists():
+        npm = shutil.which("npm")
+        if npm is None:
+            return {}
+        subprocess.run([npm, "ci", "--no-audit", "--no-fund"], cwd=PEERS, check=False,
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    with tempfile.NamedTemporaryFile("w", suffix=".txt", delete=False) as f:
+        f.write(bracketed_axiom())
+    env = dict(os.environ, SYLVA_BRACKETED_AXIOM=f.name)
+    try:
+        out = subprocess.run([node, str(PEERS / "lindenmayer_bench.js"), *names], env=env,
+                             capture_output=True, text=True, timeout=600, check=False)
+    finally:
+        os.unlink(f.name)
+    if out.returncode != 0:
+        print("lindenmayer peer failed:", out.stderr.strip()[:500], file=sys.stderr)
+        return {}
+    res = json.loads(out.stdout)
+    if "bracketed" in res:
+        res["bracketed"]["length"] *= 1  # one step in the peer: modules of that step
+    return res
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument("--no-peer", action="store_true")
+    ap.add_argument("names", nargs="*", default=list(WORKLOADS))
+    args = ap.parse_args()
+    rows = []
+    for name in args.names:
+        sec, size = measure(name, args.repeat)
+        rows.append((name, size / sec / 1e6, sec))
+    theirs = {} if args.no_peer else peer(args.names)
+    print(f"{'workload':56s} {'sylva M/s':>10s} {'target':>7s} {'peer M/s':>9s} {'ratio':>7s}")
+    for name, mps, _sec in rows:
+        target = WORKLOADS[name][2]
+        p = theirs.get(name)
+        pm = p["length"] / p["seconds"] / 1e6 if p else None
+        ratio = f"{mps / pm:6.1f}x" if pm else "     -"
+        pms = f"{pm:9.2f}" if pm else "        -"
+        flag = "" if mps >= target else "  (below target)"
+        print(f"{LABELS[name]:56s} {mps:10.1f} {target:7.0f} {pms} {ratio}{flag}")
+    print("peer: lindenmayer 1.5.4 on node " + (subprocess.run(
+        ["node", "--version"], capture_output=True, text=True).stdout.strip()
+        if theirs else "(not run)"))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
