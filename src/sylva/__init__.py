@@ -1,6 +1,41 @@
-"""sylva: grow plants, their textures and the worlds they stand in."""
+"""sylva: grow plants, their textures and the worlds they stand in.
 
-from .errors import GrowthLimitError, LSystemSyntaxError, SylvaError
+>>> import sylva
+>>> plant = sylva.loads("axiom = X\\nX -> F[+X][-X]FX\\nF -> FF")
+>>> len(sylva.derive(plant, 3))
+143
+"""
 
-__all__ = ["GrowthLimitError", "LSystemSyntaxError", "SylvaError"]
+from .errors import GrowthLimitError, LSystemSemanticError, LSystemSyntaxError, SylvaError
+from .lsystem import (
+    Derivation,
+    ModuleString,
+    Program,
+    derive,
+    dumps,
+    iterate,
+    load,
+    load_all,
+    loads,
+    lsystem,
+    render_word,
+)
+
+__all__ = [
+    "Derivation",
+    "GrowthLimitError",
+    "LSystemSemanticError",
+    "LSystemSyntaxError",
+    "ModuleString",
+    "Program",
+    "SylvaError",
+    "derive",
+    "dumps",
+    "iterate",
+    "load",
+    "load_all",
+    "loads",
+    "lsystem",
+    "render_word",
+]
 __version__ = "0.1.0"

@@ -331,6 +331,7 @@ def _general(p, n, seed):
     d = Derivation(p, seed=seed)
     d._compiled = _Compiled(p)  # a private copy: the cached one stays fast
     d._compiled.productions.fast = False
+    d._compiled.productions.ctx_fast = False
     assert d._compiled is not Derivation(p)._compiled
     for _ in range(n):
         d.advance(1)
@@ -357,6 +358,27 @@ def test_fast_roads_equal_the_general_road(rules, seed):
     for _ in range(4):
         stepwise.advance(1)
     assert fast == stepwise.word
+
+
+contexts = st.sampled_from(["", "A <", "B <", "A B <", "[ <"])
+rcontexts = st.sampled_from(["", "> A", "> B", "> [A]", "> [B]A", "> A[B]"])
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(
+        st.tuples(contexts, st.sampled_from("AB"), rcontexts, rule_bodies, st.integers(1, 3)),
+        min_size=1,
+        max_size=6,
+    ),
+    st.integers(0, 2**32),
+    st.booleans(),
+)
+def test_compiled_context_road_equals_the_general_road(rules, seed, ignore_plus):
+    lines = [f"{lc.replace('[ <', '')} {a} {rc} ->({w}) {b}" for lc, a, rc, b, w in rules]
+    text = ("ignore = +\n" if ignore_plus else "") + "axiom = A[B+A]+B[A]A\n" + "\n".join(lines)
+    p = loads(text)
+    assert derive(p, 4, seed=seed) == _general(p, 4, seed)
 
 
 def test_d0l_block_expansion_equals_stepping():

@@ -6,6 +6,7 @@
 """
 
 from .ast import Module, Pattern, Program, Rule
+from .build import lsystem
 from .dialects import detect, dumps, load, load_all, loads, parse_expr, parse_rule, parse_word
 from .engine import DEFAULT_MODULE_LIMIT, Derivation, derive, iterate, render_word, rewrite
 from .lstring import Alphabet, ModuleString
@@ -26,6 +27,7 @@ __all__ = [
     "load",
     "load_all",
     "loads",
+    "lsystem",
     "parse_expr",
     "parse_rule",
     "parse_word",

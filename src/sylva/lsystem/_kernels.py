@@ -58,51 +58,132 @@ def uniform(key, positions):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def _left_one(ids, match, offsets, ignored, p, pat, arity, pos, row):  # pragma: no cover
+    """Match a left context at position ``p``; write the positions into ``pos[row]``."""
+    m = pat.shape[0]
+    i = p - 1
+    j = m - 1
+    check = offsets.shape[0] > 0
+    while j >= 0:
+        found = False
+        while i >= 0:
+            s = ids[i]
+            if s == CLOSE:
+                mi = match[i]
+                if mi < 0:
+                    break
+                i = mi - 1
+                continue
+            if s == OPEN:
+                i -= 1
+                continue
+            if s == pat[j]:
+                found = True
+                break
+            if ignored[s]:
+                i -= 1
+                continue
+            break
+        if not found:
+            return False
+        if check and offsets[i + 1] - offsets[i] < arity[j]:
+            return False
+        pos[row, j] = i
+        j -= 1
+        i -= 1
+    return True
+
+
+@njit(cache=True)
+def _right_one(ids, match, offsets, ignored, p, pat, arity, pos, row, fj, fi):  # pragma: no cover
+    """Match a right context at position ``p`` (see :func:`match_right`)."""
+    n = ids.shape[0]
+    m = pat.shape[0]
+    check = offsets.shape[0] > 0
+    i = p + 1
+    j = 0
+    top = 0
+    while j < m:
+        r = pat[j]
+        fail = False
+        if r == OPEN:
+            while i < n and ids[i] > CLOSE and ignored[ids[i]]:
+                i += 1
+            if i < n and ids[i] == OPEN:
+                fj[top] = j
+                fi[top] = i
+                top += 1
+                j += 1
+                i += 1
+                continue
+            fail = True
+        elif r == CLOSE:
+            top -= 1
+            i = match[fi[top]] + 1
+            j += 1
+            continue
+        else:
+            found = False
+            while i < n:
+                s = ids[i]
+                if s == OPEN:
+                    mi = match[i]
+                    if mi < 0:
+                        break
+                    i = mi + 1
+                    continue
+                if s == CLOSE:
+                    break
+                if s == r:
+                    found = True
+                    break
+                if ignored[s]:
+                    i += 1
+                    continue
+                break
+            if found and (not check or offsets[i + 1] - offsets[i] >= arity[j]):
+                pos[row, j] = i
+                i += 1
+                j += 1
+                continue
+            fail = True
+        if fail:
+            # retry the innermost open frame with its next sibling branch
+            retried = False
+            while top > 0:
+                t = top - 1
+                nxt = match[fi[t]]
+                if nxt < 0:
+                    return False
+                nxt += 1
+                while nxt < n and ids[nxt] > CLOSE and ignored[ids[nxt]]:
+                    nxt += 1
+                if nxt < n and ids[nxt] == OPEN:
+                    fi[t] = nxt
+                    j = fj[t] + 1
+                    i = nxt + 1
+                    retried = True
+                    break
+                top -= 1
+            if not retried:
+                return False
+    return True
+
+
+@njit(cache=True)
 def match_left(ids, match, offsets, ignored, cand, pat, arity):  # pragma: no cover
     """Left context on the axial tree for every candidate position.
 
     Walking left from a candidate, a ``]`` skips its whole bracketed subtree, a ``[`` is
     passed (it leads to the parent), an ignored symbol is skipped unless it is the one the
     pattern wants next.  Returns ``ok bool[k]`` and the matched positions ``int64[k, m]``.
+    An empty ``offsets`` array skips the parameter-count check.
     """
     k = cand.shape[0]
-    m = pat.shape[0]
     ok = np.zeros(k, np.bool_)
-    pos = np.full((k, m), -1, np.int64)
+    pos = np.full((k, pat.shape[0]), -1, np.int64)
     for c in range(k):
-        i = cand[c] - 1
-        j = m - 1
-        good = True
-        while j >= 0:
-            found = False
-            while i >= 0:
-                s = ids[i]
-                if s == CLOSE:
-                    mi = match[i]
-                    if mi < 0:
-                        break
-                    i = mi - 1
-                    continue
-                if s == OPEN:
-                    i -= 1
-                    continue
-                if s == pat[j]:
-                    found = True
-                    break
-                if ignored[s]:
-                    i -= 1
-                    continue
-                break
-            if not found:
-                good = False
-                break
-            if offsets[i + 1] - offsets[i] < arity[j]:
-                good = False
-                break
-            pos[c, j] = i
-            j -= 1
-            i -= 1
-        ok[c] = good
+        ok[c] = _left_one(ids, match, offsets, ignored, cand[c], pat, arity, pos, c)
     return ok, pos
 
 
@@ -115,88 +196,98 @@ def match_right(ids, match, offsets, ignored, cand, pat, pmatch, arity):  # prag
     later lateral subtree of the word (ordered, distinct); lateral subtrees of the word that
     the pattern does not mention are skipped; the pattern may end before the word's axis;
     the word's ``]`` ends the current branch.  Greedy earliest matching with retry of the
-    next sibling branch is complete for ordered matching.
+    next sibling branch is complete for ordered matching (an earlier sibling never leaves
+    less to match than a later one).
     """
-    n = ids.shape[0]
     k = cand.shape[0]
     m = pat.shape[0]
     ok = np.zeros(k, np.bool_)
     pos = np.full((k, m), -1, np.int64)
-    fj = np.empty(m + 1, np.int64)  # pattern index of the frame's '['
-    fi = np.empty(m + 1, np.int64)  # word index of the branch being tried
+    fj = np.empty(m + 1, np.int64)
+    fi = np.empty(m + 1, np.int64)
     for c in range(k):
-        i = cand[c] + 1
-        j = 0
-        top = 0
-        failed = False
-        while j < m:
-            r = pat[j]
-            fail = False
-            if r == OPEN:
-                while i < n and ids[i] > CLOSE and ignored[ids[i]]:
-                    i += 1
-                if i < n and ids[i] == OPEN:
-                    fj[top] = j
-                    fi[top] = i
-                    top += 1
-                    j += 1
-                    i += 1
-                    continue
-                fail = True
-            elif r == CLOSE:
-                top -= 1
-                i = match[fi[top]] + 1
-                j += 1
-                continue
-            else:
-                found = False
-                while i < n:
-                    s = ids[i]
-                    if s == OPEN:
-                        mi = match[i]
-                        if mi < 0:
-                            break
-                        i = mi + 1
-                        continue
-                    if s == CLOSE:
-                        break
-                    if s == r:
-                        found = True
-                        break
-                    if ignored[s]:
-                        i += 1
-                        continue
-                    break
-                if found and offsets[i + 1] - offsets[i] >= arity[j]:
-                    pos[c, j] = i
-                    i += 1
-                    j += 1
-                    continue
-                fail = True
-            if fail:
-                # retry the innermost open frame with the next sibling branch
-                retried = False
-                while top > 0:
-                    t = top - 1
-                    nxt = match[fi[t]]
-                    if nxt < 0:
-                        top = 0
-                        break
-                    nxt += 1
-                    while nxt < n and ids[nxt] > CLOSE and ignored[ids[nxt]]:
-                        nxt += 1
-                    if nxt < n and ids[nxt] == OPEN:
-                        fi[t] = nxt
-                        j = fj[t] + 1
-                        i = nxt + 1
-                        retried = True
-                        break
-                    top -= 1
-                if not retried:
-                    failed = True
-                    break
-        ok[c] = not failed
+        ok[c] = _right_one(ids, match, offsets, ignored, cand[c], pat, arity, pos, c, fj, fi)
     return ok, pos
+
+
+@njit(cache=True)
+def rewrite_context(ids, match, ignored, key, sym_start, sym_count, r_tier, r_weight,
+                    r_lstart, r_llen, r_rstart, r_rlen, pats, r_len, r_ids_start, r_ids):
+    """One step of a parameter-free system with contexts, in two compiled passes.
+
+    The rules of symbol ``s`` are ``sym_start[s] … + sym_count[s]``, sorted by tier
+    (context before context-free).  Rule ``r`` has its left and right context in
+    ``pats[r_lstart[r]:…+r_llen[r]]`` / ``pats[r_rstart[r]:…]``, a positive weight and a
+    successor ``r_ids[r_ids_start[r]:…+r_len[r]]``.  Within the first tier that has an
+    applicable rule one is drawn by weight with the hash of ``(key, position)``, as the
+    general road does.  Returns the new ids.
+    """  # pragma: no cover - compiled
+    n = ids.shape[0]
+    choice = np.full(n, -1, np.int64)
+    noff = np.zeros(0, np.int64)
+    maxm = 1
+    for r in range(r_llen.shape[0]):
+        maxm = max(maxm, r_llen[r], r_rlen[r])
+    pos = np.empty((1, maxm), np.int64)
+    fj = np.empty(maxm + 1, np.int64)
+    fi = np.empty(maxm + 1, np.int64)
+    app = np.empty(max(1, r_tier.shape[0]), np.int64)
+    total = 0
+    for i in range(n):
+        s = ids[i]
+        cnt = sym_count[s]
+        if cnt == 0:
+            total += 1
+            continue
+        st = sym_start[s]
+        q = st
+        chosen = -1
+        while q < st + cnt and chosen < 0:
+            tier = r_tier[q]
+            na = 0
+            wsum = 0.0
+            while q < st + cnt and r_tier[q] == tier:
+                good = True
+                if r_llen[q] > 0:
+                    good = _left_one(ids, match, noff, ignored, i,
+                                     pats[r_lstart[q]:r_lstart[q] + r_llen[q]], pats, pos, 0)
+                if good and r_rlen[q] > 0:
+                    good = _right_one(ids, match, noff, ignored, i,
+                                      pats[r_rstart[q]:r_rstart[q] + r_rlen[q]], pats, pos, 0,
+                                      fj, fi)
+                if good:
+                    app[na] = q
+                    na += 1
+                    wsum += r_weight[q]
+                q += 1
+            if na == 1:
+                chosen = app[0]
+            elif na > 1:
+                z = key + (np.uint64(i) + np.uint64(1)) * _GOLDEN
+                u = np.float64(_mix(z) >> np.uint64(11)) * (1.0 / 9007199254740992.0)
+                t = u * wsum
+                acc = 0.0
+                chosen = app[na - 1]
+                for a in range(na):
+                    acc += r_weight[app[a]]
+                    if acc > t:
+                        chosen = app[a]
+                        break
+        choice[i] = chosen
+        total += 1 if chosen < 0 else r_len[chosen]
+    out = np.empty(total, ids.dtype)
+    o = 0
+    for i in range(n):
+        r = choice[i]
+        if r < 0:
+            out[o] = ids[i]
+            o += 1
+        else:
+            b = r_ids_start[r]
+            for k in range(r_len[r]):
+                out[o + k] = r_ids[b + k]
+            o += r_len[r]
+    return out
 
 
 @njit(cache=True, inline="always")

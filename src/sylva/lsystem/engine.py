@@ -135,6 +135,7 @@ class _RuleSet:
         )
         self.rule_nvals = np.array([int(cr.succ_nparams.sum()) for cr in self.rules], np.int64)
         self._build_fast_table()
+        self._build_context_table()
 
     @staticmethod
     def _compile(index: int, rule: Rule, alphabet: Alphabet, constants) -> _CRule:
@@ -190,6 +191,51 @@ class _RuleSet:
             args=args,
         )
 
+    def _build_context_table(self) -> None:
+        """Flat tables for the compiled road of parameter-free systems with contexts."""
+        self.ctx_fast = not self.fast and all(
+            cr.cond is None
+            and cr.pred_arity == 0
+            and not cr.left_arity.any()
+            and not cr.right_arity.any()
+            and cr.weight_const is not None
+            and not cr.succ_nparams.any()
+            for cr in self.rules
+        )
+        if not self.ctx_fast:
+            return
+        order = sorted(
+            (cr for cr in self.rules if cr.weight_const > 0),
+            key=lambda cr: (int(cr.pred), cr.rule.tier, cr.index),
+        )
+        size = len(self.alphabet)
+        self.c_sym_start = np.zeros(size, np.int64)
+        self.c_sym_count = np.zeros(size, np.int64)
+        for q, cr in enumerate(order):
+            if self.c_sym_count[cr.pred] == 0:
+                self.c_sym_start[cr.pred] = q
+            self.c_sym_count[cr.pred] += 1
+        pats: list[int] = []
+        lstart, llen, rstart, rlen = [], [], [], []
+        for cr in order:
+            lstart.append(len(pats))
+            llen.append(len(cr.left))
+            pats += cr.left.tolist()
+            rstart.append(len(pats))
+            rlen.append(len(cr.right))
+            pats += cr.right.tolist()
+        self.c_tier = np.array([cr.rule.tier for cr in order], np.int64)
+        self.c_weight = np.array([cr.weight_const for cr in order], np.float64)
+        self.c_lstart = np.array(lstart, np.int64)
+        self.c_llen = np.array(llen, np.int64)
+        self.c_rstart = np.array(rstart, np.int64)
+        self.c_rlen = np.array(rlen, np.int64)
+        self.c_pats = np.array(pats, ID_DTYPE)
+        self.c_len = np.array([len(cr.succ_ids) for cr in order], np.int64)
+        self.c_ids_start = self.rule_ids_start[[cr.index for cr in order]] if order else (
+            np.zeros(0, np.int64)
+        )
+
     def _build_fast_table(self) -> None:
         """A successor table when every rule is context-free, unconditional, parameter-free."""
         self.fast = all(
@@ -227,10 +273,15 @@ class _RuleSet:
 
     def grow(self) -> None:
         """Re-size per-symbol tables after the alphabet grew (ids are append-only)."""
-        if self.fast and self.nalt.shape[0] < len(self.alphabet):
-            extra = len(self.alphabet) - self.nalt.shape[0]
+        size = len(self.alphabet)
+        if self.fast and self.nalt.shape[0] < size:
+            extra = size - self.nalt.shape[0]
             self.nalt = np.concatenate([self.nalt, np.zeros(extra, np.int64)])
             self.alt_start = np.concatenate([self.alt_start, np.zeros(extra, np.int64)])
+        if self.ctx_fast and self.c_sym_count.shape[0] < size:
+            extra = size - self.c_sym_count.shape[0]
+            self.c_sym_count = np.concatenate([self.c_sym_count, np.zeros(extra, np.int64)])
+            self.c_sym_start = np.concatenate([self.c_sym_start, np.zeros(extra, np.int64)])
 
 
 def _rule_error(rule: Rule, message: str) -> LSystemSemanticError:
@@ -586,11 +637,27 @@ def _step_general(
     return ModuleString(word.alphabet, new_ids, new_off, new_vals)
 
 
+def _step_context(word, rs, comp, key, limit, step) -> ModuleString:
+    rs.grow()
+    n = len(word)
+    if n * max(1, int(rs.c_len.max(initial=1))) > min(limit, 2_000_000):
+        # an exact count needs the choices: take the general road, which checks first
+        return _step_general(word, rs, comp, key, limit, step)
+    ids = _kernels.rewrite_context(
+        word.ids, word.match, comp.ignored_for(word), key, rs.c_sym_start, rs.c_sym_count,
+        rs.c_tier, rs.c_weight, rs.c_lstart, rs.c_llen, rs.c_rstart, rs.c_rlen, rs.c_pats,
+        rs.c_len, rs.c_ids_start, rs.rule_ids,
+    )
+    return ModuleString(word.alphabet, ids)
+
+
 def _step(word, rs, comp, key, limit, step):
     if not rs.rules:
         return word
     if rs.fast and not word.has_params:
         out = _step_fast(word, rs, key, limit, step)
+    elif rs.ctx_fast and not word.has_params:
+        out = _step_context(word, rs, comp, key, limit, step)
     else:
         out = _step_general(word, rs, comp, key, limit, step)
     cut = out.alphabet.get("%")
