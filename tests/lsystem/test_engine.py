@@ -413,3 +413,22 @@ def test_unknown_variable_in_a_rule_names_its_line():
     with pytest.raises(LSystemSemanticError) as e:
         derive(loads("axiom = A(1)\n\nA(x) -> A(y)"), 1)
     assert e.value.line == 3
+
+
+def test_trace_names_the_rule_and_step_of_every_module():
+    p = loads("axiom = X\nX -> F[+X]F[-X]+X\nF -> FF\nX ->> ;F")
+    d = Derivation(p, trace=True, seed=1)
+    assert d.origin(0) == (None, 0)
+    d.advance(2)
+    w = d.word
+    # step 2 rewrote every F of step 1 into FF and every X into F[+X]F[-X]+X
+    first = [(d.origin(i)[0].predecessor.symbol, d.origin(i)[1]) for i in range(5)]
+    assert w.symbols()[:5] == ["F", "F", "[", "+", "F"]
+    assert first == [("F", 2), ("F", 2), ("X", 1), ("X", 1), ("X", 2)]
+    assert d.origin(2)[0].span.line == 2
+    assert str(d.word) == str(Derivation(p, seed=1).advance(2))  # tracing changes nothing
+    rw, src = d.render_word_sources()
+    assert len(src) == len(rw) and rw.count("F") == w.count("F") + w.count("X")
+    assert all(w.symbols()[s] == "X" for s, m in zip(src, rw.symbols()) if m == ";")
+    d.back()
+    assert d.step == 1 and len(d.origin_steps) == len(d.word)

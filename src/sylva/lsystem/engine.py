@@ -366,10 +366,19 @@ def _check_limit(n_out: int, n_vals: int, limit: int, word: ModuleString, step: 
         )
 
 
-def _apply_cut(word: ModuleString, cut_id: int) -> ModuleString:
+def _cut_keep(word: ModuleString) -> np.ndarray | None:
+    """The keep-mask of ABOP's cut for ``word``, or None when nothing is cut."""
+    cut_id = word.alphabet.get("%")
     if cut_id < 0 or not (word.ids == cut_id).any():
-        return word
-    keep = _kernels.cut_mask(word.ids, cut_id)
+        return None
+    return _kernels.cut_mask(word.ids, cut_id)
+
+
+def _apply_cut(word: ModuleString, cut_id: int, keep: np.ndarray | None = None) -> ModuleString:
+    if keep is None:
+        if cut_id < 0 or not (word.ids == cut_id).any():
+            return word
+        keep = _kernels.cut_mask(word.ids, cut_id)
     if not word.has_params:
         return ModuleString(word.alphabet, word.ids[keep])
     counts = np.diff(word.offsets)
@@ -493,10 +502,14 @@ def _step_general(
     key: np.uint64,
     limit: int,
     step: int,
+    choices: list | None = None,
 ) -> ModuleString:
+    """The general road; when ``choices`` is a list, the rule chosen per module is appended."""
     n = len(word)
     ids = word.ids
     choice = np.full(n, -1, np.int64)
+    if choices is not None:
+        choices.append(choice)
     pending: list[tuple[_CRule, np.ndarray, dict[str, np.ndarray]]] = []
     ignored = comp.ignored_for(word) if any(cr.rule.has_context for cr in rs.rules) else None
     nparams = word.nparams if word.has_params else None
@@ -675,6 +688,29 @@ def _resolve_seed(seed: int | None, program: Program) -> int:
     return int(seed) & _MASK
 
 
+def _traced_step(word, rs, comp, key, limit, step):
+    """A general-road step that also says where every new module came from.
+
+    Returns the new word, the index of the old module each new module replaced
+    (``int64[n_new]``) and the rule that made it (``int64[n_new]``, -1 for a copy).
+    """
+    if not rs.rules:
+        idx = np.arange(len(word), dtype=np.int64)
+        return word, idx, np.full(len(word), -1, np.int64)
+    rs.grow()
+    got: list[np.ndarray] = []
+    new = _step_general(word, rs, comp, key, limit, step, choices=got)
+    choice = got[0]
+    lens = np.where(choice < 0, 1, rs.rule_len[np.maximum(choice, 0)])
+    src = np.repeat(np.arange(len(word), dtype=np.int64), lens)
+    rule = choice[src]
+    keep = _cut_keep(new)
+    if keep is not None:
+        new = _apply_cut(new, -1, keep)
+        src, rule = src[keep], rule[keep]
+    return new, src, rule
+
+
 class Derivation:
     """A derivation in progress: the current word, its step number, stepping and render words.
 
@@ -687,6 +723,9 @@ class Derivation:
     limit : int
         The module limit; a step that would pass it raises
         :class:`~sylva.errors.GrowthLimitError` and keeps the current word.
+    trace : bool
+        Remember, for every module, the rule and the step that made it (:meth:`origin`),
+        for debuggers such as the studio.  Tracing takes the general road.
 
     Examples
     --------
@@ -701,15 +740,50 @@ class Derivation:
     """
 
     def __init__(
-        self, program: Program, *, seed: int | None = None, limit: int = DEFAULT_MODULE_LIMIT
+        self,
+        program: Program,
+        *,
+        seed: int | None = None,
+        limit: int = DEFAULT_MODULE_LIMIT,
+        trace: bool = False,
     ) -> None:
         self.program = program
         self.seed = _resolve_seed(seed, program)
         self.limit = int(limit)
+        self.trace = bool(trace)
         self._compiled = _compiled(program)
         self.word: ModuleString = self._compiled.axiom
         self.step = 0
-        self._history: list[ModuleString] = []
+        self._history: list = []
+        self._origin_rule = np.full(len(self.word), -1, np.int64) if trace else None
+        self._origin_step = np.zeros(len(self.word), np.int64) if trace else None
+
+    def origin(self, index: int) -> tuple[Rule | None, int]:
+        """The production that made module ``index`` of the current word, and its step.
+
+        ``(None, 0)`` for a module that has been there since the axiom.  Needs
+        ``trace=True``.
+        """
+        if not self.trace:
+            raise ValueError("origin() needs a Derivation made with trace=True")
+        r = int(self._origin_rule[index])
+        rule = self._compiled.productions.rules[r].rule if r >= 0 else None
+        return rule, int(self._origin_step[index])
+
+    @property
+    def origin_rules(self) -> np.ndarray:
+        """``int64[n]``: per module, the index in ``program.productions`` of the rule that
+        made it (-1 for the axiom's modules); needs ``trace=True``."""
+        if not self.trace:
+            raise ValueError("origin_rules needs a Derivation made with trace=True")
+        return self._origin_rule
+
+    @property
+    def origin_steps(self) -> np.ndarray:
+        """``int64[n]``: per module, the step in which it was made; needs ``trace=True``."""
+        if not self.trace:
+            raise ValueError("origin_steps needs a Derivation made with trace=True")
+        return self._origin_step
 
     @property
     def alphabet(self) -> Alphabet:
@@ -720,6 +794,9 @@ class Derivation:
         self.word = self._compiled.axiom
         self.step = 0
         self._history.clear()
+        if self.trace:
+            self._origin_rule = np.full(len(self.word), -1, np.int64)
+            self._origin_step = np.zeros(len(self.word), np.int64)
         return self.word
 
     def advance(self, n: int = 1) -> ModuleString:
@@ -728,6 +805,7 @@ class Derivation:
         rs = self._compiled.productions
         if (
             n > 1
+            and not self.trace
             and rs.rules
             and rs.fast
             and not self.word.has_params
@@ -756,8 +834,18 @@ class Derivation:
     def _advance_one(self) -> None:
         comp = self._compiled
         key = step_key(self.seed, self.step)
-        new = _step(self.word, comp.productions, comp, key, self.limit, self.step)
-        self._history.append(self.word)
+        if self.trace:
+            new, src, rule = _traced_step(
+                self.word, comp.productions, comp, key, self.limit, self.step
+            )
+            saved = (self.word, self._origin_rule, self._origin_step)
+            made = rule >= 0
+            self._origin_rule = np.where(made, rule, self._origin_rule[src])
+            self._origin_step = np.where(made, self.step + 1, self._origin_step[src])
+        else:
+            new = _step(self.word, comp.productions, comp, key, self.limit, self.step)
+            saved = self.word
+        self._history.append(saved)
         if len(self._history) > 8:
             self._history.pop(0)
         self.word = new
@@ -768,7 +856,11 @@ class Derivation:
         if self.step == 0:
             return self.word
         if self._history:
-            self.word = self._history.pop()
+            saved = self._history.pop()
+            if self.trace:
+                self.word, self._origin_rule, self._origin_step = saved
+            else:
+                self.word = saved
             self.step -= 1
             return self.word
         target = self.step - 1
@@ -782,6 +874,14 @@ class Derivation:
             return self.word
         key = step_key(self.seed, self.step, render=True)
         return _step(self.word, comp.render, comp, key, self.limit, self.step)
+
+    def render_word_sources(self) -> tuple[ModuleString, np.ndarray]:
+        """The render word and, per render-word module, the index of the word module it
+        came from (``int64[n]``), so a drawn module can be traced back to the word."""
+        comp = self._compiled
+        key = step_key(self.seed, self.step, render=True)
+        word, src, _ = _traced_step(self.word, comp.render, comp, key, self.limit, self.step)
+        return word, src
 
     def __iter__(self) -> Iterator[ModuleString]:
         """Yield the current word, then each following word, without end."""
