@@ -282,15 +282,18 @@ def test_abop_1_31_context_sensitive_plants_match_a_naive_reference(fig):
 
 @pytest.mark.parametrize(
     "name, n, length",
-    [("abop-1.24a-plant", 5, None), ("abop-1.24b-plant", 5, None),
+    [("abop-1.6-quadratic", 3, None), ("abop-1.7b", 4, None), ("abop-1.8-islands", 2, None),
+     ("abop-1.9a", 4, None), ("abop-1.10a", 10, None), ("abop-1.10b", 6, None),
+     ("abop-1.11a", 4, None),
+     ("abop-1.24a-plant", 5, None), ("abop-1.24b-plant", 5, None),
      ("abop-1.24c-plant", 4, None), ("abop-1.24d-plant", 7, None),
      ("abop-1.24e-plant", 7, 12863), ("abop-1.24f-plant", 5, None)],
 )
-def test_abop_1_24_plants_grow_as_their_rules_count(name, n, length):
+def test_abop_d0l_figures_grow_as_their_rules_count(name, n, length):
     p = load(find(name).path)
     assert p.steps == n
     # word length obeys the counting recurrence of the rules (an independent check)
-    rules = {r.predecessor.symbol: [m.symbol for m in r.successor] for r in p.rules}
+    rules = {r.predecessor.symbol: [m.symbol for m in r.successor] for r in p.productions}
     counts = Counter(m.symbol for m in p.axiom)
     for _ in range(n):
         new = Counter()
