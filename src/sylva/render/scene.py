@@ -1,0 +1,240 @@
+"""Scenes on the GPU: meshes uploaded once, drawn per material, plus the ground plane.
+
+A :class:`GpuScene` holds one merged copy of a :class:`~sylva.geometry.mesh.Scene` in vertex and
+index buffers, with its triangles sorted by material so that each material is one draw call.
+Upload once and render many frames (a turntable) from it.
+
+Materials map to the Phong shader as follows: ``color`` (times the vertex colours) is the
+diffuse and ambient colour; ``roughness`` r gives the shininess ``2 / r⁴ − 2`` (clipped to
+[1, 1000]) and the specular strength ``1 − r``; ``texture`` ``"bark"``, ``"leaf"`` or
+``"grass"`` selects a procedural GLSL texture, a path to an image file an image texture (with
+an optional specular map beside it named ``<stem>_specular<suffix>``), anything else nothing;
+``double_sided`` turns back-face culling off and lights both sides; ``alpha_cutoff`` discards
+fragments whose alpha is below it.  Materials with alpha below 1 and no cut-off are blended
+after the opaque ones (unsorted, as in seed 004 §3.3).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import moderngl
+import numpy as np
+
+from sylva.geometry.mesh import Material, Mesh, Scene
+
+__all__ = ["TEXTURE_KINDS", "GpuScene", "Ground", "MaterialRange", "material_shading"]
+
+#: Procedural textures the shader knows, by ``Material.texture`` name.
+TEXTURE_KINDS = {"bark": 2, "leaf": 3, "grass": 4}
+TEX_NONE, TEX_IMAGE = 0, 1
+_IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tga", ".tif", ".tiff", ".webp", ".gif")
+
+
+def material_shading(material: Material) -> dict:
+    """The shader's view of a material.
+
+    Returns
+    -------
+    dict
+        ``kind`` (int texture kind), ``image`` (Path or None), ``shininess``, ``specular``
+        (floats), ``color`` (4 floats), ``double_sided`` (bool), ``alpha_cutoff`` (float, −1
+        for none) and ``blend`` (bool).
+    """
+    name = material.texture
+    kind, image = TEX_NONE, None
+    if name:
+        key = name.lower()
+        if key in TEXTURE_KINDS:
+            kind = TEXTURE_KINDS[key]
+        elif Path(name).suffix.lower() in _IMAGE_SUFFIXES:
+            kind, image = TEX_IMAGE, Path(name)
+    r = float(np.clip(material.roughness, 0.0, 1.0))
+    shininess = float(np.clip(2.0 / max(r, 1e-3) ** 4 - 2.0, 1.0, 1000.0))
+    color = tuple(float(c) for c in material.color)
+    cutoff = -1.0 if material.alpha_cutoff is None else float(material.alpha_cutoff)
+    return {
+        "kind": kind,
+        "image": image,
+        "shininess": shininess,
+        "specular": 1.0 - r,
+        "color": color,
+        "double_sided": bool(material.double_sided),
+        "alpha_cutoff": cutoff,
+        "blend": color[3] < 1.0 and material.alpha_cutoff is None and kind != TEX_IMAGE,
+    }
+
+
+@dataclass
+class Ground:
+    """A square ground plane under the plant, with the procedural grass texture by default.
+
+    Parameters
+    ----------
+    height : float, optional
+        Its Y; default the lowest Y of the scene.
+    size : float, optional
+        Its side; default 4 × the larger of the scene's width, depth and height.
+    center : tuple of 2 float, optional
+        Its (x, z) centre; default the centre of the scene's footprint.
+    material : Material
+        Its surface.
+    """
+
+    height: float | None = None
+    size: float | None = None
+    center: tuple[float, float] | None = None
+    material: Material = field(
+        default_factory=lambda: Material(
+            "ground", color=(0.20, 0.42, 0.10, 1.0), roughness=0.95, texture="grass"
+        )
+    )
+
+    def mesh(self, bounds) -> Mesh:
+        """The plane as a two-triangle :class:`Mesh` for a scene with ``bounds`` ``(2, 3)``."""
+        b = np.asarray(bounds, np.float64)
+        ext = b[1] - b[0]
+        size = self.size if self.size is not None else 4.0 * max(float(ext.max()), 1e-3)
+        y = float(b[0, 1]) if self.height is None else float(self.height)
+        if self.center is None:
+            cx, cz = 0.5 * (b[0, 0] + b[1, 0]), 0.5 * (b[0, 2] + b[1, 2])
+        else:
+            cx, cz = self.center
+        h = size / 2
+        v = np.array(
+            [[cx - h, y, cz - h], [cx + h, y, cz - h], [cx + h, y, cz + h], [cx - h, y, cz + h]]
+        )
+        uv = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32)
+        idx = np.array([[0, 2, 1], [0, 3, 2]], np.uint32)  # counter-clockwise seen from +Y
+        n = np.tile(np.array([[0.0, 1.0, 0.0]], np.float32), (4, 1))
+        return Mesh(v, idx, normals=n, uvs=uv, materials=[self.material], name="ground")
+
+
+@dataclass(frozen=True)
+class MaterialRange:
+    """One draw call: ``count`` triangles from triangle ``first`` with ``material``."""
+
+    material: Material
+    first: int
+    count: int
+
+
+class GpuScene:
+    """A scene uploaded to a context.
+
+    Use :meth:`sylva.render.Renderer.upload` to make one; call :meth:`release` (or use it as a
+    context manager) to free its GPU memory.
+
+    Attributes
+    ----------
+    bounds : float64[2, 3]
+        The scene's bounding box.
+    ranges : list of MaterialRange
+        Draw calls, opaque materials first.
+    n_triangles : int
+    has_uv, has_colors : bool
+        Whether the mesh had texture coordinates (bark falls back to global stripes if not)
+        and vertex colours; they choose the shader variant.
+    """
+
+    def __init__(
+        self,
+        ctx: moderngl.Context,
+        scene: Scene | Mesh,
+        depth_program: moderngl.Program,
+    ) -> None:
+        mesh = scene if isinstance(scene, Mesh) else scene.merged()
+        self.ctx = ctx
+        self.name = mesh.name
+        self.n_triangles = mesh.n_triangles
+        self.has_uv = mesh.uvs is not None
+        self.has_colors = mesh.colors is not None
+        self.bounds = np.asarray(mesh.bounds(), np.float64)
+        self._shadow_cache: dict = {}
+        self._buffers: list = []
+        self.depth_vao = None
+        self._vaos: dict[int, moderngl.VertexArray] = {}
+        self._content: list = []
+        self._ibo = None
+        self.ranges: list[MaterialRange] = []
+        if self.n_triangles == 0:
+            return
+        mids = mesh.triangle_materials()
+        if mids.size and (mids.min() < 0 or mids.max() >= len(mesh.materials)):
+            raise ValueError(
+                f"mesh {mesh.name!r} has material ids outside 0..{len(mesh.materials) - 1}"
+            )
+        order = np.argsort(mids, kind="stable")
+        indices = np.ascontiguousarray(mesh.indices[order])
+        counts = np.bincount(mids, minlength=len(mesh.materials))
+        starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        ranges = [
+            MaterialRange(mat, int(s), int(c))
+            for mat, s, c in zip(mesh.materials, starts, counts)
+            if c
+        ]
+        self.ranges = sorted(ranges, key=lambda r: material_shading(r.material)["blend"])
+        pos = self._buffer(mesh.vertices)
+        content = [(pos, "3f", "in_position"), (self._buffer(mesh.normals), "3f", "in_normal")]
+        if self.has_uv:
+            content.append((self._buffer(mesh.uvs), "2f", "in_uv"))
+        if self.has_colors:
+            content.append((self._buffer(mesh.colors), "4f", "in_color"))
+        self._content = content
+        self._ibo = self._buffer(indices)
+        self.depth_vao = ctx.vertex_array(
+            depth_program,
+            [(pos, "3f", "in_position")],
+            index_buffer=self._ibo,
+            index_element_size=4,
+        )
+
+    @property
+    def empty(self) -> bool:
+        """True when there is nothing to draw."""
+        return self._ibo is None
+
+    def vao_for(self, program: moderngl.Program) -> moderngl.VertexArray:
+        """The vertex array binding these buffers to ``program`` (made once per program)."""
+        key = id(program)
+        if key not in self._vaos:
+            content = [c for c in self._content if program.get(c[2], None) is not None]
+            self._vaos[key] = self.ctx.vertex_array(
+                program, content, index_buffer=self._ibo, index_element_size=4
+            )
+        return self._vaos[key]
+
+    def _buffer(self, array: np.ndarray) -> moderngl.Buffer:
+        buf = self.ctx.buffer(np.ascontiguousarray(array).tobytes())
+        self._buffers.append(buf)
+        return buf
+
+    @property
+    def extent(self) -> float:
+        """Length of the bounding box diagonal."""
+        return float(np.linalg.norm(self.bounds[1] - self.bounds[0]))
+
+    def forget_shadows(self) -> None:
+        """Drop the cached shadow maps (the next render draws them again)."""
+        for entry in self._shadow_cache.values():
+            entry.release()
+        self._shadow_cache.clear()
+
+    def release(self) -> None:
+        """Free the buffers (the object cannot draw afterwards)."""
+        self.forget_shadows()
+        for obj in (*self._vaos.values(), self.depth_vao, *self._buffers):
+            if obj is not None:
+                obj.release()
+        self._vaos.clear()
+        self._buffers = []
+        self._content = []
+        self.depth_vao = self._ibo = None
+        self.ranges = []
+
+    def __enter__(self) -> GpuScene:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.release()
