@@ -1,0 +1,72 @@
+"""Arguments and helpers shared by the commands that grow and draw a plant."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..errors import SylvaError
+
+__all__ = ["add_camera", "add_growth", "camera_for", "parse_size"]
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    """``"1920x1080"`` -> ``(1920, 1080)``."""
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"size {text!r}: expected WIDTHxHEIGHT such as 1920x1080"
+        ) from None
+    if w <= 0 or h <= 0 or w * h > 400_000_000:
+        raise argparse.ArgumentTypeError(f"size {text!r}: expected positive sizes")
+    return w, h
+
+
+def add_growth(p: argparse.ArgumentParser) -> None:
+    p.add_argument("file", metavar="FILE",
+                   help="an L-system file (any dialect) or a built-in example name")
+    p.add_argument("-n", "--steps", type=int, default=None,
+                   help="derivation steps (default: the file's own count)")
+    p.add_argument("--seed", type=int, default=None, help="seed of the random choices")
+    p.add_argument("--detail", type=int, default=None,
+                   help="sides around each branch (default: the file's detail, else 8)")
+    p.add_argument("--mode", choices=("tube", "prism", "cone"), default="tube",
+                   help="branch construction (default: tube)")
+
+
+def add_camera(p: argparse.ArgumentParser, size: str = "1280x960") -> None:
+    p.add_argument("--size", type=parse_size, default=parse_size(size),
+                   help=f"image size WIDTHxHEIGHT (default {size})")
+    p.add_argument("--camera", choices=("auto", "perspective", "ortho", "orthographic", "2d"),
+                   default="auto",
+                   help="camera mode; auto picks 2d for planar systems (seed 001 §5.3)")
+    p.add_argument("--yaw", type=float, default=None, help="view direction, degrees")
+    p.add_argument("--pitch", type=float, default=None, help="view elevation, degrees")
+    p.add_argument("--bg", default=None,
+                   help="background colour (name, #rrggbb); default the file's bg or white")
+    p.add_argument("--transparent", action="store_true", help="transparent background (PNG)")
+    p.add_argument("--no-shadows", action="store_true", help="no shadow mapping")
+    p.add_argument("--no-ground", action="store_true", help="no ground plane")
+    p.add_argument("--msaa", type=int, default=4, help="samples per pixel (default 4)")
+
+
+def camera_for(args, plant) -> str:
+    """The camera mode to use for ``plant`` given ``--camera``."""
+    mode = args.camera
+    if mode == "auto":
+        return "2d" if plant.is_2d else "perspective"
+    return "orthographic" if mode == "ortho" else mode
+
+
+def render_options(args, plant) -> dict:
+    bg = args.bg if args.bg is not None else plant.background
+    opts = dict(bg=bg, transparent=args.transparent, shadows=not args.no_shadows,
+                msaa=args.msaa)
+    if args.no_ground:
+        opts["ground"] = False
+    return opts
+
+
+def check_suffix(path: str, allowed: tuple[str, ...], what: str) -> None:
+    if not path.lower().endswith(allowed):
+        raise SylvaError(f"{path}: {what} must end in " + ", ".join(allowed))

@@ -1,0 +1,218 @@
+"""From an L-system to a mesh in one call: derive, apply render rules, interpret, build.
+
+This is the pipeline every front end shares (the command line, the gallery, the studio):
+
+>>> from sylva.plant import grow
+>>> plant = grow("rot = 25.7\\naxiom = F\\nF -> F[+F]F", steps=2, seed=1)
+>>> plant.geometry.n_segments, plant.scene.n_triangles > 0
+(9, True)
+>>> plant.is_2d
+True
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .errors import SylvaError
+from .geometry.build import build_mesh
+from .geometry.mesh import Scene
+from .geometry.records import Geometry
+from .lsystem import DEFAULT_MODULE_LIMIT, Derivation, ModuleString, Program, load
+from .turtle import interpret
+
+__all__ = ["Plant", "grow", "growth_scenes", "is_2d", "resolve"]
+
+#: Symbols that leave the plane (seed 001 §5.3: the camera is 2D when none is used).
+_3D_SYMBOLS = frozenset("^&\\/$")
+
+
+def resolve(source: Program | str | os.PathLike, *, dialect: str | None = None) -> Program:
+    """A program from a Program, a path, a built-in example's name, or L-system text."""
+    if isinstance(source, Program):
+        return source
+    if isinstance(source, os.PathLike) or (
+        isinstance(source, str) and "\n" not in source and Path(source).exists()
+    ):
+        return load(Path(source), dialect=dialect)
+    if isinstance(source, str) and "\n" not in source and "=" not in source:
+        from .data import find
+
+        try:
+            return load(find(source).path, dialect=dialect)
+        except SylvaError:
+            raise SylvaError(
+                f"{source}: no such file, and no built-in example of that name "
+                "(`sylva examples` lists them)"
+            ) from None
+    return load(str(source), dialect=dialect)
+
+
+def is_2d(program: Program) -> bool:
+    """True when no rule, axiom or render rule uses a symbol that leaves the plane."""
+    if program.turtle == "engine":
+        return False
+    symbols = {m.symbol for m in program.axiom}
+    for r in program.rules:
+        symbols.update(m.symbol for m in r.successor)
+    return not (symbols & _3D_SYMBOLS)
+
+
+@dataclass
+class Plant:
+    """A grown plant: the program, its word, what the turtle drew and the meshes."""
+
+    program: Program
+    seed: int
+    steps: int
+    word: ModuleString
+    render_word: ModuleString
+    geometry: Geometry
+    scene: Scene
+    _detail: int | None = None
+    _mode: str = "tube"
+    _taper: str | None = None
+
+    @property
+    def is_2d(self) -> bool:
+        return is_2d(self.program)
+
+    def with_min_radius(self, radius: float) -> Plant:
+        """The same plant with every branch at least ``radius`` thick (for line drawings
+        of 2D systems, whose unit-thin branches vanish at image scale)."""
+        import dataclasses
+
+        g = dataclasses.replace(self.geometry)
+        g.seg_radius = np.maximum(self.geometry.seg_radius, np.float32(radius))
+        scene = build_mesh(g, detail=self._detail, mode=self._mode, taper=self._taper)
+        return dataclasses.replace(self, geometry=g, scene=scene)
+
+    def line_radius(self, pixels: float, size: tuple[int, int]) -> float:
+        """The radius that is ``pixels`` wide when the plant fills an image of ``size``."""
+        lo, hi = self.scene.bounds() if self.scene.meshes else self.geometry.bounds()
+        extent = float(np.max(np.asarray(hi) - np.asarray(lo)))
+        return 0.5 * pixels * extent / max(1, min(size))
+
+    @property
+    def background(self) -> tuple[float, float, float]:
+        """The program's ``bg`` (seed 001), else white."""
+        bg = self.program.settings.get("bg")
+        return tuple(float(c) for c in bg) if bg is not None else (1.0, 1.0, 1.0)
+
+
+def grow(
+    source: Program | str | os.PathLike,
+    steps: int | None = None,
+    *,
+    seed: int | None = None,
+    detail: int | None = None,
+    mode: str = "tube",
+    taper: str | None = None,
+    limit: int = DEFAULT_MODULE_LIMIT,
+) -> Plant:
+    """Derive ``source`` and build its meshes.
+
+    Parameters
+    ----------
+    source : Program, path, example name or text
+    steps : int, optional
+        Derivation steps (default: the program's own count, else 0).
+    seed : int, optional
+        Seed of the stochastic rules and of the engine turtle's angle variation (default:
+        the program's ``seed``, else 1, so that a plant is reproducible unless asked).
+    detail, mode, taper
+        Passed to :func:`sylva.geometry.build.build_mesh`.
+    limit : int
+        The module limit of the derivation.
+    """
+    program = resolve(source)
+    if seed is None:
+        seed = program.seed if program.seed is not None else 1
+    n = steps if steps is not None else (program.steps or 0)
+    d = Derivation(program, seed=seed, limit=limit)
+    d.advance(n)
+    rw = d.render_word()
+    geometry = interpret(rw, program, seed=seed)
+    dd = _detail(program, detail)
+    scene = build_mesh(geometry, detail=dd, mode=mode, taper=taper)
+    return Plant(program, seed, n, d.word, rw, geometry, scene, dd, mode, taper)
+
+
+def _detail(program: Program, detail: int | None) -> int | None:
+    if detail is not None:
+        return int(detail)
+    return None
+
+
+def growth_scenes(
+    source: Program | str | os.PathLike,
+    steps: int | None = None,
+    *,
+    seed: int | None = None,
+    substeps: int = 1,
+    detail: int | None = None,
+    mode: str = "tube",
+) -> Iterator[Scene]:
+    """Scenes of a plant growing: one per derivation step, or ``substeps`` per step.
+
+    With ``substeps > 1`` the growth is smooth: the segments drawn by modules that a step
+    made (known from the derivation's trace) grow from nothing to their full length, so
+    new branches extend out of the old ones instead of popping into place.  This works for
+    every system whose drawing module takes its length as first parameter (``F(l)``).
+    """
+    program = resolve(source)
+    if seed is None:
+        seed = program.seed if program.seed is not None else 1
+    n = steps if steps is not None else (program.steps or 0)
+    smooth = substeps > 1 and program.turtle != "engine"
+    d = Derivation(program, seed=seed, trace=smooth)
+    dd = _detail(program, detail)
+
+    def scene_of(word: ModuleString) -> Scene:
+        return build_mesh(interpret(word, program, seed=seed), detail=dd, mode=mode)
+
+    yield scene_of(d.render_word())
+    for _ in range(n):
+        d.advance(1)
+        if not smooth:
+            yield scene_of(d.render_word())
+            continue
+        rw, src = d.render_word_sources()
+        fresh = d.origin_steps[src] == d.step
+        for k in range(1, substeps + 1):
+            t = k / substeps
+            yield scene_of(_scale_fresh(rw, fresh, t, program) if t < 1 else rw)
+
+
+def _scale_fresh(
+    word: ModuleString, fresh: np.ndarray, t: float, program: Program
+) -> ModuleString:
+    """The word with the step length of fresh drawing modules scaled by ``t``."""
+    draw = {"F", "G", "f", "g"}
+    ids = [word.alphabet.get(s) for s in draw if s in word.alphabet]
+    if not ids:
+        return word
+    is_draw = np.isin(word.ids, ids) & fresh
+    if not is_draw.any():
+        return word
+    default = float(program.settings.get("len", 1.0))
+    counts = word.nparams.copy()
+    add = is_draw & (counts == 0)
+    counts[add] = 1
+    offsets = np.zeros(len(word) + 1, np.int64)
+    np.cumsum(counts, out=offsets[1:])
+    values = np.empty(offsets[-1], np.float64)
+    old = word.offsets
+    # every existing parameter moves to its module's new start plus its rank
+    owner = np.repeat(np.arange(len(word)), word.nparams)
+    rank = np.arange(word.values.shape[0]) - old[owner]
+    values[offsets[owner] + rank] = word.values
+    values[offsets[:-1][add]] = default
+    first = offsets[:-1][is_draw]
+    values[first] *= t
+    return ModuleString(word.alphabet, word.ids, offsets, values)
