@@ -112,8 +112,8 @@ def run(args) -> int:
         show(d)
         derive_with_progress(d, steps, show)
     else:
-        if steps > 1 and not args.render:
-            d.advance(steps)
+        if steps > 1 and d.is_d0l:
+            d.advance(steps)  # block expansion: all steps at once
         else:
             derive_with_progress(d, steps)
         w = d.render_word() if args.render else d.word

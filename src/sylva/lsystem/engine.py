@@ -799,20 +799,27 @@ class Derivation:
             self._origin_step = np.zeros(len(self.word), np.int64)
         return self.word
 
-    def advance(self, n: int = 1) -> ModuleString:
-        """Derive ``n`` more steps and return the new current word."""
-        n = int(n)
+    @property
+    def is_d0l(self) -> bool:
+        """True when the remaining steps are deterministic, context-free and parameter-free,
+        so that :meth:`advance` jumps several steps at once by block expansion."""
         rs = self._compiled.productions
-        if (
-            n > 1
-            and not self.trace
+        rs.grow()
+        return bool(
+            not self.trace
             and rs.rules
             and rs.fast
             and not self.word.has_params
             and len(self.word) < 100_000
             and (rs.nalt <= 1).all()
             and "%" not in self.alphabet
-        ):
+        )
+
+    def advance(self, n: int = 1) -> ModuleString:
+        """Derive ``n`` more steps and return the new current word."""
+        n = int(n)
+        rs = self._compiled.productions
+        if n > 1 and self.is_d0l:
             # deterministic, context-free, parameter-free: expand whole blocks at once
             self._history.clear()
             try:
