@@ -78,7 +78,7 @@ def test_public_api_is_pinned():
         assert getattr(sylva, name) is not None
     assert set(sylva.__all__) >= {
         "Derivation", "GrowthLimitError", "LSystemSyntaxError", "ModuleString", "Program",
-        "SylvaError", "derive", "dumps", "iterate", "load", "loads", "lsystem",
+        "SylvaError", "derive", "dumps", "iterate", "load", "loads", "define",
     }
 
 
@@ -97,3 +97,11 @@ def test_modules_stay_small():
         if (n := len(p.read_text(encoding="utf-8").splitlines())) > 1200
     ]
     assert not big, big
+
+
+def test_subpackages_are_not_shadowed_by_names():
+    import importlib
+
+    for sub in ("lsystem", "turtle", "geometry", "texture", "render", "tree", "world"):
+        mod = importlib.import_module(f"sylva.{sub}")
+        assert getattr(sylva, sub, mod) is mod, f"sylva.{sub} is shadowed by a name"

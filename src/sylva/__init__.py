@@ -11,13 +11,13 @@ from .lsystem import (
     Derivation,
     ModuleString,
     Program,
+    define,
     derive,
     dumps,
     iterate,
     load,
     load_all,
     loads,
-    lsystem,
     render_word,
 )
 
@@ -29,13 +29,13 @@ __all__ = [
     "ModuleString",
     "Program",
     "SylvaError",
+    "define",
     "derive",
     "dumps",
     "iterate",
     "load",
     "load_all",
     "loads",
-    "lsystem",
     "render_word",
 ]
 __version__ = "0.1.0"

@@ -6,7 +6,7 @@
 """
 
 from .ast import Module, Pattern, Program, Rule
-from .build import lsystem
+from .build import define
 from .dialects import detect, dumps, load, load_all, loads, parse_expr, parse_rule, parse_word
 from .engine import DEFAULT_MODULE_LIMIT, Derivation, derive, iterate, render_word, rewrite
 from .lstring import Alphabet, ModuleString
@@ -20,6 +20,7 @@ __all__ = [
     "Pattern",
     "Program",
     "Rule",
+    "define",
     "derive",
     "detect",
     "dumps",
@@ -27,7 +28,6 @@ __all__ = [
     "load",
     "load_all",
     "loads",
-    "lsystem",
     "parse_expr",
     "parse_rule",
     "parse_word",

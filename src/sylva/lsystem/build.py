@@ -1,6 +1,6 @@
 """Build L-systems in Python code instead of text files.
 
-:func:`lsystem` takes the axiom and the rules as the ``.lsys`` language writes them (each
+:func:`define` takes the axiom and the rules as the ``.lsys`` language writes them (each
 string parsed by our own parser, never evaluated), or as :class:`~sylva.lsystem.ast.Rule`
 objects, or as a ``{predecessor: successor}`` mapping for context-free systems, and the
 settings as keyword arguments.  The result is an ordinary :class:`Program`: derive it,
@@ -9,16 +9,16 @@ draw it, or write it out with :func:`~sylva.lsystem.dumps`.
 Examples
 --------
 >>> from sylva.lsystem import derive, dumps
->>> koch = lsystem("F++F++F", "F -> F-F++F-F", rot=60, steps=2)
+>>> koch = define("F++F++F", "F -> F-F++F-F", rot=60, steps=2)
 >>> len(derive(koch))
 112
->>> tree = lsystem("A(1)", "A(s) : s < 3 -> F(s)[+A(s*R)][-A(s*R)]", constants={"R": 2})
+>>> tree = define("A(1)", "A(s) : s < 3 -> F(s)[+A(s*R)][-A(s*R)]", constants={"R": 2})
 >>> str(derive(tree, 2))
 'F(1)[+F(2)[+A(4)][-A(4)]][-F(2)[+A(4)][-A(4)]]'
->>> algae = lsystem("a", {"a": "ab", "b": "a"})
+>>> algae = define("a", {"a": "ab", "b": "a"})
 >>> str(derive(algae, 5))
 'abaababaabaab'
->>> print(dumps(lsystem("F", "F -> F[+F]F", rot=25.7)), end="")
+>>> print(dumps(define("F", "F -> F[+F]F", rot=25.7)), end="")
 rot = 25.7
 axiom = F
 <BLANKLINE>
@@ -34,14 +34,14 @@ from .ast import Module, Program, Rule
 from .dialects import parse_rule, parse_word
 from .expr import evaluate_constant
 
-__all__ = ["lsystem"]
+__all__ = ["define"]
 
 _SETTING_KINDS = {
     "turtle": str,
 }
 
 
-def lsystem(
+def define(
     axiom: str | Iterable[Module],
     *rules: str | Rule | Mapping[str, str] | Iterable[str | Rule],
     constants: Mapping[str, float] | None = None,

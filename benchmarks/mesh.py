@@ -1,0 +1,114 @@
+"""Turtle + tube mesh throughput on a bracketed 3D plant with about a million segments.
+
+Run: ``python benchmarks/mesh.py [--segments 1000000] [--detail 8] [--repeat 3]``
+
+Measures, after a warm-up that compiles the kernels:
+
+* ``turtle``: :func:`sylva.turtle.interpret` over the word's arrays;
+* ``mesh``: :func:`sylva.geometry.build.build_branches` (continuous tubes, parallel-transport
+  frames, mitred shared rings, caps, normals, UVs);
+* segments per second for both together (best of ``--repeat``);
+* peak memory per triangle: the growth of the process's peak resident set during one
+  turtle + mesh run (Linux ``VmHWM`` after resetting it), divided by the triangle count;
+  it includes the turtle's records and the finished mesh.
+
+The word comes from a 3D bracketed plant (every X splits into three pitched, rolled
+branches), derived by plain string rewriting and turned into a ModuleString through a
+byte lookup (word construction is not timed).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import sys
+import time
+
+import numpy as np
+
+from sylva.geometry.build import build_branches
+from sylva.lsystem.lstring import Alphabet, ModuleString
+from sylva.turtle import interpret
+
+RULES = {"X": "F[&+X]/[&-X]\\[^X]FX", "F": "FF"}
+
+
+def plant_word(min_segments: int) -> ModuleString:
+    word = "X"
+    while word.count("F") < min_segments:
+        word = "".join(RULES.get(c, c) for c in word)
+    alphabet = Alphabet()
+    table = np.zeros(256, np.int32)
+    for ch in sorted(set(word)):
+        table[ord(ch)] = alphabet.id(ch)
+    ids = table[np.frombuffer(word.encode("ascii"), np.uint8)]
+    return ModuleString(alphabet, ids)
+
+
+def run_once(word: ModuleString, detail: int) -> tuple[float, float, int, int, float, float]:
+    """Wall and CPU seconds of the turtle and of the mesh, segments and triangles."""
+    c0, t0 = time.process_time(), time.perf_counter()
+    g = interpret(word, dialect="abop", rot=28.0, thick=0.05, thick_factor=0.85)
+    c1, t1 = time.process_time(), time.perf_counter()
+    m = build_branches(g, detail=detail)
+    c2, t2 = time.process_time(), time.perf_counter()
+    return t1 - t0, t2 - t1, g.n_segments, m.n_triangles, c1 - c0, c2 - c1
+
+
+def _status_kib(field: str) -> int:
+    with open("/proc/self/status") as fh:
+        for line in fh:
+            if line.startswith(field + ":"):
+                return int(line.split()[1])
+    raise OSError(f"{field} not in /proc/self/status")
+
+
+def peak_memory(word: ModuleString, detail: int) -> dict:
+    """Peak resident-set growth of one turtle + mesh run (Linux: resets VmHWM first)."""
+    with open("/proc/self/clear_refs", "w") as fh:
+        fh.write("5")  # reset the peak RSS to the current RSS
+    base = _status_kib("VmRSS")
+    _, _, n, t, _, _ = run_once(word, detail)
+    return {"kib": _status_kib("VmHWM") - base, "triangles": t, "segments": n}
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--segments", type=int, default=1_000_000)
+    ap.add_argument("--detail", type=int, default=8)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--no-memory", action="store_true")
+    args = ap.parse_args(argv)
+    word = plant_word(args.segments)
+    run_once(plant_word(10), args.detail)  # compile
+    best = None
+    for _ in range(args.repeat):
+        r = run_once(word, args.detail)
+        if best is None or r[0] + r[1] < best[0] + best[1]:
+            best = r
+    tt, tm, n, tris, ct, cm = best
+    print(f"word: {len(word):,} modules; {n:,} segments; {tris:,} triangles at {args.detail} sides")
+    print(f"threads: {os.cpu_count()} cpus (numba threads: {_numba_threads()})")
+    print(f"load average: {os.getloadavg()[0]:.1f} (other processes share the cores)")
+    print(f"turtle: {tt * 1e3:8.1f} ms  ({n / tt / 1e6:6.2f} M segments/s)  cpu {ct * 1e3:7.1f} ms")
+    print(f"mesh:   {tm * 1e3:8.1f} ms  ({n / tm / 1e6:6.2f} M segments/s)  cpu {cm * 1e3:7.1f} ms")
+    tot = tt + tm
+    cpu = (ct + cm) * 1e3
+    print(f"total:  {tot * 1e3:8.1f} ms  ({n / tot / 1e6:6.2f} M segments/s)  cpu {cpu:7.1f} ms")
+    if not args.no_memory:
+        p = peak_memory(word, args.detail)
+        print(f"peak memory: {p['kib'] / 1024:.0f} MiB for {p['triangles']:,} triangles = "
+              f"{p['kib'] * 1024 / p['triangles']:.1f} bytes per triangle")  # fmt: skip
+    return 0
+
+
+def _numba_threads() -> int:
+    import numba
+
+    return numba.get_num_threads()
+
+
+if __name__ == "__main__":
+    resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+    sys.exit(main())

@@ -1,0 +1,626 @@
+"""Compiled mesh builders behind :mod:`sylva.geometry.build` (no input checking here)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+TWO_PI = 2.0 * math.pi
+
+
+# --------------------------------------------------------------------------- tubes
+@njit(cache=True)
+def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, split_colors, d):
+    """Choose axis continuations and lay out vertices and triangles of continuous tubes.
+
+    A segment continues its parent's tube when it is the parent's child of lowest bracket
+    depth (first drawn on ties), bends by less than ``acos(cos_limit)``, and keeps its
+    material (and colour, with ``split_colors``).  Returns
+
+    cont : int64[n]      the continuing child (-1: the tube ends with a cap)
+    prev : bool[n]       True when the segment continues its parent (no start ring)
+    v0, v1 : float64[n]  texture v at the start and end (length / mean circumference)
+    voff, toff : int64[n+1]  first vertex / triangle of each segment
+    ring0, ring1 : int64[n]  first vertex of the start ring and of the end ring
+    """
+    n = start.shape[0]
+    cont = np.full(n, -1, np.int64)
+    lens = np.empty(n)
+    for s in range(n):
+        ax = end[s, 0] - start[s, 0]
+        ay = end[s, 1] - start[s, 1]
+        az = end[s, 2] - start[s, 2]
+        la = math.sqrt(ax * ax + ay * ay + az * az)
+        lens[s] = la
+        p = parent[s]
+        if p < 0 or material[s] != material[p]:
+            continue
+        if split_colors and (
+            color[s, 0] != color[p, 0] or color[s, 1] != color[p, 1] or color[s, 2] != color[p, 2]
+        ):
+            continue
+        bx = end[p, 0] - start[p, 0]
+        by = end[p, 1] - start[p, 1]
+        bz = end[p, 2] - start[p, 2]
+        c = (ax * bx + ay * by + az * bz) / (la * lens[p])
+        if c < cos_limit:
+            continue
+        q = cont[p]
+        if q < 0 or depth[s] < depth[q]:
+            cont[p] = s
+    prev = np.empty(n, np.bool_)
+    v0 = np.empty(n)
+    v1 = np.empty(n)
+    voff = np.empty(n + 1, np.int64)
+    toff = np.empty(n + 1, np.int64)
+    ring0 = np.empty(n, np.int64)
+    ring1 = np.empty(n, np.int64)
+    voff[0] = 0
+    toff[0] = 0
+    r = d + 1
+    for s in range(n):
+        p = parent[s]
+        pv = p >= 0 and cont[p] == s
+        prev[s] = pv
+        v0[s] = v1[p] if pv else 0.0
+        rm = 0.5 * (radius[s, 0] + radius[s, 1])
+        v1[s] = v0[s] + lens[s] / (TWO_PI * max(rm, 1e-12))
+        nv = r
+        nt = 2 * d
+        if pv:
+            ring0[s] = ring1[p]
+            ring1[s] = voff[s]
+        else:
+            ring0[s] = voff[s]
+            ring1[s] = voff[s] + r + 1
+            nv += r + 1
+            nt += d
+        if cont[s] < 0:
+            nv += 1
+            nt += d
+        voff[s + 1] = voff[s] + nv
+        toff[s + 1] = toff[s] + nt
+    return cont, prev, v0, v1, voff, toff, ring0, ring1
+
+
+@njit(cache=True, parallel=True)
+def tube_fill(
+    start, end, radius, ref, color, material, cont, prev, v0, v1, voff, toff, ring0, ring1,
+    d, want_colors, V, N, UV, C, I, M,
+):  # fmt: skip
+    """Write the tube vertices (V, N, UV, C) and triangles (I, M) laid out by tube_plan.
+
+    ``M`` may be empty (one material: no per-triangle ids are written)."""
+    n = start.shape[0]
+    cos_t = np.empty(d + 1)
+    sin_t = np.empty(d + 1)
+    for j in range(d + 1):
+        cos_t[j] = math.cos(TWO_PI * j / d)
+        sin_t[j] = math.sin(TWO_PI * j / d)
+    cos_t[d] = 1.0
+    sin_t[d] = 0.0
+    u_t = np.empty(d + 1, np.float32)
+    for j in range(d + 1):
+        u_t[j] = j / d
+    want_m = M.shape[0] > 0
+    for s in prange(n):
+        ax = end[s, 0] - start[s, 0]
+        ay = end[s, 1] - start[s, 1]
+        az = end[s, 2] - start[s, 2]
+        ln = math.sqrt(ax * ax + ay * ay + az * az)
+        ax /= ln
+        ay /= ln
+        az /= ln
+        rx = np.float64(ref[s, 0])
+        ry = np.float64(ref[s, 1])
+        rz = np.float64(ref[s, 2])
+        bx = ay * rz - az * ry
+        by = az * rx - ax * rz
+        bz = ax * ry - ay * rx
+        r0 = np.float64(radius[s, 0])
+        r1 = np.float64(radius[s, 1])
+        slope = (r0 - r1) / ln  # outward tilt of the normal on a frustum
+        inv = 1.0 / math.sqrt(1.0 + slope * slope)
+        v = voff[s]
+        t = toff[s]
+        mat = material[s]
+        # ---------------------------------------------------------------- start ring + cap
+        if not prev[s]:
+            base = v
+            for j in range(d + 1):
+                c = cos_t[j]
+                sn = sin_t[j]
+                nx = c * rx + sn * bx
+                ny = c * ry + sn * by
+                nz = c * rz + sn * bz
+                V[v, 0] = start[s, 0] + r0 * nx
+                V[v, 1] = start[s, 1] + r0 * ny
+                V[v, 2] = start[s, 2] + r0 * nz
+                N[v, 0] = (nx + slope * ax) * inv
+                N[v, 1] = (ny + slope * ay) * inv
+                N[v, 2] = (nz + slope * az) * inv
+                UV[v, 0] = u_t[j]
+                UV[v, 1] = v0[s]
+                v += 1
+            V[v, 0] = start[s, 0]
+            V[v, 1] = start[s, 1]
+            V[v, 2] = start[s, 2]
+            N[v, 0] = -ax
+            N[v, 1] = -ay
+            N[v, 2] = -az
+            UV[v, 0] = 0.5
+            UV[v, 1] = v0[s]
+            center = v
+            v += 1
+            for j in range(d):
+                I[t, 0] = center
+                I[t, 1] = base + j + 1
+                I[t, 2] = base + j
+                if want_m:
+                    M[t] = mat
+                t += 1
+        # ---------------------------------------------------------------- end ring
+        q = cont[s]
+        mx = 0.0
+        my = 0.0
+        mz = 0.0
+        am = 1.0
+        if q >= 0:
+            qx = end[q, 0] - start[q, 0]
+            qy = end[q, 1] - start[q, 1]
+            qz = end[q, 2] - start[q, 2]
+            ql = math.sqrt(qx * qx + qy * qy + qz * qz)
+            mx = ax + qx / ql
+            my = ay + qy / ql
+            mz = az + qz / ql
+            ml = math.sqrt(mx * mx + my * my + mz * mz)
+            mx /= ml
+            my /= ml
+            mz /= ml
+            am = ax * mx + ay * my + az * mz
+        e = ring1[s]
+        for j in range(d + 1):
+            c = cos_t[j]
+            sn = sin_t[j]
+            nx = c * rx + sn * bx
+            ny = c * ry + sn * by
+            nz = c * rz + sn * bz
+            px = r1 * nx
+            py = r1 * ny
+            pz = r1 * nz
+            if q >= 0:
+                # mitre: slide the circle point along the axis onto the bisecting plane
+                h = (px * mx + py * my + pz * mz) / am
+                px -= h * ax
+                py -= h * ay
+                pz -= h * az
+                w = nx * mx + ny * my + nz * mz
+                gx = nx - w * mx
+                gy = ny - w * my
+                gz = nz - w * mz
+                gl = 1.0 / math.sqrt(gx * gx + gy * gy + gz * gz)
+            else:
+                gx = nx + slope * ax
+                gy = ny + slope * ay
+                gz = nz + slope * az
+                gl = inv
+            V[e + j, 0] = end[s, 0] + px
+            V[e + j, 1] = end[s, 1] + py
+            V[e + j, 2] = end[s, 2] + pz
+            N[e + j, 0] = gx * gl
+            N[e + j, 1] = gy * gl
+            N[e + j, 2] = gz * gl
+            UV[e + j, 0] = u_t[j]
+            UV[e + j, 1] = v1[s]
+        v = e + d + 1
+        a0 = ring0[s]
+        for j in range(d):
+            I[t, 0] = a0 + j
+            I[t, 1] = a0 + j + 1
+            I[t, 2] = e + j + 1
+            if want_m:
+                M[t] = mat
+            t += 1
+            I[t, 0] = a0 + j
+            I[t, 1] = e + j + 1
+            I[t, 2] = e + j
+            if want_m:
+                M[t] = mat
+            t += 1
+        if q < 0:
+            V[v, 0] = end[s, 0]
+            V[v, 1] = end[s, 1]
+            V[v, 2] = end[s, 2]
+            N[v, 0] = ax
+            N[v, 1] = ay
+            N[v, 2] = az
+            UV[v, 0] = 0.5
+            UV[v, 1] = v1[s]
+            for j in range(d):
+                I[t, 0] = v
+                I[t, 1] = e + j
+                I[t, 2] = e + j + 1
+                if want_m:
+                    M[t] = mat
+                t += 1
+        if want_colors:
+            for k in range(voff[s], voff[s + 1]):
+                C[k, 0] = color[s, 0]
+                C[k, 1] = color[s, 1]
+                C[k, 2] = color[s, 2]
+                C[k, 3] = 1.0
+
+
+@njit(cache=True)
+def leonardo(parent, radius, exponent):
+    """Radii by Leonardo's rule: ``r(s)^e = Σ r(child)^e``; tips keep their end radius.
+
+    Returns float32[n, 2]: the radius at the start of every segment and at its end (the
+    start radius of its thickest child, or the tip radius).
+    """
+    n = parent.shape[0]
+    acc = np.zeros(n)
+    has_child = np.zeros(n, np.bool_)
+    thick_child = np.full(n, -1, np.int64)
+    for s in range(n - 1, -1, -1):
+        if not has_child[s]:
+            acc[s] = np.float64(radius[s, 1]) ** exponent
+        p = parent[s]
+        if p >= 0:
+            acc[p] += acc[s]
+            has_child[p] = True
+            if thick_child[p] < 0 or acc[s] > acc[thick_child[p]]:
+                thick_child[p] = s
+    out = np.empty((n, 2), np.float32)
+    for s in range(n):
+        out[s, 0] = acc[s] ** (1.0 / exponent)
+    for s in range(n):
+        c = thick_child[s]
+        out[s, 1] = out[c, 0] if c >= 0 else radius[s, 1]
+    return out
+
+
+# --------------------------------------------------------------------------- prisms and cones
+@njit(cache=True)
+def prism_fill(start, end, radius, ref, color, material, d, want_colors, V, N, UV, C, I, M):
+    """Seed 001: the mantle of a regular prism per segment, ``d`` flat faces (4 vertices and
+    2 triangles each); ``d == 1`` is one rectangle in the (H, ref) plane, both sides."""
+    n = start.shape[0]
+    faces = d if d >= 3 else 2
+    for s in range(n):  # fidelity mode: serial (cheap to compile)
+        ax = end[s, 0] - start[s, 0]
+        ay = end[s, 1] - start[s, 1]
+        az = end[s, 2] - start[s, 2]
+        ln = math.sqrt(ax * ax + ay * ay + az * az)
+        ax /= ln
+        ay /= ln
+        az /= ln
+        rx = np.float64(ref[s, 0])
+        ry = np.float64(ref[s, 1])
+        rz = np.float64(ref[s, 2])
+        bx = ay * rz - az * ry
+        by = az * rx - ax * rz
+        bz = ax * ry - ay * rx
+        r0 = np.float64(radius[s, 0])
+        r1 = np.float64(radius[s, 1])
+        v = s * faces * 4
+        t = s * faces * 2
+        for f in range(faces):
+            if d >= 3:
+                p0 = TWO_PI * f / d
+                p1 = TWO_PI * (f + 1) / d
+                c0 = math.cos(p0)
+                s0 = math.sin(p0)
+                c1 = math.cos(p1)
+                s1 = math.sin(p1)
+                pm = 0.5 * (p0 + p1)
+                ncx = math.cos(pm) * rx + math.sin(pm) * bx
+                ncy = math.cos(pm) * ry + math.sin(pm) * by
+                ncz = math.cos(pm) * rz + math.sin(pm) * bz
+            else:  # a flat strip across ref, seen from both sides
+                sign = 1.0 if f == 0 else -1.0
+                c0 = -sign
+                s0 = 0.0
+                c1 = sign
+                s1 = 0.0
+                ncx = sign * bx
+                ncy = sign * by
+                ncz = sign * bz
+            e0x = c0 * rx + s0 * bx
+            e0y = c0 * ry + s0 * by
+            e0z = c0 * rz + s0 * bz
+            e1x = c1 * rx + s1 * bx
+            e1y = c1 * ry + s1 * by
+            e1z = c1 * rz + s1 * bz
+            V[v, 0] = start[s, 0] + r0 * e0x
+            V[v, 1] = start[s, 1] + r0 * e0y
+            V[v, 2] = start[s, 2] + r0 * e0z
+            V[v + 1, 0] = start[s, 0] + r0 * e1x
+            V[v + 1, 1] = start[s, 1] + r0 * e1y
+            V[v + 1, 2] = start[s, 2] + r0 * e1z
+            V[v + 2, 0] = end[s, 0] + r1 * e1x
+            V[v + 2, 1] = end[s, 1] + r1 * e1y
+            V[v + 2, 2] = end[s, 2] + r1 * e1z
+            V[v + 3, 0] = end[s, 0] + r1 * e0x
+            V[v + 3, 1] = end[s, 1] + r1 * e0y
+            V[v + 3, 2] = end[s, 2] + r1 * e0z
+            u0 = f / faces
+            u1 = (f + 1) / faces
+            UV[v, 0] = u0
+            UV[v, 1] = 0.0
+            UV[v + 1, 0] = u1
+            UV[v + 1, 1] = 0.0
+            UV[v + 2, 0] = u1
+            UV[v + 2, 1] = 1.0
+            UV[v + 3, 0] = u0
+            UV[v + 3, 1] = 1.0
+            for k in range(4):
+                N[v + k, 0] = ncx
+                N[v + k, 1] = ncy
+                N[v + k, 2] = ncz
+                if want_colors:
+                    C[v + k, 0] = color[s, 0]
+                    C[v + k, 1] = color[s, 1]
+                    C[v + k, 2] = color[s, 2]
+                    C[v + k, 3] = 1.0
+            I[t, 0] = v
+            I[t, 1] = v + 1
+            I[t, 2] = v + 2
+            I[t + 1, 0] = v
+            I[t + 1, 1] = v + 2
+            I[t + 1, 2] = v + 3
+            M[t] = material[s]
+            M[t + 1] = material[s]
+            v += 4
+            t += 2
+
+
+@njit(cache=True)
+def cone_fill(start, end, radius, ref, color, material, d, h, want_colors, V, N, UV, C, I, M):
+    """Seed 000: a frustum per segment whose bottom base is a hemisphere of the base radius
+    (``h`` rings of latitude) and whose top is a flat disc.  Closed; no shared vertices."""
+    n = start.shape[0]
+    r = d + 1
+    nv = r * (h + 2) + 2
+    nt = 2 * d * h + 2 * d + d + d
+    for s in range(n):  # fidelity mode: serial (cheap to compile)
+        ax = end[s, 0] - start[s, 0]
+        ay = end[s, 1] - start[s, 1]
+        az = end[s, 2] - start[s, 2]
+        ln = math.sqrt(ax * ax + ay * ay + az * az)
+        ax /= ln
+        ay /= ln
+        az /= ln
+        rx = np.float64(ref[s, 0])
+        ry = np.float64(ref[s, 1])
+        rz = np.float64(ref[s, 2])
+        bx = ay * rz - az * ry
+        by = az * rx - ax * rz
+        bz = ax * ry - ay * rx
+        r0 = np.float64(radius[s, 0])
+        r1 = np.float64(radius[s, 1])
+        slope = (r0 - r1) / ln
+        v0 = s * nv
+        t = s * nt
+        # rings 0..h-1: hemisphere latitudes from the pole side up to the equator (ring h)
+        # ring h: the bottom equator (frustum bottom), ring h+1: the top
+        for i in range(h + 2):
+            if i <= h:
+                lat = (0.5 * math.pi) * (1.0 - (i + 1.0) / (h + 1.0))  # angle below equator
+                cr = r0 * math.cos(lat)
+                off = -r0 * math.sin(lat)
+                cx = start[s, 0] + off * ax
+                cy = start[s, 1] + off * ay
+                cz = start[s, 2] + off * az
+                vv = (i + 1.0) / (h + 1.0) * 0.25
+            else:
+                cr = r1
+                lat = 0.0
+                cx = end[s, 0]
+                cy = end[s, 1]
+                cz = end[s, 2]
+                vv = 1.0
+            for j in range(r):
+                phi = TWO_PI * j / d
+                c = math.cos(phi)
+                sn = math.sin(phi)
+                nx = c * rx + sn * bx
+                ny = c * ry + sn * by
+                nz = c * rz + sn * bz
+                k = v0 + i * r + j
+                V[k, 0] = cx + cr * nx
+                V[k, 1] = cy + cr * ny
+                V[k, 2] = cz + cr * nz
+                if i < h:
+                    gx = math.cos(lat) * nx - math.sin(lat) * ax
+                    gy = math.cos(lat) * ny - math.sin(lat) * ay
+                    gz = math.cos(lat) * nz - math.sin(lat) * az
+                else:
+                    gx = nx + slope * ax
+                    gy = ny + slope * ay
+                    gz = nz + slope * az
+                gl = math.sqrt(gx * gx + gy * gy + gz * gz)
+                N[k, 0] = gx / gl
+                N[k, 1] = gy / gl
+                N[k, 2] = gz / gl
+                UV[k, 0] = j / d
+                UV[k, 1] = vv
+        pole = v0 + r * (h + 2)
+        V[pole, 0] = start[s, 0] - r0 * ax
+        V[pole, 1] = start[s, 1] - r0 * ay
+        V[pole, 2] = start[s, 2] - r0 * az
+        N[pole, 0] = -ax
+        N[pole, 1] = -ay
+        N[pole, 2] = -az
+        UV[pole, 0] = 0.5
+        UV[pole, 1] = 0.0
+        top = pole + 1
+        V[top, 0] = end[s, 0]
+        V[top, 1] = end[s, 1]
+        V[top, 2] = end[s, 2]
+        N[top, 0] = ax
+        N[top, 1] = ay
+        N[top, 2] = az
+        UV[top, 0] = 0.5
+        UV[top, 1] = 1.0
+        for j in range(d):  # pole fan
+            I[t, 0] = pole
+            I[t, 1] = v0 + j + 1
+            I[t, 2] = v0 + j
+            t += 1
+        for i in range(h + 1):  # hemisphere bands and the frustum (ring h to h+1)
+            a0 = v0 + i * r
+            b0 = a0 + r
+            for j in range(d):
+                I[t, 0] = a0 + j
+                I[t, 1] = a0 + j + 1
+                I[t, 2] = b0 + j + 1
+                I[t + 1, 0] = a0 + j
+                I[t + 1, 1] = b0 + j + 1
+                I[t + 1, 2] = b0 + j
+                t += 2
+        e = v0 + (h + 1) * r
+        for j in range(d):  # top disc
+            I[t, 0] = top
+            I[t, 1] = e + j
+            I[t, 2] = e + j + 1
+            t += 1
+        for k in range(s * nt, (s + 1) * nt):
+            M[k] = material[s]
+        if want_colors:
+            for k in range(v0, v0 + nv):
+                C[k, 0] = color[s, 0]
+                C[k, 1] = color[s, 1]
+                C[k, 2] = color[s, 2]
+                C[k, 3] = 1.0
+
+
+# --------------------------------------------------------------------------- polygons
+@njit(cache=True)
+def _area2(px, py, a, b, c):
+    return (px[b] - px[a]) * (py[c] - py[a]) - (px[c] - px[a]) * (py[b] - py[a])
+
+
+@njit(cache=True)
+def ear_clip(vertices, offsets):
+    """Triangulate simple polygons (concave ones too) by ear clipping.
+
+    Parameters
+    ----------
+    vertices : float64[v, 3]; offsets : int64[p + 1]
+
+    Returns
+    -------
+    tris : int64[t, 3]
+        Triangles as indices into ``vertices``, wound like the polygon (counter-clockwise
+        about its Newell normal).
+    owner : int64[t]
+        The polygon of each triangle.
+    normals : float64[p, 3]
+        Unit Newell normal of each polygon.
+    """
+    p = offsets.shape[0] - 1
+    total = 0
+    for i in range(p):
+        k = offsets[i + 1] - offsets[i]
+        if k >= 3:
+            total += k - 2
+    tris = np.empty((total, 3), np.int64)
+    owner = np.empty(total, np.int64)
+    normals = np.zeros((p, 3))
+    t = 0
+    for i in range(p):
+        o = offsets[i]
+        k = offsets[i + 1] - o
+        if k < 3:
+            continue
+        nx = 0.0
+        ny = 0.0
+        nz = 0.0
+        for a in range(k):
+            b = (a + 1) % k
+            va = vertices[o + a]
+            vb = vertices[o + b]
+            nx += (va[1] - vb[1]) * (va[2] + vb[2])
+            ny += (va[2] - vb[2]) * (va[0] + vb[0])
+            nz += (va[0] - vb[0]) * (va[1] + vb[1])
+        nl = math.sqrt(nx * nx + ny * ny + nz * nz)
+        if nl < 1e-300:
+            nx, ny, nz, nl = 0.0, 0.0, 1.0, 1.0
+        nx /= nl
+        ny /= nl
+        nz /= nl
+        normals[i, 0] = nx
+        normals[i, 1] = ny
+        normals[i, 2] = nz
+        # a 2D basis (e1, e2) of the plane with e1 x e2 = n
+        if abs(nx) < 0.9:
+            e1x, e1y, e1z = 0.0, -nz, ny  # (1,0,0) x n
+        else:
+            e1x, e1y, e1z = nz, 0.0, -nx  # (0,1,0) x n
+        el = math.sqrt(e1x * e1x + e1y * e1y + e1z * e1z)
+        e1x /= el
+        e1y /= el
+        e1z /= el
+        e2x = ny * e1z - nz * e1y
+        e2y = nz * e1x - nx * e1z
+        e2z = nx * e1y - ny * e1x
+        px = np.empty(k)
+        py = np.empty(k)
+        for a in range(k):
+            va = vertices[o + a]
+            px[a] = va[0] * e1x + va[1] * e1y + va[2] * e1z
+            py[a] = va[0] * e2x + va[1] * e2y + va[2] * e2z
+        ext = max(px.max() - px.min(), py.max() - py.min())
+        eps = 1e-10 * ext * ext  # areas below this are zero (collinear, on an edge)
+        idx = np.arange(k)
+        m = k
+        guard = 0
+        a = 0
+        while m > 3 and guard < 2 * m:
+            i0 = idx[(a + m - 1) % m]
+            i1 = idx[a % m]
+            i2 = idx[(a + 1) % m]
+            ear = _area2(px, py, i0, i1, i2) > eps
+            if ear:
+                for b in range(m):
+                    q = idx[b]
+                    if q in (i0, i1, i2):
+                        continue
+                    if (
+                        _area2(px, py, i0, i1, q) >= -eps
+                        and _area2(px, py, i1, i2, q) >= -eps
+                        and _area2(px, py, i2, i0, q) >= -eps
+                    ):
+                        ear = False
+                        break
+            if ear:
+                tris[t, 0] = o + i0
+                tris[t, 1] = o + i1
+                tris[t, 2] = o + i2
+                owner[t] = i
+                t += 1
+                for b in range(a % m, m - 1):
+                    idx[b] = idx[b + 1]
+                m -= 1
+                guard = 0
+                a = a % m
+            else:
+                a = (a + 1) % m
+                guard += 1
+        if m > 3:  # not simple (self-intersecting or degenerate): fan the rest
+            for b in range(1, m - 1):
+                tris[t, 0] = o + idx[0]
+                tris[t, 1] = o + idx[b]
+                tris[t, 2] = o + idx[b + 1]
+                owner[t] = i
+                t += 1
+        elif _area2(px, py, idx[0], idx[1], idx[2]) > eps:  # skip a collinear remainder
+            tris[t, 0] = o + idx[0]
+            tris[t, 1] = o + idx[1]
+            tris[t, 2] = o + idx[2]
+            owner[t] = i
+            t += 1
+    return tris[:t], owner[:t], normals

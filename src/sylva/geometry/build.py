@@ -1,0 +1,429 @@
+"""Meshes from turtle geometry: branches, leaves, polygons and voxel blocks.
+
+:func:`build_mesh` turns a :class:`~sylva.geometry.records.Geometry` into a
+:class:`~sylva.geometry.mesh.Scene` of up to four meshes: ``branches``, ``leaves``,
+``polygons`` and ``blocks``.  Branch modes:
+
+``"tube"`` (default)
+    Continuous generalised cylinders along each axis of the branching structure (the Stem of
+    seed 002 §5.6): one ring of ``detail`` sides per segment end, oriented by a
+    parallel-transported frame (no twist), rings shared between a segment and the child that
+    continues its axis, and mitred at joints (the circle is slid along the axis onto the
+    bisecting plane, where both cylinders meet exactly), so there are no gaps and none of
+    the hemisphere artefacts of seed 000 §2.5.  Every tube is closed by a cap at each end,
+    so each is a closed 2-manifold.  UVs: u in [0, 1] around, v along the length
+    (length / mean circumference, so a square texel stays square).
+``"prism"``
+    Seed 001: every segment is the mantle of a regular prism with ``detail`` flat faces
+    (``detail < 3``: one rectangle, both sides), without caps.
+``"cone"``
+    Seed 000: every segment is a frustum whose bottom base is a hemisphere of the base
+    radius, closed by a flat top.
+
+``taper`` chooses the radii: ``None`` keeps the turtle's (``reduction``, ``!`` …);
+``"leonardo"`` applies Leonardo's rule (seed 004 §4.3): ``r(parent)^e = Σ r(child)^e``
+with ``e = 2``, starting from the tip radii.
+
+Examples
+--------
+>>> from sylva.turtle import interpret
+>>> g = interpret("F[+F]F", dialect="abop", rot=45, thick=0.2)
+>>> scene = build_mesh(g, detail=8)
+>>> [m.name for m in scene.meshes], scene.n_triangles
+(['branches'], 80)
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import SylvaError
+from . import _kernels as K
+from .mesh import Material, Mesh, Scene
+from .records import Geometry
+
+__all__ = [
+    "MODES",
+    "BuildError",
+    "build_blocks",
+    "build_branches",
+    "build_leaves",
+    "build_mesh",
+    "build_polygons",
+    "leaf_template",
+]
+
+MODES = ("tube", "prism", "cone")
+
+
+class BuildError(SylvaError, ValueError):
+    """Impossible mesh-building options (an unknown mode, too few sides …)."""
+
+
+def _sides(detail: int | None, geometry: Geometry, mode: str) -> int:
+    from_program = detail is None
+    if detail is None:
+        detail = geometry.detail if geometry.detail is not None else 8
+    d = int(math.floor(detail))
+    if mode == "prism":
+        return d if d >= 3 else 1  # seed 001: detail < 3 means one rectangle
+    if d < 3 and from_program:  # a program's flat detail means the thinnest round tube
+        return 3
+    if d < 3:
+        raise BuildError(f"a {mode} needs at least 3 sides, got detail={detail}")
+    return d
+
+
+def _radii(geometry: Geometry, taper: str | None, exponent: float) -> np.ndarray:
+    if taper is None:
+        return geometry.seg_radius
+    if taper == "leonardo":
+        if exponent <= 0:
+            raise BuildError(f"Leonardo's exponent must be > 0, got {exponent}")
+        return K.leonardo(geometry.seg_parent, geometry.seg_radius, float(exponent))
+    raise BuildError(f"unknown taper {taper!r}: expected None or 'leonardo'")
+
+
+def build_branches(
+    geometry: Geometry,
+    *,
+    detail: int | None = None,
+    mode: str = "tube",
+    taper: str | None = None,
+    exponent: float = 2.0,
+    max_bend: float = 140.0,
+    colors: bool | None = None,
+) -> Mesh:
+    """The branch mesh of ``geometry``'s segments.
+
+    Parameters
+    ----------
+    geometry : Geometry
+    detail : int, optional
+        Sides around a branch (default: the program's ``detail``, else 8).
+    mode : {"tube", "prism", "cone"}
+    taper : {None, "leonardo"}
+    exponent : float
+        Leonardo's exponent (2 keeps the cross-section area).
+    max_bend : float
+        Degrees; a tube is broken (capped and restarted) at sharper joints, where a mitre
+        would pinch.
+    colors : bool, optional
+        Write vertex colours (default: :attr:`Geometry.vertex_colors`).
+
+    Returns
+    -------
+    Mesh
+        ``n·d`` … triangles: a tube has ``2d`` per segment plus ``d`` per cap.
+    """
+    if mode not in MODES:
+        raise BuildError(f"unknown branch mode {mode!r}: expected one of {', '.join(MODES)}")
+    d = _sides(detail, geometry, mode)
+    want = geometry.vertex_colors if colors is None else bool(colors)
+    n = geometry.n_segments
+    radius = _radii(geometry, taper, exponent)
+    args = (
+        geometry.seg_start, geometry.seg_end, radius, geometry.seg_ref, geometry.seg_color,
+        geometry.seg_material,
+    )  # fmt: skip
+    if mode == "tube":
+        cos_limit = math.cos(math.radians(max_bend))
+        plan = K.tube_plan(
+            geometry.seg_start, geometry.seg_end, radius, geometry.seg_parent,
+            geometry.seg_depth, geometry.seg_material, geometry.seg_color, cos_limit, want, d,
+        )  # fmt: skip
+        cont, prev, v0, v1, voff, toff, ring0, ring1 = plan
+        nv, nt = int(voff[-1]), int(toff[-1])
+        mats = geometry.seg_material
+        single = n > 0 and int(mats.min()) == int(mats.max())
+        V, N, UV, C, I, M = _alloc(nv, 0 if single else nt, want, nt)
+        K.tube_fill(*args, cont, prev, v0, v1, voff, toff, ring0, ring1, d, want, V, N, UV, C, I, M)
+        if single:  # one material: no per-triangle ids to write
+            k = int(mats[0])
+            return Mesh(
+                V, I, normals=N, uvs=UV, colors=C if want else None,
+                materials=[geometry.materials[k] if k < len(geometry.materials)
+                           else Material(f"material_{k}")],
+                name="branches",
+            )  # fmt: skip
+    elif mode == "prism":
+        faces = d if d >= 3 else 2
+        V, N, UV, C, I, M = _alloc(n * faces * 4, n * faces * 2, want)
+        K.prism_fill(*args, d, want, V, N, UV, C, I, M)
+    else:
+        h = max(2, d // 4)
+        nv = (d + 1) * (h + 2) + 2
+        nt = 2 * d * h + 4 * d
+        V, N, UV, C, I, M = _alloc(n * nv, n * nt, want)
+        K.cone_fill(*args, d, h, want, V, N, UV, C, I, M)
+    return Mesh(
+        V, I, normals=N, uvs=UV, colors=C if want else None, material_ids=M,
+        materials=list(geometry.materials), name="branches",
+    )  # fmt: skip
+
+
+def _alloc(nv: int, nt: int, want_colors: bool, n_idx: int | None = None):
+    return (
+        np.empty((nv, 3), np.float32),
+        np.empty((nv, 3), np.float32),
+        np.empty((nv, 2), np.float32),
+        np.empty((nv if want_colors else 0, 4), np.float32),
+        np.empty((nt if n_idx is None else n_idx, 3), np.uint32),
+        np.empty(nt, np.int32),
+    )
+
+
+# --------------------------------------------------------------------------- leaves
+def leaf_template(
+    rows: int = 6, width: float = 0.36, fold: float = 0.3, droop: float = 0.12
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A unit leaf in its own frame: x to the right (−L), y along H, z along U.
+
+    The blade is ovate (half-width ``width·sin(πt)·(1 − 0.35t)`` at ``t`` along the
+    midrib), folded into a shallow V along the midrib (``z = fold·|x|``) and drooping
+    (``z −= droop·y²``), so it keeps an area seen edge-on.
+
+    Returns
+    -------
+    vertices : float64[m, 3]; uvs : float32[m, 2] (u across, v along); tris : int64[k, 3]
+        Counter-clockwise about +z (the upper side).
+    """
+    t = np.linspace(0.0, 1.0, rows + 2)[1:-1]
+    hw = width * np.sin(np.pi * t) * (1.0 - 0.35 * t)
+    verts = [(0.0, 0.0, 0.0)]
+    uvs = [(0.5, 0.0)]
+    for ti, w in zip(t, hw):
+        for x in (-w, 0.0, w):
+            verts.append((x, ti, fold * abs(x)))
+            uvs.append((0.5 + x / (2 * width), ti))
+    verts.append((0.0, 1.0, 0.0))
+    uvs.append((0.5, 1.0))
+    v = np.array(verts)
+    v[:, 2] -= droop * v[:, 1] ** 2
+    tip = len(verts) - 1
+    tris = [(0, 2, 1), (0, 3, 2)]
+    for r in range(rows - 1):
+        a = 1 + 3 * r
+        b = a + 3
+        for k in range(2):
+            tris.append((a + k, a + k + 1, b + k + 1))
+            tris.append((a + k, b + k + 1, b + k))
+    a = 1 + 3 * (rows - 1)
+    tris += [(a, a + 1, tip), (a + 1, a + 2, tip)]
+    return v, np.array(uvs, np.float32), np.array(tris, np.int64)
+
+
+def build_leaves(geometry: Geometry, *, template=None, colors: bool | None = None) -> Mesh:
+    """Leaves as shaped, double-sided meshes (both faces are real triangles).
+
+    Each leaf is :func:`leaf_template` scaled by its size and placed in its frame.  The
+    back face has its own vertices with flipped normals, so it shades correctly in every
+    renderer and format.
+    """
+    k = geometry.n_leaves
+    tv, tuv, tt = template if template is not None else leaf_template()
+    tn = Mesh(tv, tt).normals.astype(np.float64)
+    fr = geometry.leaf_frame  # rows H, L, U
+    basis = np.stack([-fr[:, 1], fr[:, 0], fr[:, 2]], axis=1)  # rows: x, y, z axes
+    size = geometry.leaf_size.astype(np.float64)[:, None, None]
+    verts = geometry.leaf_pos[:, None, :] + np.einsum("mj,kjc->kmc", tv, basis) * size
+    nrm = np.einsum("mj,kjc->kmc", tn, basis)
+    nrm /= np.linalg.norm(nrm, axis=2, keepdims=True)
+    m = tv.shape[0]
+    front = tt[None, :, :] + (np.arange(k) * m)[:, None, None]
+    back = front[:, :, ::-1] + k * m
+    V = np.concatenate([verts.reshape(-1, 3), verts.reshape(-1, 3)])
+    N = np.concatenate([nrm.reshape(-1, 3), -nrm.reshape(-1, 3)])
+    UV = np.tile(tuv, (2 * k, 1))
+    I = np.concatenate([front.reshape(-1, 3), back.reshape(-1, 3)])
+    M = np.tile(np.repeat(geometry.leaf_material, tt.shape[0]), 2)
+    want = geometry.vertex_colors if colors is None else bool(colors)
+    C = None
+    if want:
+        c = np.concatenate([geometry.leaf_color, np.ones((k, 1), np.float32)], axis=1)
+        C = np.tile(np.repeat(c, m, axis=0), (2, 1))
+    return Mesh(
+        V,
+        I,
+        normals=N,
+        uvs=UV,
+        colors=C,
+        material_ids=M,
+        materials=list(geometry.materials),
+        name="leaves",
+    )
+
+
+# --------------------------------------------------------------------------- polygons
+def build_polygons(geometry: Geometry, *, colors: bool | None = None) -> Mesh:
+    """Polygons ``{ … }`` triangulated by ear clipping (concave ones too), both sides."""
+    tris, owner, pn = K.ear_clip(geometry.poly_vertices, geometry.poly_offsets)
+    used = np.unique(tris)
+    remap = np.full(geometry.poly_vertices.shape[0], -1, np.int64)
+    remap[used] = np.arange(used.size)
+    # a vertex may belong to one polygon only (offsets partition the vertices)
+    poly_of_vertex = np.repeat(np.arange(geometry.n_polygons), np.diff(geometry.poly_offsets))
+    pv = geometry.poly_vertices[used]
+    nrm = pn[poly_of_vertex[used]]
+    # planar UVs: the polygon's own bounding box in its plane
+    e1 = np.where(np.abs(nrm[:, :1]) < 0.9, np.cross([1.0, 0, 0], nrm), np.cross([0, 1.0, 0], nrm))
+    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
+    e2 = np.cross(nrm, e1)
+    uv = np.stack([(pv * e1).sum(1), (pv * e2).sum(1)], axis=1)
+    pid = poly_of_vertex[used]
+    lo = np.full((geometry.n_polygons, 2), np.inf)
+    hi = np.full((geometry.n_polygons, 2), -np.inf)
+    np.minimum.at(lo, pid, uv)
+    np.maximum.at(hi, pid, uv)
+    span = np.maximum(hi - lo, 1e-12)
+    uv = (uv - lo[pid]) / span[pid]
+    nu = used.size
+    I = remap[tris]
+    V = np.concatenate([pv, pv])
+    N = np.concatenate([nrm, -nrm])
+    UV = np.concatenate([uv, uv])
+    I = np.concatenate([I, I[:, ::-1] + nu])
+    M = np.tile(geometry.poly_material[owner], 2)
+    want = geometry.vertex_colors if colors is None else bool(colors)
+    C = None
+    if want:
+        c = np.concatenate([geometry.poly_color[pid], np.ones((nu, 1), np.float32)], axis=1)
+        C = np.concatenate([c, c])
+    return Mesh(
+        V,
+        I,
+        normals=N,
+        uvs=UV,
+        colors=C,
+        material_ids=M,
+        materials=list(geometry.materials),
+        name="polygons",
+    )
+
+
+# --------------------------------------------------------------------------- blocks
+_CUBE_FACES = np.array(
+    [  # normal, then two in-face axes (u, v) with u x v = normal
+        [[1, 0, 0], [0, 0, -1], [0, 1, 0]],
+        [[-1, 0, 0], [0, 0, 1], [0, 1, 0]],
+        [[0, 1, 0], [1, 0, 0], [0, 0, -1]],
+        [[0, -1, 0], [1, 0, 0], [0, 0, 1]],
+        [[0, 0, 1], [1, 0, 0], [0, 1, 0]],
+        [[0, 0, -1], [-1, 0, 0], [0, 1, 0]],
+    ],
+    np.float64,
+)
+
+
+def _unit_cube() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    corners = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]], np.float64)
+    v, n, uv, t = [], [], [], []
+    for f, (nn, u, w) in enumerate(_CUBE_FACES):
+        for cu, cw in corners:
+            v.append(0.5 * (nn + cu * u + cw * w))
+            n.append(nn)
+            uv.append(((cu + 1) / 2, (cw + 1) / 2))
+        b = 4 * f
+        t += [(b, b + 1, b + 2), (b, b + 2, b + 3)]
+    return np.array(v), np.array(n), np.array(uv, np.float32), np.array(t, np.int64)
+
+
+def build_blocks(geometry: Geometry) -> Mesh:
+    """Seed 004's voxel blocks: an axis-aligned cube per block, material per output buffer.
+
+    Each cube has 24 vertices (flat normals, a full [0, 1]² UV square per face) and 12
+    triangles.
+    """
+    b = geometry.n_blocks
+    cv, cn, cuv, ct = _unit_cube()
+    V = geometry.block_center[:, None, :] + cv[None] * geometry.block_size[:, None, None]
+    N = np.broadcast_to(cn, (b, 24, 3))
+    UV = np.tile(cuv, (b, 1))
+    I = ct[None] + (np.arange(b) * 24)[:, None, None]
+    M = np.repeat(geometry.block_buffer, 12)
+    return Mesh(
+        V.reshape(-1, 3),
+        I.reshape(-1, 3),
+        normals=N.reshape(-1, 3),
+        uvs=UV,
+        material_ids=M,
+        materials=list(geometry.materials),
+        name="blocks",
+    )
+
+
+# --------------------------------------------------------------------------- all together
+def build_mesh(
+    geometry: Geometry,
+    detail: int | None = None,
+    mode: str = "tube",
+    *,
+    taper: str | None = None,
+    leaves: bool = True,
+    polygons: bool = True,
+    blocks: bool = True,
+    colors: bool | None = None,
+    prune_materials: bool = True,
+) -> Scene:
+    """A scene with the meshes of every kind of record in ``geometry``.
+
+    Parameters
+    ----------
+    geometry : Geometry
+        From :func:`sylva.turtle.interpret`.
+    detail : int, optional
+        Sides around a branch (default: the program's ``detail``, else 8).
+    mode : {"tube", "prism", "cone"}
+        Branch construction (see the module docstring).
+    taper : {None, "leonardo"}
+        Radii from the turtle, or by Leonardo's rule.
+    leaves, polygons, blocks : bool
+        Whether to build those meshes (when there are records).
+    colors : bool, optional
+        Vertex colours (default: :attr:`Geometry.vertex_colors`).
+    prune_materials : bool
+        Keep only the materials the triangles use.
+
+    Returns
+    -------
+    Scene
+        Meshes named ``branches``, ``leaves``, ``polygons``, ``blocks`` (those that are not
+        empty).
+
+    Examples
+    --------
+    >>> from sylva.turtle import interpret
+    >>> g = interpret("F(2)[&L]F", dialect="classic", reduction=0.9, radius=0.2)
+    >>> s = build_mesh(g, detail=6)
+    >>> [(m.name, m.n_triangles) for m in s.meshes]
+    [('branches', 36), ('leaves', 48)]
+    """
+    meshes = []
+    if geometry.n_segments:
+        meshes.append(
+            build_branches(geometry, detail=detail, mode=mode, taper=taper, colors=colors)
+        )
+    if leaves and geometry.n_leaves:
+        meshes.append(build_leaves(geometry, colors=colors))
+    if polygons and geometry.n_polygons:
+        meshes.append(build_polygons(geometry, colors=colors))
+    if blocks and geometry.n_blocks:
+        meshes.append(build_blocks(geometry))
+    meshes = [m for m in meshes if m.n_triangles]  # e.g. only degenerate polygons
+    if prune_materials:
+        meshes = [_prune(m) for m in meshes]
+    return Scene(meshes, name="plant")
+
+
+def _prune(mesh: Mesh) -> Mesh:
+    ids = mesh.triangle_materials()
+    used = np.unique(ids)
+    if used.size == len(mesh.materials) and np.array_equal(used, np.arange(used.size)):
+        return mesh
+    remap = np.zeros(len(mesh.materials), np.int32)
+    remap[used] = np.arange(used.size, dtype=np.int32)
+    mesh.material_ids = remap[ids]
+    mesh.materials = [mesh.materials[i] for i in used]
+    return mesh

@@ -1,0 +1,656 @@
+"""Compiled turtle: one numba loop over a word's arrays, shared by every dialect.
+
+The public layer (:mod:`sylva.turtle.interpret`) checks inputs and builds the arrays; nothing
+here validates anything.  State is a ``float64`` vector (layout ``S_*``), pushed and popped as
+rows of a stack array; settings come in as a ``float64`` vector (layout ``C_*``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from . import tables as T
+
+# --------------------------------------------------------------------------- state layout
+S_POS = 0
+S_H = 3
+S_L = 6
+S_U = 9
+S_LEN = 12
+S_ROT = 13
+S_RAD = 14
+S_COL = 15
+S_CIDX = 18
+S_LAST = 19
+S_YAW = 20
+S_PITCH = 21
+S_SCALE = 22
+S_BUF = 23
+S_LASTMOVE = 24
+S_OPEN = 25
+S_DIR = 26  # unit direction of the last segment (valid while S_LAST >= 0)
+S_REF = 29  # its ring reference vector
+NS = 32
+
+# --------------------------------------------------------------------------- settings layout
+C_LEN = 0
+C_ROT = 1
+C_RAD = 2
+C_COL = 3
+C_LEN_D = 6
+C_RAD_D = 7
+C_ROT_D = 8
+C_COL_D = 9
+C_RAD_F = 12
+C_REDUCTION = 13
+C_LEAF = 14
+C_YAW = 15
+C_PITCH = 16
+C_SHRINK = 17
+C_BASE = 18
+C_AVAR = 19
+C_SALT = 20
+C_NSEED = 21
+C_WSCALE = 22
+C_MAT_LEAF = 23
+C_MAT_POLY = 24
+C_CIDX = 25
+C_ENGINE = 26
+C_CLAMP = 27
+NC = 28
+
+MASK32 = 0xFFFFFFFF
+UINT_MAX = 4294967295.0
+
+
+@njit(cache=True)
+def squirrel1d(x, seed):  # pragma: no cover - compiled
+    """Squirrel Eiserloh's "Squirrel3" integer noise (seed 004 A.2), ``uint32`` result."""
+    m = ((np.int64(x) & MASK32) * 0x68E31DA4) & MASK32
+    m = (m + (np.int64(seed) & MASK32)) & MASK32
+    m ^= m >> 8
+    m = (m + 0xB5297A4D) & MASK32
+    m ^= (m << 8) & MASK32
+    m = (m * 0x1B56C4E9) & MASK32
+    m ^= m >> 8
+    return m
+
+
+@njit(cache=True)
+def hash01(x, seed):  # pragma: no cover - compiled
+    return squirrel1d(x, seed) / UINT_MAX
+
+
+@njit(cache=True)
+def _engine_frame(st):  # pragma: no cover - compiled
+    # seed 004 §4.4, with the singularity guard
+    if abs(math.cos(math.radians(st[S_PITCH]))) < 0.001:
+        st[S_PITCH] -= 0.01
+    yaw = math.radians(st[S_YAW])
+    pitch = math.radians(st[S_PITCH])
+    fx = math.cos(yaw) * math.cos(pitch)
+    fy = math.sin(pitch)
+    fz = math.sin(yaw) * math.cos(pitch)
+    n = math.sqrt(fx * fx + fy * fy + fz * fz)
+    fx /= n
+    fy /= n
+    fz /= n
+    # right = normalize(front x (0, 1, 0))
+    rx = -fz
+    ry = 0.0
+    rz = fx
+    n = math.sqrt(rx * rx + rz * rz)
+    rx /= n
+    rz /= n
+    # up = normalize(right x front)
+    ux = ry * fz - rz * fy
+    uy = rz * fx - rx * fz
+    uz = rx * fy - ry * fx
+    n = math.sqrt(ux * ux + uy * uy + uz * uz)
+    st[S_H] = fx
+    st[S_H + 1] = fy
+    st[S_H + 2] = fz
+    st[S_L] = -rx
+    st[S_L + 1] = -ry
+    st[S_L + 2] = -rz
+    st[S_U] = ux / n
+    st[S_U + 1] = uy / n
+    st[S_U + 2] = uz / n
+
+
+@njit(cache=True)
+def _rotate(st, a, b, c, s):  # pragma: no cover - compiled
+    """Right-handed rotation of the frame by the angle of cosine ``c`` and sine ``s`` about
+    the axis (a x b).
+
+    ``a`` and ``b`` are the state offsets of the two vectors that turn: for a rotation about
+    U they are H and L (H turns toward L), about L they are U and H, about H they are L and U.
+    """
+    for k in range(3):
+        x = st[a + k]
+        y = st[b + k]
+        st[a + k] = x * c + y * s
+        st[b + k] = -x * s + y * c
+
+
+@njit(cache=True)
+def _normalize_frame(st):  # pragma: no cover - compiled
+    # Gram-Schmidt keeps H, L, U orthonormal over millions of rotations
+    n = math.sqrt(st[S_H] ** 2 + st[S_H + 1] ** 2 + st[S_H + 2] ** 2)
+    for k in range(3):
+        st[S_H + k] /= n
+    d = st[S_L] * st[S_H] + st[S_L + 1] * st[S_H + 1] + st[S_L + 2] * st[S_H + 2]
+    for k in range(3):
+        st[S_L + k] -= d * st[S_H + k]
+    n = math.sqrt(st[S_L] ** 2 + st[S_L + 1] ** 2 + st[S_L + 2] ** 2)
+    for k in range(3):
+        st[S_L + k] /= n
+    st[S_U] = st[S_H + 1] * st[S_L + 2] - st[S_H + 2] * st[S_L + 1]
+    st[S_U + 1] = st[S_H + 2] * st[S_L] - st[S_H] * st[S_L + 2]
+    st[S_U + 2] = st[S_H] * st[S_L + 1] - st[S_H + 1] * st[S_L]
+
+
+@njit(cache=True)
+def _level(st):  # pragma: no cover - compiled
+    # ABOP $: L = V x H / |V x H| with V = +Y, U = H x L
+    hx = st[S_H]
+    hy = st[S_H + 1]
+    hz = st[S_H + 2]
+    lx = hz  # (0,1,0) x (hx,hy,hz) = (hz, 0, -hx)
+    lz = -hx
+    n = math.sqrt(lx * lx + lz * lz)
+    if n < 1e-12:
+        return
+    lx /= n
+    lz /= n
+    st[S_L] = lx
+    st[S_L + 1] = 0.0
+    st[S_L + 2] = lz
+    st[S_U] = hy * lz - hz * 0.0
+    st[S_U + 1] = hz * lx - hx * lz
+    st[S_U + 2] = hx * 0.0 - hy * lx
+
+
+@njit(cache=True)
+def _transport(rx, ry, rz, ax, ay, az, bx, by, bz, fx, fy, fz):  # pragma: no cover - compiled
+    """Parallel transport of unit ``r`` (normal to ``a``) to a unit vector normal to ``b``;
+    ``f`` is the fallback (the turtle's L) for a reversal.  Scalars in and out (no heap)."""
+    c = ax * bx + ay * by + az * bz
+    if c > -0.9999:
+        kx = ay * bz - az * by
+        ky = az * bx - ax * bz
+        kz = ax * by - ay * bx
+        f = (kx * rx + ky * ry + kz * rz) / (1.0 + c)
+        ox = rx * c + (ky * rz - kz * ry) + kx * f
+        oy = ry * c + (kz * rx - kx * rz) + ky * f
+        oz = rz * c + (kx * ry - ky * rx) + kz * f
+    else:
+        ox, oy, oz = fx, fy, fz
+    d = ox * bx + oy * by + oz * bz
+    ox -= d * bx
+    oy -= d * by
+    oz -= d * bz
+    n = math.sqrt(ox * ox + oy * oy + oz * oz)
+    if n < 1e-9:
+        d = fx * bx + fy * by + fz * bz
+        ox = fx - d * bx
+        oy = fy - d * by
+        oz = fz - d * bz
+        n = math.sqrt(ox * ox + oy * oy + oz * oz)
+    return ox / n, oy / n, oz / n
+
+
+@njit(cache=True)
+def interpret_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace, blk_cap):
+    """Interpret a word.  See :func:`sylva.turtle.interpret` for the meaning of the outputs.
+
+    Parameters
+    ----------
+    ids : int32[n]; offsets : int64[n+1]; values : float64[m]
+        The word (:class:`~sylva.lsystem.lstring.ModuleString` arrays).
+    match : int64[n]
+        Matching bracket of each bracket (used by ``%``).
+    ops : int32[a]; oparg : float64[a]
+        Opcode and argument per symbol id.
+    cfg : float64[NC]
+        Settings (``C_*`` layout).
+    palette : float64[p, 3]
+        Colour of each colour index (p >= 1).
+    trace : bool
+        Record the position and frame after every module.
+    blk_cap : int
+        Room for blocks; the returned block count may exceed it (then nothing past the
+        room was written: call again with the count).
+    """
+    n = ids.shape[0]
+    # ---------------------------------------------------------------- capacities
+    n_draw = 0
+    n_leaf = 0
+    n_pv = 0
+    n_poly = 0
+    d = 0
+    max_d = 0
+    for i in range(n):
+        op = ops[ids[i]]
+        if op == T.DRAW or op == T.DRAW_NOREC:
+            n_draw += 1
+        if op == T.DRAW or op == T.MOVE or op == T.POLY_VERTEX or op == T.POLY_BEGIN:
+            n_pv += 1
+        if op == T.POLY_BEGIN:
+            n_poly += 1
+        if op == T.LEAF or op == T.SURFACE:
+            n_leaf += 1
+        if op == T.PUSH:
+            d += 1
+            if d > max_d:
+                max_d = d
+        elif op == T.POP:
+            d -= 1
+    npal = palette.shape[0]
+
+    seg_start = np.empty((n_draw, 3))
+    seg_end = np.empty((n_draw, 3))
+    seg_rad = np.empty((n_draw, 2), np.float32)
+    seg_col = np.empty((n_draw, 3), np.float32)
+    seg_mat = np.empty(n_draw, np.int32)
+    seg_mod = np.empty(n_draw, np.int64)
+    seg_par = np.empty(n_draw, np.int64)
+    seg_dep = np.empty(n_draw, np.int32)
+    seg_ref = np.empty((n_draw, 3), np.float32)
+    ns = 0
+
+    leaf_pos = np.empty((n_leaf, 3))
+    leaf_frame = np.empty((n_leaf, 3, 3))
+    leaf_size = np.empty(n_leaf, np.float32)
+    leaf_col = np.empty((n_leaf, 3), np.float32)
+    leaf_mat = np.empty(n_leaf, np.int32)
+    leaf_mod = np.empty(n_leaf, np.int64)
+    nl = 0
+
+    # open-polygon bookkeeping
+    tmp_pos = np.empty((n_pv, 3))
+    tmp_owner = np.empty(n_pv, np.int64)
+    tmp_implicit = np.empty(n_pv, np.bool_)
+    ntmp = 0
+    pinfo_first = np.empty(n_poly, np.int64)
+    pinfo_dot = np.zeros(n_poly, np.bool_)
+    pinfo_col = np.empty((n_poly, 3), np.float32)
+    pinfo_mat = np.empty(n_poly, np.int32)
+    pinfo_mod = np.empty(n_poly, np.int64)
+    pstack = np.empty(n_poly + 1, np.int64)
+    npstack = 0
+    nopened = 0
+    poly_v = np.empty((n_pv, 3))
+    poly_off = np.zeros(n_poly + 1, np.int64)
+    poly_col = np.empty((n_poly, 3), np.float32)
+    poly_mat = np.empty(n_poly, np.int32)
+    poly_mod = np.empty(n_poly, np.int64)
+    npoly = 0
+    nv = 0
+
+    # blocks: a symbol may place many (the F/U rule); the caller counts them first with
+    # blk_cap = 0 (arrays reassigned inside the loop would cost reference counting on
+    # every iteration, so nothing grows here)
+    blk_c = np.empty((blk_cap, 3))
+    blk_s = np.empty(blk_cap, np.float32)
+    blk_b = np.empty(blk_cap, np.int32)
+    blk_m = np.empty(blk_cap, np.int64)
+    nb = 0
+
+    tr_pos = np.empty((n if trace else 0, 3))
+    tr_frame = np.empty((n if trace else 0, 3, 3))
+
+    # ---------------------------------------------------------------- initial state
+    engine = cfg[C_ENGINE] != 0.0
+    st = np.zeros(NS)
+    st[S_H + 1] = 1.0  # H = +Y (up)
+    st[S_L] = -1.0  # L = -X
+    st[S_U + 2] = 1.0  # U = +Z
+    st[S_LEN] = cfg[C_LEN]
+    st[S_ROT] = cfg[C_ROT]
+    st[S_RAD] = cfg[C_RAD]
+    st[S_COL] = cfg[C_COL]
+    st[S_COL + 1] = cfg[C_COL + 1]
+    st[S_COL + 2] = cfg[C_COL + 2]
+    st[S_CIDX] = cfg[C_CIDX]
+    st[S_LAST] = -1.0
+    st[S_OPEN] = -1.0
+    st[S_SCALE] = cfg[C_BASE]
+    if engine:
+        st[S_YAW] = -90.0
+        st[S_PITCH] = 0.0
+        _engine_frame(st)
+        st[S_POS + 1] = -(1.0 - cfg[C_BASE]) / 2.0
+    stack = np.empty((max_d + 1, NS))
+    depth = 0
+    reduction = cfg[C_REDUCTION]
+    salt = np.int64(cfg[C_SALT])
+    nseed = np.int64(cfg[C_NSEED])
+    avar = cfg[C_AVAR]
+    clamp = cfg[C_CLAMP] != 0.0
+    last_ang = np.nan
+    n_rot = 0
+    cs = 1.0
+    sn = 0.0
+
+    i = 0
+    while i < n:
+        sym = ids[i]
+        op = ops[sym]
+        a = offsets[i]
+        npar = offsets[i + 1] - a
+        delta = 0.0
+        if engine:
+            delta = (hash01(salt, nseed) - 0.5) * 2.0 * avar
+        if op == T.NOP:
+            pass
+        elif op == T.DRAW or op == T.DRAW_NOREC or op == T.MOVE or op == T.MOVE_NOREC:
+            length = values[a] if npar > 0 else st[S_LEN]
+            x0 = st[S_POS]
+            y0 = st[S_POS + 1]
+            z0 = st[S_POS + 2]
+            st[S_POS] += st[S_H] * length
+            st[S_POS + 1] += st[S_H + 1] * length
+            st[S_POS + 2] += st[S_H + 2] * length
+            if (op == T.DRAW or op == T.DRAW_NOREC) and npstack == 0 and length != 0.0:
+                s = ns
+                seg_start[s, 0] = x0
+                seg_start[s, 1] = y0
+                seg_start[s, 2] = z0
+                seg_end[s, 0] = st[S_POS]
+                seg_end[s, 1] = st[S_POS + 1]
+                seg_end[s, 2] = st[S_POS + 2]
+                r0 = st[S_RAD]
+                r1 = r0 * reduction
+                st[S_RAD] = r1
+                seg_rad[s, 0] = r0
+                seg_rad[s, 1] = r1
+                seg_col[s, 0] = st[S_COL]
+                seg_col[s, 1] = st[S_COL + 1]
+                seg_col[s, 2] = st[S_COL + 2]
+                seg_mat[s] = np.int32(np.int64(st[S_CIDX]) % npal)
+                seg_mod[s] = i
+                p = np.int64(st[S_LAST])
+                seg_par[s] = p
+                seg_dep[s] = depth
+                sg = 1.0 if length > 0.0 else -1.0
+                bx = st[S_H] * sg
+                by = st[S_H + 1] * sg
+                bz = st[S_H + 2] * sg
+                if p >= 0:  # the parent's direction and reference travel in the state
+                    r0x, r0y, r0z = _transport(
+                        st[S_REF], st[S_REF + 1], st[S_REF + 2],
+                        st[S_DIR], st[S_DIR + 1], st[S_DIR + 2], bx, by, bz,
+                        st[S_L], st[S_L + 1], st[S_L + 2],
+                    )  # fmt: skip
+                else:
+                    r0x, r0y, r0z = st[S_L], st[S_L + 1], st[S_L + 2]
+                seg_ref[s, 0] = r0x
+                seg_ref[s, 1] = r0y
+                seg_ref[s, 2] = r0z
+                st[S_REF] = r0x
+                st[S_REF + 1] = r0y
+                st[S_REF + 2] = r0z
+                st[S_DIR] = bx
+                st[S_DIR + 1] = by
+                st[S_DIR + 2] = bz
+                st[S_LAST] = s
+                ns += 1
+            elif op == T.MOVE or op == T.MOVE_NOREC:
+                st[S_LAST] = -1.0
+            if npstack > 0 and (op == T.DRAW or op == T.MOVE):
+                tmp_pos[ntmp, 0] = st[S_POS]
+                tmp_pos[ntmp, 1] = st[S_POS + 1]
+                tmp_pos[ntmp, 2] = st[S_POS + 2]
+                tmp_owner[ntmp] = pstack[npstack - 1]
+                tmp_implicit[ntmp] = True
+                ntmp += 1
+        elif op >= T.TURN_LEFT and op <= T.TURN_AROUND:
+            if op == T.TURN_AROUND:
+                ang = 180.0
+            else:
+                ang = values[a] if npar > 0 else st[S_ROT]
+            if ang != last_ang:
+                last_ang = ang
+                cs = math.cos(math.radians(ang))
+                sn = math.sin(math.radians(ang))
+            # signed turns: +, &, \ turn by +angle; -, ^, / by -angle
+            sg = -1.0 if (op == T.TURN_RIGHT or op == T.PITCH_UP or op == T.ROLL_RIGHT) else 1.0
+            if op == T.TURN_LEFT or op == T.TURN_RIGHT or op == T.TURN_AROUND:
+                _rotate(st, S_H, S_L, cs, sg * sn)  # about U: H turns toward L
+            elif op == T.PITCH_DOWN or op == T.PITCH_UP:
+                _rotate(st, S_U, S_H, cs, sg * sn)  # about L: H turns toward -U (down)
+            else:
+                _rotate(st, S_L, S_U, cs, sg * sn)  # about H: L turns toward U
+            n_rot += 1
+            if n_rot & 63 == 0:  # rotations keep the frame orthonormal to ~1e-16 each
+                _normalize_frame(st)
+        elif op == T.LEVEL:
+            _level(st)
+        elif op == T.PUSH:
+            stack[depth, :] = st
+            depth += 1
+            st[S_OPEN] = i
+        elif op == T.POP:
+            if depth > 0:
+                depth -= 1
+                st[:] = stack[depth, :]
+        elif op == T.CUT:
+            if depth == 0:
+                break
+            j = match[np.int64(st[S_OPEN])]
+            if j < 0:
+                break
+            if trace:
+                for jj in range(i, j):
+                    for k in range(3):
+                        tr_pos[jj, k] = st[S_POS + k]
+                        tr_frame[jj, 0, k] = st[S_H + k]
+                        tr_frame[jj, 1, k] = st[S_L + k]
+                        tr_frame[jj, 2, k] = st[S_U + k]
+            i = j
+            depth -= 1
+            st[:] = stack[depth, :]
+        elif op == T.POLY_BEGIN:
+            pid = nopened
+            nopened += 1
+            pstack[npstack] = pid
+            npstack += 1
+            pinfo_first[pid] = ntmp
+            pinfo_col[pid, 0] = st[S_COL]
+            pinfo_col[pid, 1] = st[S_COL + 1]
+            pinfo_col[pid, 2] = st[S_COL + 2]
+            if cfg[C_MAT_POLY] >= 0:
+                pinfo_mat[pid] = np.int32(cfg[C_MAT_POLY])
+            else:
+                pinfo_mat[pid] = np.int32(np.int64(st[S_CIDX]) % npal)
+            pinfo_mod[pid] = i
+            tmp_pos[ntmp, 0] = st[S_POS]
+            tmp_pos[ntmp, 1] = st[S_POS + 1]
+            tmp_pos[ntmp, 2] = st[S_POS + 2]
+            tmp_owner[ntmp] = pid
+            tmp_implicit[ntmp] = True
+            ntmp += 1
+        elif op == T.POLY_VERTEX:
+            if npstack > 0:
+                pid = pstack[npstack - 1]
+                pinfo_dot[pid] = True
+                tmp_pos[ntmp, 0] = st[S_POS]
+                tmp_pos[ntmp, 1] = st[S_POS + 1]
+                tmp_pos[ntmp, 2] = st[S_POS + 2]
+                tmp_owner[ntmp] = pid
+                tmp_implicit[ntmp] = False
+                ntmp += 1
+        elif op == T.POLY_END:
+            if npstack > 0:
+                npstack -= 1
+                pid = pstack[npstack]
+                start = nv
+                for t in range(pinfo_first[pid], ntmp):
+                    if tmp_owner[t] != pid:
+                        continue
+                    if pinfo_dot[pid] and tmp_implicit[t]:
+                        continue
+                    if nv > start:
+                        dd = 0.0
+                        for k in range(3):
+                            dd += (tmp_pos[t, k] - poly_v[nv - 1, k]) ** 2
+                        if dd < 1e-20:
+                            continue
+                    poly_v[nv] = tmp_pos[t]
+                    nv += 1
+                if nv - start > 1:
+                    dd = 0.0
+                    for k in range(3):
+                        dd += (poly_v[start, k] - poly_v[nv - 1, k]) ** 2
+                    if dd < 1e-20:
+                        nv -= 1
+                if nv - start >= 3:
+                    poly_col[npoly] = pinfo_col[pid]
+                    poly_mat[npoly] = pinfo_mat[pid]
+                    poly_mod[npoly] = pinfo_mod[pid]
+                    npoly += 1
+                    poly_off[npoly] = nv
+                else:
+                    nv = start
+        elif op == T.WIDTH_ADD:
+            if npar > 0:
+                st[S_RAD] = values[a] * cfg[C_WSCALE]
+            else:
+                st[S_RAD] = max(st[S_RAD] + cfg[C_RAD_D], 0.0)
+        elif op == T.WIDTH_MUL:
+            if npar > 0:
+                st[S_RAD] = values[a] * cfg[C_WSCALE]
+            else:
+                st[S_RAD] *= cfg[C_RAD_F]
+        elif op == T.COLOR_ADD:
+            for k in range(3):
+                if npar >= 3:
+                    v = values[a + k]
+                else:
+                    v = st[S_COL + k] + cfg[C_COL_D + k]
+                if clamp:
+                    v = min(max(v, 0.0), 1.0)
+                st[S_COL + k] = v
+        elif op == T.COLOR_NEXT or op == T.COLOR_PREV:
+            if npar > 0:
+                c = values[a]
+            elif op == T.COLOR_NEXT:
+                c = st[S_CIDX] + 1.0
+            else:
+                c = st[S_CIDX] - 1.0
+            c = max(math.floor(c), 0.0)
+            st[S_CIDX] = c
+            ci = np.int64(c) % npal
+            for k in range(3):
+                st[S_COL + k] = palette[ci, k]
+        elif op == T.ANGLE_ADD:
+            st[S_ROT] = values[a] if npar > 0 else st[S_ROT] + cfg[C_ROT_D]
+        elif op == T.LENGTH_ADD:
+            st[S_LEN] = values[a] if npar > 0 else st[S_LEN] + cfg[C_LEN_D]
+        elif op == T.LEAF or op == T.SURFACE:
+            size = cfg[C_LEAF]
+            if npar > 0:
+                size = values[a]
+            elif op == T.SURFACE and i + 1 < n and ops[ids[i + 1]] == T.NOP:
+                # cpfg: ~l(s) names a surface; the name's first parameter scales it
+                i += 1
+                if offsets[i + 1] > offsets[i]:
+                    size = values[offsets[i]]
+            leaf_pos[nl, 0] = st[S_POS]
+            leaf_pos[nl, 1] = st[S_POS + 1]
+            leaf_pos[nl, 2] = st[S_POS + 2]
+            for k in range(3):
+                leaf_frame[nl, 0, k] = st[S_H + k]
+                leaf_frame[nl, 1, k] = st[S_L + k]
+                leaf_frame[nl, 2, k] = st[S_U + k]
+            leaf_size[nl] = size
+            if op == T.SURFACE and st[S_CIDX] > 0.0:
+                leaf_mat[nl] = np.int32(np.int64(st[S_CIDX]) % npal)
+                for k in range(3):
+                    leaf_col[nl, k] = st[S_COL + k]
+            else:
+                leaf_mat[nl] = np.int32(cfg[C_MAT_LEAF])
+                leaf_col[nl, 0] = 0.16
+                leaf_col[nl, 1] = 0.42
+                leaf_col[nl, 2] = 0.10
+            leaf_mod[nl] = i
+            nl += 1
+        elif engine:
+            if op == T.YAW_LEFT:
+                st[S_YAW] += (-1.0 + delta) * cfg[C_YAW]
+                _engine_frame(st)
+            elif op == T.YAW_RIGHT:
+                st[S_YAW] += (1.0 + delta) * cfg[C_YAW]
+                _engine_frame(st)
+            elif op == T.E_PITCH_UP:
+                st[S_PITCH] += (1.0 + delta) * cfg[C_PITCH]
+                _engine_frame(st)
+            elif op == T.E_PITCH_DOWN:
+                st[S_PITCH] += (-1.0 + delta) * cfg[C_PITCH]
+                _engine_frame(st)
+            elif op == T.BLOCK_FORWARD or op == T.BLOCK_UP:
+                off = S_H if op == T.BLOCK_FORWARD else S_U
+                sc = st[S_SCALE]
+                base = cfg[C_BASE]
+                x = sc
+                first = True
+                while first or x <= base * (1.0 + 1e-9):
+                    if nb < blk_cap:
+                        blk_c[nb, 0] = st[S_POS]
+                        blk_c[nb, 1] = st[S_POS + 1]
+                        blk_c[nb, 2] = st[S_POS + 2]
+                        blk_s[nb] = sc
+                        blk_b[nb] = np.int32(st[S_BUF])
+                        blk_m[nb] = i
+                    nb += 1
+                    for k in range(3):
+                        st[S_POS + k] += st[off + k] * sc
+                    first = False
+                    x += sc
+                    if sc <= 0.0:
+                        break
+                st[S_LASTMOVE] = 1.0 if op == T.BLOCK_FORWARD else 2.0
+            elif op == T.SHRINK or op == T.GROW or op == T.RESET_SCALE:
+                old = st[S_SCALE]
+                if op == T.SHRINK:
+                    new = old * cfg[C_SHRINK]
+                elif op == T.GROW:
+                    new = old / cfg[C_SHRINK]
+                else:
+                    new = cfg[C_BASE]
+                if st[S_LASTMOVE] != 0.0:
+                    off = S_H if st[S_LASTMOVE] == 1.0 else S_U
+                    for k in range(3):
+                        st[S_POS + k] -= st[off + k] * (old - new) / 2.0
+                st[S_SCALE] = new
+            elif op == T.BUFFER:
+                st[S_BUF] = oparg[sym]
+        if trace:
+            for k in range(3):
+                tr_pos[i, k] = st[S_POS + k]
+                tr_frame[i, 0, k] = st[S_H + k]
+                tr_frame[i, 1, k] = st[S_L + k]
+                tr_frame[i, 2, k] = st[S_U + k]
+        if engine:
+            salt = squirrel1d(salt, nseed)
+        i += 1
+    if trace and i < n:  # a top-level cut ended the walk: later modules keep the last pose
+        for j in range(i, n):
+            for k in range(3):
+                tr_pos[j, k] = st[S_POS + k]
+                tr_frame[j, 0, k] = st[S_H + k]
+                tr_frame[j, 1, k] = st[S_L + k]
+                tr_frame[j, 2, k] = st[S_U + k]
+    return (
+        seg_start[:ns], seg_end[:ns], seg_rad[:ns], seg_col[:ns], seg_mat[:ns], seg_mod[:ns],
+        seg_par[:ns], seg_dep[:ns], seg_ref[:ns],
+        leaf_pos[:nl], leaf_frame[:nl], leaf_size[:nl], leaf_col[:nl], leaf_mat[:nl],
+        leaf_mod[:nl],
+        poly_v[:nv], poly_off[: npoly + 1], poly_col[:npoly], poly_mat[:npoly], poly_mod[:npoly],
+        blk_c[: min(nb, blk_cap)], blk_s[: min(nb, blk_cap)], blk_b[: min(nb, blk_cap)],
+        blk_m[: min(nb, blk_cap)], tr_pos, tr_frame, salt, nb,
+    )  # fmt: skip

@@ -1,0 +1,338 @@
+"""Turn a derived word into geometry records with the 3D turtle.
+
+The turtle keeps a position and an orthonormal frame of unit vectors H (heading), L (left)
+and U (up) with ``H × L = U`` (ABOP §1.5).  It starts at the origin with H = +Y, L = −X and
+U = +Z, so a planar system is drawn in the XY plane as ABOP's figures are, and "up" is
+glTF's +Y.  Every rotation is the right-handed rotation of the frame about one of its own
+axes, which gives the signs ABOP's text states: ``+`` turns left about U (H toward L),
+``&`` pitches down about L (H toward −U), ``\\`` rolls about H (L toward U, as ABOP's
+matrix R_H(δ) does).  (Read literally, with ``[H' L' U'] = [H L U]·R``, ABOP's printed R_U and
+R_L turn the other way; the text and every figure in the book agree with the signs here.)
+
+Seed 004's engine turtle keeps yaw and pitch instead and rebuilds Front, Right and Up from
+them after every turn (no roll, ``WORLD_UP = +Y``, start yaw −90°).  Its H, L, U are Front,
+−Right and Up.
+
+Examples
+--------
+>>> from sylva.lsystem.lstring import ModuleString
+>>> g = interpret(ModuleString.from_text("F+F+F+F"), dialect="abop", rot=90)
+>>> g.n_segments, (g.seg_end[-1].round(12) + 0.0).tolist()
+(4, [0.0, 0.0, 0.0])
+>>> t = trace(ModuleString.from_text("+(90)F"), dialect="abop")
+>>> t.positions[-1].round(12).tolist(), t.frames[0, 0].round(12).tolist()
+([-1.0, 0.0, 0.0], [-1.0, 0.0, 0.0])
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import SylvaError
+from ..geometry.mesh import Material
+from ..geometry.records import Geometry
+from ..lsystem.ast import Program
+from ..lsystem.lstring import ModuleString
+from . import _kernels as K
+from .tables import ARGS, DEFAULTS, PALETTE, TABLES, compile_table
+
+__all__ = ["DIALECTS", "Trace", "TurtleSettingsError", "interpret", "trace"]
+
+DIALECTS = tuple(TABLES)
+
+_BUFFER_COLORS = (
+    (0.40, 0.26, 0.13),  # 0 trunk and branches
+    (0.20, 0.50, 0.15),  # 1 leaves
+    (0.85, 0.55, 0.15),
+    (0.60, 0.60, 0.60),
+    (0.90, 0.85, 0.30),
+)
+
+# Setting names each dialect understands (besides its DEFAULTS).
+_EXTRA = {
+    "lsys": {"ignore", "axiom", "turtle"},
+    "abop": {"palette", "color", "bg", "turtle", "angle", "delta", "width"},
+    "classic": {"angle", "thickness", "radius", "turtle", "iteration"},
+    "engine": {"turtle", "seed", "noise_seed", "salt"},
+}
+
+
+class TurtleSettingsError(SylvaError, ValueError):
+    """A turtle setting that is unknown for the dialect or has an impossible value."""
+
+
+@dataclass(frozen=True)
+class Trace:
+    """The pose of the turtle after every module.
+
+    Attributes
+    ----------
+    positions : float64[n, 3]
+        Position after module ``i``.
+    frames : float64[n, 3, 3]
+        Rows H, L, U after module ``i``.
+    """
+
+    positions: np.ndarray
+    frames: np.ndarray
+
+
+def _num(settings: Mapping, key: str) -> float:
+    v = settings[key]
+    try:
+        return float(v)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise TurtleSettingsError(f"setting {key!r} must be a number, got {v!r}") from None
+
+
+def _rgb(settings: Mapping, key: str) -> tuple[float, float, float]:
+    v = settings[key]
+    try:
+        t = tuple(float(x) for x in v)  # type: ignore[union-attr]
+    except (TypeError, ValueError):
+        raise TurtleSettingsError(
+            f"setting {key!r} must be 3 numbers (r, g, b), got {v!r}"
+        ) from None
+    if len(t) != 3:
+        raise TurtleSettingsError(f"setting {key!r} must be 3 numbers (r, g, b), got {v!r}")
+    return t  # type: ignore[return-value]
+
+
+def _clamp01(c):
+    return tuple(min(max(float(x), 0.0), 1.0) for x in c)
+
+
+def _as_word(word, program: Program | None) -> ModuleString:
+    if isinstance(word, ModuleString):
+        return word
+    if isinstance(word, str):
+        return ModuleString.from_text(word)
+    raise TypeError(f"expected a ModuleString or text, got {type(word).__name__}")
+
+
+def _settings(program: Program | None, dialect: str | None, overrides: Mapping) -> tuple:
+    if dialect is None:
+        dialect = program.turtle if program is not None else "lsys"
+    if dialect not in TABLES:
+        raise TurtleSettingsError(
+            f"unknown turtle dialect {dialect!r}: expected one of {', '.join(DIALECTS)}"
+        )
+    allowed = set(DEFAULTS[dialect]) | _EXTRA[dialect]
+    if dialect == "lsys":
+        allowed |= {"detail", "bg"}
+    for key in overrides:
+        if key not in allowed:
+            raise TurtleSettingsError(
+                f"unknown setting {key!r} for the {dialect!r} turtle: expected one of "
+                + ", ".join(sorted(allowed))
+            )
+    s = dict(DEFAULTS[dialect])
+    if program is not None:
+        s.update({k: v for k, v in program.settings.items() if v is not None})
+    s.update({k: v for k, v in overrides.items() if v is not None})
+    return dialect, s
+
+
+def _configure(dialect: str, s: dict, seed: int | None):
+    cfg = np.zeros(K.NC)
+    palette = np.array(PALETTE, np.float64)
+    materials: list[Material]
+    vertex_colors = False
+    cfg[K.C_REDUCTION] = 1.0
+    cfg[K.C_WSCALE] = 0.5
+    cfg[K.C_RAD_F] = 1.0
+    cfg[K.C_BASE] = 1.0
+    cfg[K.C_MAT_POLY] = 0
+    bg = None
+    if dialect in ("lsys", "abop", "classic"):
+        cfg[K.C_LEN] = _num(s, "len")
+        rot_key = "rot"
+        for alias in ("angle", "delta"):
+            if alias in s and "rot" not in s:
+                rot_key = alias
+        if dialect == "classic" and "angle" in s:
+            rot_key = "angle"
+        cfg[K.C_ROT] = _num(s, rot_key) if rot_key in s else 90.0
+    if dialect == "lsys":
+        cfg[K.C_RAD] = _num(s, "thick") / 2.0
+        cfg[K.C_RAD_D] = _num(s, "thick_delta") / 2.0
+        cfg[K.C_LEN_D] = _num(s, "len_delta")
+        cfg[K.C_ROT_D] = _num(s, "rot_delta")
+        cfg[K.C_COL : K.C_COL + 3] = _clamp01(_rgb(s, "color"))
+        cfg[K.C_COL_D : K.C_COL_D + 3] = _rgb(s, "color_delta")
+        cfg[K.C_CLAMP] = 1.0
+        cfg[K.C_MAT_LEAF] = 1
+        cfg[K.C_MAT_POLY] = 2
+        vertex_colors = True
+        materials = [
+            Material("lsys_stem", (1.0, 1.0, 1.0, 1.0), texture="bark"),
+            Material("leaf", (1.0, 1.0, 1.0, 1.0), texture="leaf"),
+            Material("lsys_polygon", (1.0, 1.0, 1.0, 1.0), roughness=0.6),
+        ]
+        bg = _clamp01(_rgb(s, "bg"))
+    elif dialect == "abop":
+        if "palette" in s:
+            palette = np.asarray(s["palette"], np.float64).reshape(-1, 3)
+            if palette.shape[0] == 0:
+                raise TurtleSettingsError("the palette needs at least one colour")
+        width = s.get("width", s["thick"])
+        cfg[K.C_RAD] = float(width) / 2.0  # type: ignore[arg-type]
+        cfg[K.C_RAD_F] = _num(s, "thick_factor")
+        cidx = int(_num(s, "color_index"))
+        if cidx < 0:
+            raise TurtleSettingsError(f"color_index must be >= 0, got {cidx}")
+        cfg[K.C_CIDX] = cidx
+        cfg[K.C_COL : K.C_COL + 3] = palette[cidx % palette.shape[0]]
+        cfg[K.C_LEAF] = _num(s, "leaf_size")
+        cfg[K.C_MAT_LEAF] = palette.shape[0]
+        cfg[K.C_MAT_POLY] = -1  # polygons take the current colour index
+        materials = [
+            Material(f"color_{i}", (*map(float, c), 1.0), texture="bark" if i == 0 else None)
+            for i, c in enumerate(palette)
+        ]
+        materials.append(Material("leaf", (0.16, 0.42, 0.10, 1.0), texture="leaf"))
+        if "bg" in s:
+            bg = _clamp01(_rgb(s, "bg"))
+    elif dialect == "classic":
+        red = _num(s, "reduction")
+        if not red >= 0.0:
+            raise TurtleSettingsError(f"reduction must be >= 0, got {red}")
+        cfg[K.C_REDUCTION] = red
+        if "radius" in s:
+            cfg[K.C_RAD] = _num(s, "radius")
+        elif "thickness" in s:  # a diameter relative to the segment length (Table 3.1)
+            cfg[K.C_RAD] = _num(s, "thickness") * cfg[K.C_LEN] / 2.0
+        else:
+            cfg[K.C_RAD] = 0.1
+        cfg[K.C_LEAF] = _num(s, "leaf_size")
+        cfg[K.C_MAT_LEAF] = 1
+        cfg[K.C_MAT_POLY] = 0
+        cfg[K.C_COL : K.C_COL + 3] = (0.40, 0.26, 0.13)
+        materials = [
+            Material("bark", (0.40, 0.26, 0.13, 1.0), texture="bark"),
+            Material("leaf", (0.16, 0.42, 0.10, 1.0), texture="leaf"),
+        ]
+    else:  # engine
+        cfg[K.C_ENGINE] = 1.0
+        cfg[K.C_YAW] = _num(s, "yaw")
+        cfg[K.C_PITCH] = _num(s, "pitch")
+        cfg[K.C_SHRINK] = _num(s, "shrink")
+        if cfg[K.C_SHRINK] <= 0:
+            raise TurtleSettingsError(f"shrink must be > 0, got {cfg[K.C_SHRINK]}")
+        cfg[K.C_BASE] = _num(s, "scale")
+        if cfg[K.C_BASE] <= 0:
+            raise TurtleSettingsError(f"scale must be > 0, got {cfg[K.C_BASE]}")
+        cfg[K.C_AVAR] = _num(s, "angle_var")
+        salt = seed if seed is not None else s.get("salt", s.get("seed", 0))
+        cfg[K.C_SALT] = int(salt or 0) & 0xFFFFFFFF
+        cfg[K.C_NSEED] = int(s.get("noise_seed", 0)) & 0xFFFFFFFF
+        materials = [
+            Material(f"buffer_{b}", (*_BUFFER_COLORS[b % len(_BUFFER_COLORS)], 1.0),
+                     texture="bark" if b == 0 else "leaf" if b == 1 else None)
+            for b in range(10)
+        ]  # fmt: skip
+    return cfg, palette, materials, vertex_colors, bg
+
+
+def _run(word, program, dialect, seed, overrides, trace_on):
+    word = _as_word(word, program)
+    dialect, s = _settings(program, dialect, overrides)
+    cfg, palette, materials, vertex_colors, bg = _configure(dialect, s, seed)
+    ops, arg = compile_table(TABLES[dialect], word.alphabet.names, ARGS.get(dialect))
+    match = word.match if np.any(ops == 18) else np.full(len(word), -1, np.int64)
+    args = (word.ids, word.offsets, word.values, match, ops, arg, cfg, palette, trace_on)
+    out = K.interpret_word(*args, 0)
+    if out[-1] > 0:  # blocks were counted, not written: run again with room for them
+        out = K.interpret_word(*args, out[-1])
+    return dialect, s, materials, vertex_colors, bg, out
+
+
+def interpret(
+    word: ModuleString | str,
+    program: Program | None = None,
+    *,
+    dialect: str | None = None,
+    seed: int | None = None,
+    **overrides,
+) -> Geometry:
+    """Interpret ``word`` with the command table of ``dialect``.
+
+    Parameters
+    ----------
+    word : ModuleString or str
+        The derived word (after render rules).  Text is read with
+        :meth:`ModuleString.from_text`.
+    program : Program, optional
+        Supplies the dialect (:attr:`Program.turtle`) and the settings (``len``, ``rot`` …).
+    dialect : {"lsys", "abop", "classic", "engine"}, optional
+        Overrides the program's command table (default ``"lsys"`` without a program).
+    seed : int, optional
+        The salt of seed 004's random angle variation (``engine`` only).
+    **overrides
+        Settings that replace the program's: ``len``, ``rot``, ``thick``, ``color`` and the
+        ``*_delta`` of ``lsys``; ``rot``, ``len``, ``thick``, ``thick_factor``,
+        ``color_index``, ``palette``, ``leaf_size`` of ``abop``; ``rot`` (or ``angle``),
+        ``reduction``, ``radius``, ``thickness`` of ``classic``; ``yaw``, ``pitch``,
+        ``shrink``, ``scale``, ``angle_var`` of ``engine``.
+
+    Returns
+    -------
+    Geometry
+        Segments, leaves, polygons and blocks (see :class:`sylva.geometry.records.Geometry`).
+
+    Raises
+    ------
+    TurtleSettingsError
+        For an unknown dialect or setting, or an impossible value.
+
+    Examples
+    --------
+    >>> from sylva.lsystem.lstring import ModuleString
+    >>> g = interpret(ModuleString.from_text("F[+F]F"), dialect="abop", rot=90)
+    >>> g.seg_end.round(12).tolist()
+    [[0.0, 1.0, 0.0], [-1.0, 1.0, 0.0], [0.0, 2.0, 0.0]]
+    >>> g.seg_parent.tolist(), g.seg_module.tolist()
+    ([-1, 0, 0], [0, 3, 5])
+    """
+    dialect, s, materials, vertex_colors, bg, out = _run(
+        word, program, dialect, seed, overrides, False
+    )
+    detail = s.get("detail")
+    if detail is not None:
+        detail = int(np.floor(float(detail)))  # type: ignore[arg-type]
+    geo = Geometry(
+        *out[:24],
+        materials=materials,
+        dialect=dialect,
+        background=bg,
+        detail=detail,
+        vertex_colors=vertex_colors,
+    )
+    return geo
+
+
+def trace(
+    word: ModuleString | str,
+    program: Program | None = None,
+    *,
+    dialect: str | None = None,
+    seed: int | None = None,
+    **overrides,
+) -> Trace:
+    """The turtle's position and frame after every module of ``word``.
+
+    Takes the arguments of :func:`interpret`.  Meant for checking a command table
+    numerically and for showing the turtle's path in the studio.
+
+    Examples
+    --------
+    >>> from sylva.lsystem.lstring import ModuleString
+    >>> t = trace(ModuleString.from_text("&(90)"), dialect="abop")
+    >>> t.frames[0].round(12).tolist()   # H now points down -U = -Z; U = +Y
+    [[0.0, 0.0, -1.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    """
+    out = _run(word, program, dialect, seed, overrides, True)[-1]
+    return Trace(out[24], out[25])

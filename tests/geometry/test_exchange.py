@@ -1,0 +1,224 @@
+"""Every export format, read back by an independent reader (trimesh, meshio, the Khronos
+glTF validator, OpenSCAD/POV-Ray text parsed here, the XML parser, pxr)."""
+
+from __future__ import annotations
+
+import io
+import json
+import re
+import shutil
+import subprocess
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import meshio
+import numpy as np
+import pytest
+import trimesh
+
+from sylva.geometry.build import build_mesh
+from sylva.geometry.exchange import WRITERS, ExportError, format_of, usd_available, write
+from sylva.geometry.mesh import Material, Mesh, Scene
+from sylva.turtle import interpret
+
+from .words import expand
+
+NODE_DIR = Path(__file__).parent / "_node"
+
+
+@pytest.fixture(scope="module")
+def plant_scene() -> Scene:
+    word = expand("X", {"X": "F[+X~l][-X]FX", "F": "FF"}, 3) + "[{.-f.+f.+f.-|-f.+f.+f.}]"
+    g = interpret(word, dialect="abop", rot=25.7, thick=0.15)
+    scene = build_mesh(g, detail=6)
+    assert [m.name for m in scene.meshes] == ["branches", "leaves", "polygons"]
+    return scene
+
+
+@pytest.fixture(scope="module")
+def coloured_scene() -> Scene:
+    word = "F[+;(0,0.7,0)F]F[-;(0,0.7,0)F]+(20);(0,0.7,0)F"
+    g = interpret(word, dialect="lsys", rot=35, color=(0.4, 0.2, 0.1))
+    return build_mesh(g, detail=5)
+
+
+@pytest.mark.parametrize("ext", ["glb", "gltf", "obj", "ply", "stl"])
+def test_trimesh_reads_back_the_same_triangles(plant_scene, tmp_path, ext):
+    path = tmp_path / f"plant.{ext}"
+    write(plant_scene, path)
+    back = trimesh.load(path, force="mesh", process=False)
+    assert len(back.faces) == plant_scene.n_triangles
+    np.testing.assert_allclose(back.bounds, plant_scene.bounds(), atol=1e-4)
+
+
+@pytest.mark.parametrize("ext", ["obj", "ply", "stl"])
+def test_meshio_reads_back_the_same_triangles(plant_scene, tmp_path, ext):
+    path = tmp_path / f"plant.{ext}"
+    write(plant_scene, path)
+    back = meshio.read(path)
+    assert sum(len(c.data) for c in back.cells if c.type == "triangle") == plant_scene.n_triangles
+
+
+def test_glb_keeps_materials_normals_uvs_and_colours(coloured_scene, tmp_path):
+    path = tmp_path / "t14.glb"
+    write(coloured_scene, path)
+    back = trimesh.load(path, force="scene", process=False)
+    (geom,) = back.geometry.values()
+    mesh = coloured_scene.meshes[0]
+    assert len(geom.faces) == mesh.n_triangles
+    attrs = geom.visual.vertex_attributes
+    assert attrs["uv"].shape == (len(geom.vertices), 2)
+    cols = np.unique(np.round(attrs["color"][:, :3], 3), axis=0)
+    np.testing.assert_allclose(cols, [[0.0, 0.7, 0.0], [0.4, 0.2, 0.1]], atol=1e-6)
+    np.testing.assert_allclose(np.linalg.norm(geom.vertex_normals, axis=1), 1.0, atol=1e-5)
+    assert geom.visual.material.name == "lsys_stem"
+
+
+def test_obj_writes_its_material_library(plant_scene, tmp_path):
+    path = tmp_path / "plant.obj"
+    write(plant_scene, path)
+    mtl = (tmp_path / "plant.mtl").read_text()
+    assert "newmtl color_0" in mtl and "newmtl leaf" in mtl
+    text = path.read_text()
+    assert "mtllib plant.mtl" in text and text.count("usemtl") >= 3
+
+
+def test_ply_carries_colours(coloured_scene, tmp_path):
+    path = tmp_path / "t14.ply"
+    write(coloured_scene, path)
+    back = meshio.read(path)
+    # (meshio reads PLY uchar as int8: undo the wrap)
+    rgb = np.stack([back.point_data[k] for k in ("red", "green", "blue")], axis=1).astype(int) % 256
+    assert {tuple(c) for c in rgb.tolist()} == {(102, 51, 26), (0, 178, 0)}
+
+
+def _gltf_validator_reports(paths):
+    node = shutil.which("node")
+    if node is None:
+        pytest.skip("node is not installed: the Khronos glTF validator runs in node")
+    if not (NODE_DIR / "node_modules" / "gltf-validator").is_dir():
+        pytest.fail(f"gltf-validator is not installed: run `npm ci` in {NODE_DIR}")
+    run = subprocess.run(
+        [node, str(NODE_DIR / "validate.js"), *map(str, paths)],
+        capture_output=True, text=True, timeout=120, check=False,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    return json.loads(run.stdout)
+
+
+def test_gltf_validator_finds_no_errors_or_warnings(plant_scene, coloured_scene, tmp_path):
+    blocks = build_mesh(interpret("U1U[+xF]", dialect="engine", shrink=0.5))
+    files = []
+    for name, scene in (("plant", plant_scene), ("t14", coloured_scene), ("blocks", blocks)):
+        for ext in ("glb", "gltf"):
+            files.append(tmp_path / f"{name}.{ext}")
+            write(scene, files[-1])
+    for report in _gltf_validator_reports(files):
+        issues = report["issues"]
+        bad = [m for m in issues["messages"] if m["severity"] <= 1]
+        assert issues["numErrors"] == 0 and issues["numWarnings"] == 0, (report["file"], bad)
+        assert report["info"]["totalTriangleCount"] > 0
+
+
+def test_gltf_validator_big_index_buffer(tmp_path):
+    # more than 65535 vertices: 32-bit indices
+    g = interpret("F" * 3000, dialect="abop", thick=0.1)
+    scene = build_mesh(g, detail=24)
+    assert scene.meshes[0].n_vertices > 65535
+    write(scene, tmp_path / "long.glb")
+    (report,) = _gltf_validator_reports([tmp_path / "long.glb"])
+    assert report["issues"]["numErrors"] == 0 and report["issues"]["numWarnings"] == 0
+    assert report["info"]["totalTriangleCount"] == scene.n_triangles
+
+
+def _numbers(text):
+    return [float(x) for x in re.findall(r"-?\d+(?:\.\d*)?(?:e[-+]?\d+)?", text)]
+
+
+def test_openscad_polyhedra_hold_every_triangle(plant_scene, tmp_path):
+    path = tmp_path / "plant.scad"
+    write(plant_scene, path)
+    text = path.read_text()
+    faces = re.findall(r"faces=\[(.*?)\],\s*convexity", text, re.S)
+    points = re.findall(r"points=\[(.*?)\],\s*faces", text, re.S)
+    assert len(faces) == len(points) == text.count("polyhedron(") >= 3
+    n_faces = sum(f.count("[") for f in faces)
+    assert n_faces == plant_scene.n_triangles
+    for f, p in zip(faces, points):
+        idx = np.array(_numbers(f), int)
+        assert idx.min() == 0 and idx.max() == p.count("[") - 1
+    # Z-up: the plant's height (sylva's +Y) is OpenSCAD's +Z
+    pts = np.array(_numbers(",".join(points))).reshape(-1, 3)
+    assert pts[:, 2].max() == pytest.approx(plant_scene.bounds()[1, 1], abs=1e-4)
+
+
+def test_povray_scene_has_a_mesh2_per_material(plant_scene, tmp_path):
+    path = tmp_path / "plant.pov"
+    write(plant_scene, path)
+    text = path.read_text()
+    assert text.count("mesh2 {") == sum(len(np.unique(m.material_ids)) for m in plant_scene.meshes)
+    counts = [int(c) for c in re.findall(r"face_indices \{ (\d+),", text)]
+    assert sum(counts) == plant_scene.n_triangles
+    assert "camera" in text and "light_source" in text
+    assert text.count("{") == text.count("}")
+
+
+def test_svg_of_a_2d_system_is_valid_xml_with_every_segment(tmp_path):
+    g = interpret(expand("F-F-F-F", {"F": "F-F+F+FF-F-F+F"}, 2), dialect="abop", rot=90)
+    path = tmp_path / "koch.svg"
+    write(g, path)
+    root = ET.parse(path).getroot()
+    ns = {"s": "http://www.w3.org/2000/svg"}
+    (p,) = root.findall("s:path", ns)
+    d = p.get("d")
+    assert d.count("L") == g.n_segments and d.count("M") == 1
+    vb = [float(x) for x in root.get("viewBox").split()]
+    assert vb[2] == pytest.approx(26 * 1.04)  # the island's box plus margins
+
+
+def test_svg_of_a_scene_paints_every_triangle(coloured_scene, tmp_path):
+    path = tmp_path / "t14.svg"
+    write(coloured_scene, path)
+    root = ET.parse(path).getroot()
+    assert len(root.findall("{http://www.w3.org/2000/svg}path")) == coloured_scene.n_triangles
+
+
+@pytest.mark.skipif(not usd_available(), reason="usd-core is not installed")
+@pytest.mark.parametrize("ext", ["usda", "usdc"])
+def test_usd_stage_holds_every_triangle(plant_scene, tmp_path, ext):
+    from pxr import Usd, UsdGeom
+
+    path = tmp_path / f"plant.{ext}"
+    write(plant_scene, path)
+    stage = Usd.Stage.Open(str(path))
+    assert UsdGeom.GetStageUpAxis(stage) == UsdGeom.Tokens.y
+    n = 0
+    for prim in stage.Traverse():
+        if prim.IsA(UsdGeom.Mesh):
+            counts = UsdGeom.Mesh(prim).GetFaceVertexCountsAttr().Get()
+            assert set(counts) == {3}
+            n += len(counts)
+    assert n == plant_scene.n_triangles
+
+
+def test_writers_accept_file_objects():
+    m = Mesh(np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]]),
+             materials=[Material("a", (1, 0, 0, 1))])  # fmt: skip
+    for fmt in ("glb", "ply", "stl"):
+        buf = io.BytesIO()
+        write(m, buf, format=fmt)
+        back = trimesh.load(io.BytesIO(buf.getvalue()), file_type=fmt, force="mesh")
+        assert len(back.faces) == 1
+    for fmt in ("gltf", "obj", "scad", "pov", "svg"):
+        buf = io.StringIO()
+        write(m, buf, format=fmt)
+        assert buf.getvalue()
+
+
+def test_format_comes_from_the_extension():
+    assert format_of("a/b/plant.GLB") == "glb"
+    assert set(WRITERS) >= {"glb", "gltf", "obj", "ply", "stl", "scad", "pov", "svg", "usd"}
+    with pytest.raises(ExportError, match="cannot tell the export format"):
+        format_of("plant.fbx")
+    with pytest.raises(ExportError, match="needs format="):
+        write(Scene(), io.BytesIO())
