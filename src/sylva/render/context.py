@@ -34,8 +34,7 @@ __all__ = ["RenderError", "context_info", "create_context", "get_context", "max_
 #: The lowest OpenGL version the shaders need (GLSL 330 core).
 REQUIRED_VERSION = 330
 
-_lock = threading.Lock()
-_shared: moderngl.Context | None = None
+_local = threading.local()
 
 
 class RenderError(SylvaError, RuntimeError):
@@ -81,19 +80,21 @@ def create_context() -> moderngl.Context:
 
 
 def get_context() -> moderngl.Context:
-    """The process-wide shared context, created on first use.
+    """The calling thread's shared context, created on first use.
+
+    An EGL context is current in one thread at a time, so every thread that renders (the
+    studio's workers, say) gets a context of its own; within a thread every call returns
+    the same object.
 
     Returns
     -------
     moderngl.Context
-        The same object on every call from any thread (callers must not use it from two
-        threads at once).
     """
-    global _shared
-    with _lock:
-        if _shared is None:
-            _shared = create_context()
-        return _shared
+    ctx = getattr(_local, "ctx", None)
+    if ctx is None:
+        ctx = create_context()
+        _local.ctx = ctx
+    return ctx
 
 
 def context_info(ctx: moderngl.Context | None = None) -> dict[str, Any]:

@@ -123,8 +123,7 @@ class Renderer:
     True
     """
 
-    _default: Renderer | None = None
-    _lock = threading.Lock()
+    _local = threading.local()
 
     def __init__(self, ctx: moderngl.Context | None = None) -> None:
         self.ctx = ctx or get_context()
@@ -153,11 +152,12 @@ class Renderer:
 
     @classmethod
     def default(cls) -> Renderer:
-        """The renderer of the shared context (made on first use)."""
-        with cls._lock:
-            if cls._default is None or cls._default.ctx is not get_context():
-                cls._default = cls()
-            return cls._default
+        """The renderer of this thread's shared context (made on first use)."""
+        r = getattr(cls._local, "renderer", None)
+        if r is None or r.ctx is not get_context():
+            r = cls()
+            cls._local.renderer = r
+        return r
 
     # ----------------------------------------------------------------- resources
     def upload(self, scene: Scene | Mesh) -> GpuScene:
