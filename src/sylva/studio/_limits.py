@@ -1,0 +1,56 @@
+"""The caps a Studio server puts on every client and request."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["Limits"]
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Per-server limits.
+
+    Attributes
+    ----------
+    max_modules : int
+        The module cap of every derivation (``Derivation(limit=...)``): a step that would
+        pass it is refused and the word before it is kept.
+    time_cap : float
+        Seconds of derivation or meshing one request may take.  A step that is estimated to
+        pass it is refused; a request whose work overruns it is answered with an error.
+    max_steps : int
+        The most steps one request may ask for.
+    max_body : int
+        Bytes in a request body.
+    max_text : int
+        Characters in an L-system definition.
+    max_url : int
+        Bytes in the path and query string of a request.
+    max_sessions : int
+        Clients held at once; the least recently used idle one is evicted to make room.
+    idle_timeout : float
+        Seconds after which an idle session is evicted.
+    max_image_side, max_image_pixels : int
+        Size of exported PNG images.
+    max_triangles : int
+        Triangles in a mesh: a larger one is built with fewer sides per branch.
+    workers : int
+        Worker threads deriving and meshing at once (requests beyond wait their turn).
+    page_size : int
+        The most modules one page of the word view holds.
+    """
+
+    max_modules: int = 2_000_000
+    time_cap: float = 10.0
+    max_steps: int = 1000
+    max_body: int = 1 << 20
+    max_text: int = 256 * 1024
+    max_url: int = 4096
+    max_sessions: int = 64
+    idle_timeout: float = 1800.0
+    max_image_side: int = 8192
+    max_image_pixels: int = 8192 * 8192
+    max_triangles: int = 3_000_000
+    workers: int = 4
+    page_size: int = 5000

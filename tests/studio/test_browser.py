@@ -1,0 +1,395 @@
+"""The Studio in a real headless Chromium (Debian's), driven by Playwright.
+
+A person's session: type an L-system, step it, see the plant on the canvas (checked from a
+screenshot), break a rule and see the error marker, save and reopen a file, click a branch
+and read the rule that made it, move a globals slider, switch cameras.
+"""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+import pytest
+
+from sylva.lsystem import derive, loads
+
+PLANT = "rot = 25.7\naxiom = F\nF -> F[+F]F[-F]F\n"
+
+
+@pytest.fixture(scope="module")
+def shared_page(browser, live):
+    """One page for the module's tests (loading the app in SwiftShader takes seconds)."""
+    # the tests' own predicates are evaluated as strings, which the page's CSP forbids;
+    # test_the_app_runs_under_its_csp checks the app without this
+    ctx = browser.new_context(viewport={"width": 1280, "height": 800}, accept_downloads=True,
+                              bypass_csp=True)
+    pg = ctx.new_page()
+    pg.errors = []
+    pg.on("pageerror", lambda e: pg.errors.append(str(e)))
+    # console errors too: a resource refused by the page's CSP, a failed load, a JS error
+    pg.on("console", lambda m: m.type == "error" and "status of 4" not in m.text
+          and pg.errors.append(m.text))
+    pg.on("dialog", lambda d: d.accept())  # "discard unsaved changes?" and the like
+    pg.goto(live.url + "/")
+    pg.wait_for_selector("body[data-ready='1']", timeout=30_000)
+    yield pg
+    ctx.close()
+
+
+@pytest.fixture()
+def page(shared_page):
+    pg = shared_page
+    pg.bring_to_front()
+    pg.wait_for_function("!window.studio.busy", polling=100)
+    # every dock back to its first state, no menu open
+    pg.evaluate("""() => {
+        for (const d of document.querySelectorAll('.dock')) {
+            d.hidden = d.id.startsWith('dock-help');
+        }
+        for (const m of document.querySelectorAll('.menu.open')) m.classList.remove('open');
+        document.querySelector('#animate').checked = false;
+    }""")
+    yield pg
+    assert not pg.errors, pg.errors
+
+
+def type_definition(page, text: str) -> None:
+    content = page.locator("#editor .cm-content")
+    content.click()
+    page.keyboard.press("Control+a")
+    page.keyboard.press("Delete")
+    # type line by line: CodeMirror keeps the text as typed (no auto-indent here)
+    for i, line in enumerate(text.rstrip("\n").split("\n")):
+        if i:
+            page.keyboard.press("Enter")
+            page.keyboard.press("Home")
+            page.keyboard.press("Shift+Home")
+            page.keyboard.press("Delete")
+        page.keyboard.insert_text(line)
+    assert page.evaluate("window.studio.editor.text").rstrip("\n") == text.rstrip("\n")
+
+
+def until(page, expression: str, timeout: float = 30_000) -> None:
+    """Wait for a JS condition, polling on a timer (rAF stops in a page in the background)."""
+    page.wait_for_function(expression, timeout=timeout, polling=100)
+
+
+def menu(page, name: str) -> None:
+    """Open the menu ``name`` (if it is not open already)."""
+    if not page.locator(f"[data-menu={name}].open").count():
+        page.click(f"[data-menu={name}] .menu-title")
+
+
+def wait_idle(page, step: int | None = None) -> None:
+    cond = "window.studio.state && !window.studio.busy"
+    if step is not None:
+        cond += f" && window.studio.state.step === {step} && window.studio.meshStep === {step}"
+    until(page, cond)
+
+
+def canvas_pixels(page) -> np.ndarray:
+    from PIL import Image
+
+    png = page.locator("#view").screenshot()
+    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
+
+
+def dark_box(img: np.ndarray, threshold: int = 150):
+    """Fraction of dark (plant) pixels and their bounding box (x0, y0, x1, y1)."""
+    mask = img.sum(axis=2) < threshold * 3
+    ys, xs = np.nonzero(mask)
+    if not len(xs):
+        return 0.0, None
+    return mask.mean(), (xs.min(), ys.min(), xs.max(), ys.max())
+
+
+def test_type_step_and_see_the_plant(page):
+    type_definition(page, PLANT)
+    page.fill("#steps", "4")
+    page.click("#btn-derive")
+    wait_idle(page, 4)
+    n4 = len(derive(loads(PLANT), 4))
+    assert page.text_content("#st-step") == "Step 4"
+    assert page.text_content("#st-modules") == f"{n4:,} modules"
+    assert page.text_content("#derived-steps") == "4"
+    assert page.evaluate("window.studio.viewer.triangles") > 1000
+    img = canvas_pixels(page)
+    # the background is seed 001's default 0.9 grey; the plant black
+    assert abs(int(np.median(img)) - 230) < 8
+    frac, box = dark_box(img)
+    assert 0.005 < frac < 0.5, frac
+    x0, y0, x1, y1 = box
+    h, w = img.shape[:2]
+    assert (y1 - y0) > 0.6 * h  # framed: a tall plant filling the height
+    assert (y1 - y0) > (x1 - x0)  # taller than wide
+    # one more step, then back
+    page.click("#btn-step")
+    wait_idle(page, 5)
+    assert page.text_content("#st-modules") == f"{len(derive(loads(PLANT), 5)):,} modules"
+    page.click("#btn-back")
+    wait_idle(page, 4)
+    assert page.text_content("#st-modules") == f"{n4:,} modules"
+    # the word view pages through the word
+    assert page.text_content("#word-length") == f"{n4:,}"
+    first = page.locator("#word span").count()
+    assert first == 400
+    page.click("#page-last")
+    until(page, "window.studio.pageStart > 0")
+    assert page.locator("#word span").count() == n4 - page.evaluate("window.studio.pageStart")
+
+
+def test_animation_shows_every_nth_step(page):
+    type_definition(page, PLANT)
+    page.fill("#steps", "5")
+    page.check("#animate")
+    page.fill("#every", "2")
+    page.fill("#frame-ms", "0")
+    page.evaluate("window.studio.drawnSteps = []")
+    page.click("#btn-derive")
+    wait_idle(page, 5)
+    # the axiom, every 2nd step, and always the last one
+    assert page.evaluate("window.studio.drawnSteps") == [0, 2, 4, 5]
+    assert page.evaluate("document.querySelector('#progress').value") in (0, 5)
+
+
+def test_broken_rule_shows_error_marker(page):
+    type_definition(page, "rot = 30\naxiom = F\nF -> F[+F]F[-F\n")
+    page.click("#btn-derive")
+    until(page, "window.studio.lastError && window.studio.lastError.error")
+    err = page.evaluate("window.studio.lastError")
+    assert (err["error"], err["line"], err["column"]) == ("syntax", 3, 12)  # the unclosed [
+    page.wait_for_selector(".cm-lint-marker-error")
+    marked = page.locator(".cm-line.cm-error-line")
+    assert marked.count() == 1 and marked.text_content() == "F -> F[+F]F[-F"
+    assert page.locator(".cm-lintRange-error").count() >= 1
+    assert "unclosed" in page.text_content("#error-box")
+    assert page.is_visible("#notice")
+    # fixing the rule clears the marker and derives
+    page.locator("#editor .cm-content").click()
+    page.keyboard.press("Control+End")
+    page.keyboard.insert_text("]")
+    assert page.locator(".cm-lint-marker-error").count() == 0
+    page.fill("#steps", "2")
+    page.click("#btn-derive")
+    wait_idle(page, 2)
+    assert page.is_hidden("#error-box")
+
+
+def test_save_and_reopen(page, workspace):
+    text = "# saved from the browser\nrot = 20\naxiom = X\nX -> F[+X][-X]FX\nF -> FF\n"
+    type_definition(page, text)
+    assert page.text_content("#title").endswith("*")
+    menu(page, "file")
+    page.click("[data-menu=file] [data-action=save-as]")
+    page.fill("#save-path", "browser/tree.lsys")
+    page.click("#save-ok")
+    until(page, "!window.studio.dirty && window.studio.path === 'browser/tree.lsys'")
+    assert (workspace / "browser" / "tree.lsys").read_text(encoding="utf-8") == \
+        page.evaluate("window.studio.editor.text")
+    # a new definition, then open the saved file again
+    menu(page, "file")
+    page.click("[data-menu=file] [data-action=new]")
+    assert "tree" not in page.evaluate("window.studio.editor.text")
+    menu(page, "file")
+    page.click("[data-menu=file] [data-action=open]")
+    page.select_option("#open-files", "browser/tree.lsys")
+    page.click("#open-ok")
+    until(page, "window.studio.path === 'browser/tree.lsys'")
+    wait_idle(page)
+    assert page.evaluate("window.studio.editor.text") == text.rstrip("\n")
+    assert page.text_content("#title") == "browser/tree.lsys"
+    # the built-in examples are in the same dialog
+    menu(page, "file")
+    page.click("[data-menu=file] [data-action=open]")
+    assert page.locator("#open-examples option").count() >= 30
+    page.select_option("#open-examples", index=0)
+    page.click("#open-ok")
+    first = page.evaluate("document.querySelector('#open-examples option').value")
+    until(
+        page, f"window.studio.state && window.studio.state.filename === '{first}.lsys'"
+        " && window.studio.state.step === window.studio.state.steps_hint"
+        " && window.studio.meshStep === window.studio.state.step && !window.studio.busy")
+    assert page.text_content("#title") == f"{first} (example)"
+
+
+def test_click_a_branch_traces_its_rule(page):
+    text = "rot = 30\naxiom = X\nX -> F[+X]F[-X]\nF -> FF\n"
+    type_definition(page, text)
+    page.fill("#steps", "3")
+    page.click("#btn-derive")
+    wait_idle(page, 3)
+    # the middle of the trunk's first segment, where the canvas shows it
+    x, y = page.evaluate("window.studio.viewer.project([0, 0.5, 0])")
+    page.mouse.click(x, y)
+    page.wait_for_selector("#trace-box .rule")
+    assert page.text_content("#trace-box .module") == "F"
+    assert page.text_content("#trace-box .index") == "0"
+    assert "F -> FF" in page.text_content("#trace-box .rule")
+    assert "line 4" in page.text_content("#trace-box .rule")
+    assert page.text_content("#trace-box .made-step") == "3"
+    assert page.locator("#word span.hl").text_content() == "F"
+    assert page.locator("#word span.m-branch").first.text_content() in "[]"
+    # the rule link puts the editor's cursor on the rule
+    page.click("#goto-rule")
+    assert page.text_content("#st-cursor").startswith("Ln 4")
+    # a click on a module of the word traces it too
+    page.click("#word span[data-i='1']")
+    until(page, "window.studio.picked && window.studio.picked.index === 1")
+    assert page.text_content("#trace-box .module") == "F"
+    assert page.text_content("#trace-box .drew") == "segment"
+
+
+def test_camera_modes_and_controls(page):
+    type_definition(page, "rot = 30\naxiom = F\nF -> F[&F][^F]F\n")
+    page.fill("#steps", "3")
+    page.click("#btn-derive")
+    wait_idle(page, 3)
+    cam = page.evaluate("window.studio.viewer.cameraState()")
+    assert cam["mode"] == "perspective"  # pitch symbols: auto mode picks 3D
+    assert page.text_content("#cam-mode") == "3D perspective"
+    # the wheel zooms: the distance is 1.001 ** zoom
+    box = page.locator("#view").bounding_box()
+    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    page.mouse.wheel(0, 300)
+    until(page, f"window.studio.viewer.zoom > {cam['zoom'] + 250}")
+    after = page.evaluate("window.studio.viewer.cameraState()")
+    assert after["distance"] == pytest.approx(1.001 ** after["zoom"])
+    assert after["distance"] > cam["distance"] * 1.2
+    # left-drag orbits in 3D
+    cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    page.mouse.move(cx, cy)
+    page.mouse.down()
+    page.mouse.move(cx + 80, cy, steps=4)
+    page.mouse.up()
+    assert page.evaluate("window.studio.viewer.yaw") != after["yaw"]
+    # F4 resets the camera
+    page.keyboard.press("F4")
+    assert page.evaluate("window.studio.viewer.cameraState().zoom") == pytest.approx(cam["zoom"])
+    frac, _ = dark_box(canvas_pixels(page))
+    assert frac > 0.002  # the plant is in view in 3D perspective
+    # orthographic 3D, chosen by hand
+    menu(page, "render")
+    page.check("input[name=camera-mode][value='orthographic']")
+    assert page.evaluate("window.studio.viewer.camera.isOrthographicCamera") is True
+    assert page.text_content("#cam-mode") == "3D orthogonal"
+    frac, _ = dark_box(canvas_pixels(page))
+    assert frac > 0.002
+    # middle-drag moves the focus point along the view axis
+    before = page.evaluate("window.studio.viewer.cameraState()")
+    page.mouse.move(cx, cy)
+    page.mouse.down(button="middle")
+    page.mouse.move(cx, cy + 40, steps=3)
+    page.mouse.up(button="middle")
+    moved = page.evaluate("window.studio.viewer.cameraState()")
+    shift = np.subtract(moved["target"], before["target"])
+    view = np.subtract(before["target"], before["position"])
+    assert np.linalg.norm(shift) > 0
+    cos = abs(shift @ view) / np.linalg.norm(shift) / np.linalg.norm(view)
+    assert cos == pytest.approx(1.0, abs=1e-6)
+    # 2D locks the rotation: left-drag pans instead
+    menu(page, "render")
+    page.check("input[name=camera-mode][value='2d']")
+    target = page.evaluate("window.studio.viewer.cameraState().target")
+    page.mouse.move(cx, cy)
+    page.mouse.down()
+    page.mouse.move(cx + 60, cy + 30, steps=3)
+    page.mouse.up()
+    c2 = page.evaluate("window.studio.viewer.cameraState()")
+    assert (c2["yaw"], c2["pitch"]) == (0, 0) and c2["target"] != target
+    assert page.text_content("#st-camera").startswith("2D")
+    # the focus point can be hidden
+    menu(page, "render")
+    page.uncheck("#opt-focus")
+    assert page.evaluate("window.studio.viewer.focus.visible") is False
+
+
+def test_globals_slider_reruns(page):
+    text = ("size = 2\nangle = 30\naxiom = A(size)\n"
+            "A(s) : s > 0.2 -> F(s)[+(angle)A(s*0.6)]A(s*0.6)\n")
+    type_definition(page, text)
+    page.fill("#steps", "2")
+    page.click("#btn-derive")
+    wait_idle(page, 2)
+    assert page.locator("#word span").first.text_content() == "F(2)"
+    slider = page.locator("input[data-global=size]")
+    slider.evaluate("(el) => { el.dataset.mark = 'kept'; el.value = 3;"
+                    " el.dispatchEvent(new Event('input')); }")
+    until(page, "document.querySelector('#word span').textContent === 'F(3)'")
+    assert page.evaluate("window.studio.state.step") == 2
+    assert page.evaluate("window.studio.state.overrides") == {"size": 3}
+    # the slider under the pointer is the same element (not rebuilt while it is dragged)
+    assert page.locator("input[data-global=size][data-mark=kept]").count() == 1
+    assert page.input_value("input[data-global-number=size]") == "3"
+
+
+def test_help_panels_and_docks(page):
+    menu(page, "help")
+    page.check("[data-menu=help] [data-dock-toggle=dock-help-symbols]")
+    assert page.is_visible("#dock-help-symbols")
+    rows = page.locator("#help-symbols tbody tr")
+    assert rows.count() >= 15
+    menu(page, "window")
+    page.check("#window-items [data-dock-toggle=dock-help-vars]")
+    assert "0.9, 0.9, 0.9" in page.text_content("#help-vars")
+    page.click("#dock-word .close")
+    assert page.is_hidden("#dock-word")
+
+
+def test_export_downloads(page):
+    type_definition(page, PLANT)
+    page.fill("#steps", "2")
+    page.click("#btn-derive")
+    wait_idle(page, 2)
+    with page.expect_download() as dl:
+        menu(page, "file")
+        page.click("[data-menu=file] [data-action=export-glb]")
+    path = dl.value.path()
+    with open(path, "rb") as fh:
+        assert fh.read(4) == b"glTF"
+    assert dl.value.suggested_filename.endswith("-step2.glb")
+
+
+def test_the_app_runs_under_its_csp(browser, live):
+    """Under its Content-Security-Policy (everything from this server, no eval) the app
+    loads, derives and draws without a single console error."""
+    ctx = browser.new_context(viewport={"width": 1000, "height": 700})
+    try:
+        pg = ctx.new_page()
+        errors = []
+        pg.on("console", lambda m: m.type == "error" and errors.append(m.text))
+        pg.on("pageerror", lambda e: errors.append(str(e)))
+        pg.goto(live.url + "/")
+        pg.wait_for_selector("body[data-ready='1']", timeout=30_000)
+        pg.locator("#editor .cm-content").click()
+        pg.keyboard.press("Control+a")
+        pg.keyboard.insert_text(PLANT.strip())
+        pg.fill("#steps", "3")
+        pg.keyboard.press("Control+Enter")
+        pg.wait_for_selector("#st-step:text-is('Step 3')", timeout=30_000)
+        pg.wait_for_selector("#st-triangles:not(:text-is('0 triangles'))", timeout=30_000)
+        assert errors == []
+    finally:
+        ctx.close()
+
+
+def test_two_tabs_are_two_clients(page):
+    type_definition(page, PLANT)
+    page.fill("#steps", "3")
+    page.click("#btn-derive")
+    wait_idle(page, 3)
+    other = page.context.new_page()  # same browser, same cookies: still its own session
+    try:
+        other.goto(page.url)
+        other.wait_for_selector("body[data-ready='1']", timeout=30_000)
+        other.evaluate("window.studio.editor.setText('axiom = X\\nX -> XX\\n')")
+        other.fill("#steps", "6")
+        other.click("#btn-derive")
+        wait_idle(other, 6)
+        assert other.evaluate("window.studio.state.modules") == 64
+        # the first tab's derivation is untouched
+        page.click("#btn-step")
+        wait_idle(page, 4)
+        assert page.evaluate("window.studio.state.modules") == len(derive(loads(PLANT), 4))
+    finally:
+        other.close()
