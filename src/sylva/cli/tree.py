@@ -1,0 +1,150 @@
+"""``sylva tree``: grow a Weber–Penn tree and write it as a mesh, an image or an animation.
+
+Examples::
+
+    sylva tree --list
+    sylva tree quaking_aspen -o aspen.glb --age 30 --seed 4
+    sylva tree black_oak -o oak.png                      # a rendered image
+    sylva tree weeping_willow -o willow.pov              # POV-Ray scene (mesh2)
+    sylva tree scots_pine -o pine.glb --animate wind --wind 1.5 --seconds 4
+    sylva tree fan_palm -o palm.mp4 --animate growth --seconds 6
+    sylva tree my_tree.txt -o mine.obj                   # a configuration file
+
+The output format follows the extension: any mesh format of ``sylva export`` (``.glb``,
+``.gltf``, ``.obj``, ``.ply``, ``.stl``, ``.pov``, ``.usd``…), an image (``.png``, ``.jpg``),
+or with ``--animate``: ``.glb`` (skinned glTF animation), ``.gif`` or ``.mp4``.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ..errors import SylvaError
+
+_IMAGES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".webp"}
+_MOVIES = {".gif", ".mp4", ".m4v", ".mov"}
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "tree",
+        help="grow a tree of a species (Weber-Penn, events in time) with wind and growth",
+        description="Grow a tree from a species preset or a configuration file and write a "
+                    "mesh, an image, a POV-Ray scene, or a growth/wind animation (glTF, GIF, "
+                    "MP4).  See --list for the species.",
+    )
+    p.add_argument("species", nargs="?", metavar="SPECIES_OR_CONFIG",
+                   help="species name (see --list) or a configuration file")
+    p.add_argument("-o", "--output", dest="out", metavar="OUT",
+                   help="output: mesh (.glb .obj .ply .stl .pov …), image (.png), or with "
+                        "--animate: .glb, .gif or .mp4")
+    p.add_argument("--list", action="store_true", help="list the species and exit")
+    p.add_argument("--age", type=float, default=None, metavar="T",
+                   help="age in years (default: the species' Age)")
+    p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
+    p.add_argument("--wind", type=float, default=None, metavar="STRENGTH",
+                   help="wind strength: 0 calm, 1 breeze, 3 storm (default 1 with --animate "
+                        "wind; a still image is bent by the wind at t=0)")
+    p.add_argument("--animate", choices=("growth", "wind"), default=None,
+                   help="write an animation of growth (age 0 to --age) or of wind")
+    p.add_argument("--seconds", type=float, default=4.0, metavar="N",
+                   help="animation length in seconds (default 4)")
+    p.add_argument("--fps", type=float, default=None,
+                   help="frames per second (default 24 for wind, 12 for growth)")
+    p.add_argument("--size", default="640x640", metavar="WxH", help="image/video size")
+    p.add_argument("--no-leaves", action="store_true", help="leave the leaves out")
+    p.set_defaults(func=run)
+
+
+def _size(text: str) -> tuple[int, int]:
+    try:
+        w, h = (int(x) for x in text.lower().split("x"))
+    except ValueError:
+        raise SylvaError(f"--size: expected WxH such as 640x480, got {text!r}") from None
+    if w < 16 or h < 16:
+        raise SylvaError(f"--size: expected at least 16x16, got {text!r}")
+    return w, h
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..tree import Tree, Wind, species_info, species_names
+
+    if args.list:
+        for name in species_names():
+            info = species_info(name)
+            print(f"{name:16s} {info['Name']}: {info['Description']}")
+            print(f"{'':16s} source: {info['Source']}")
+        return 0
+    if not args.species:
+        raise SylvaError("tree: expected a species name or a configuration file (or --list)")
+    if not args.out:
+        raise SylvaError("tree: expected an output file (-o OUT)")
+    out = Path(args.out)
+    ext = out.suffix.lower()
+    tree = Tree(args.species, seed=args.seed)
+    age = tree.default_age if args.age is None else args.age
+    if age <= 0:
+        raise SylvaError(f"--age: expected a positive age in years, got {age}")
+    mesh_opts = {"leaves": not args.no_leaves}
+    if args.animate:
+        return _animate(args, tree, age, out, ext, mesh_opts)
+    tree.grow(age)
+    tm = tree.mesh(**mesh_opts)
+    mesh = tm.mesh
+    if args.wind:
+        mesh = Wind(args.wind, seed=args.seed).mesh_at(tm, 0.0)
+    from ..geometry.mesh import Scene
+
+    scene = Scene([mesh], name=tree.name.replace(" ", "_"))
+    s = tree.stats()
+    print(f"{tree.name}, seed {args.seed}, age {age:g}: height {s['height']:.2f} m, stems per "
+          f"level {s['stems']}, {s['leaves']} leaves, {mesh.n_triangles} triangles")
+    if ext in _IMAGES:
+        from ..render import render, save_image
+
+        save_image(render(scene, size=_size(args.size)), out)
+    elif ext in _MOVIES:
+        raise SylvaError(f"{ext} needs --animate growth or --animate wind")
+    else:
+        from ..geometry.exchange import write
+
+        write(scene, out)
+    print(f"wrote {out}")
+    return 0
+
+
+def _animate(args, tree, age: float, out: Path, ext: str, mesh_opts: dict) -> int:
+    from ..tree import Wind
+    from ..tree.animation import growth_animation, growth_meshes, wind_animation, wind_meshes
+
+    seconds = args.seconds
+    if seconds <= 0:
+        raise SylvaError(f"--seconds: expected a positive duration, got {seconds}")
+    fps = args.fps or (24.0 if args.animate == "wind" else 12.0)
+    wind = Wind(1.0 if args.wind is None else args.wind, seed=args.seed)
+    if ext == ".glb":
+        from ..geometry.exchange.gltf_animation import write_animated_glb
+
+        if args.animate == "wind":
+            tm = tree.grow(age).mesh(**mesh_opts)
+            anim = wind_animation(tm, wind, seconds, fps)
+        else:
+            anim = growth_animation(tree, min(0.05 * age, 0.5), age, seconds, fps)
+        write_animated_glb(anim, out)
+        print(f"wrote {out}: {len(anim.times)} keyframes, {len(anim.bind_matrices)} joints")
+        return 0
+    if ext not in _MOVIES:
+        raise SylvaError(f"--animate writes .glb, .gif or .mp4, not {ext or out.name!r}")
+    from ..render import growth_frames, write_animation
+
+    size = _size(args.size)
+    frames = max(2, int(round(seconds * fps)))
+    if args.animate == "wind":
+        tm = tree.grow(age).mesh(**mesh_opts)
+        meshes = list(wind_meshes(tm, wind, seconds, fps))
+    else:
+        meshes = list(growth_meshes(tree, min(0.05 * age, 0.5), age, frames, **mesh_opts))
+    write_animation(growth_frames(meshes, size), out, fps=fps, total=len(meshes))
+    print(f"wrote {out}: {len(meshes)} frames")
+    return 0

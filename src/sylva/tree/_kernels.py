@@ -1,0 +1,113 @@
+"""Numba kernels of the tree package (loops that must be fast).  Inputs are checked by callers."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def parallel_transport(points, starts, counts, ref):
+    """Frames along polylines with minimal twist.
+
+    Parameters
+    ----------
+    points : float64[n, 3]
+        All polylines' points, concatenated.
+    starts, counts : int64[s]
+        Where each polyline starts in ``points`` and how many points it has.
+    ref : float64[s, 3]
+        A vector roughly normal to each polyline's first tangent (the ring's u = 0).
+
+    Returns
+    -------
+    float64[n, 3, 3]
+        Columns: normal (x), tangent (y), binormal (z) — a right-handed frame per point.
+    """
+    n = points.shape[0]
+    out = np.zeros((n, 3, 3))
+    for s in range(starts.shape[0]):
+        a = starts[s]
+        m = counts[s]
+        nx, ny, nz = ref[s, 0], ref[s, 1], ref[s, 2]
+        px, py, pz = 0.0, 0.0, 0.0
+        for i in range(m):
+            k = a + i
+            # tangent: central difference (one-sided at the ends)
+            i0 = k - 1 if i > 0 else k
+            i1 = k + 1 if i < m - 1 else k
+            tx = points[i1, 0] - points[i0, 0]
+            ty = points[i1, 1] - points[i0, 1]
+            tz = points[i1, 2] - points[i0, 2]
+            tl = np.sqrt(tx * tx + ty * ty + tz * tz)
+            if tl < 1e-15:
+                if i > 0:
+                    tx, ty, tz = px, py, pz
+                else:
+                    tx, ty, tz = 0.0, 1.0, 0.0
+            else:
+                tx /= tl
+                ty /= tl
+                tz /= tl
+            # remove the tangent component of the carried normal (projection transport)
+            d = nx * tx + ny * ty + nz * tz
+            nx -= d * tx
+            ny -= d * ty
+            nz -= d * tz
+            nl = np.sqrt(nx * nx + ny * ny + nz * nz)
+            if nl < 1e-12:
+                # pick any normal
+                if abs(tx) < 0.9:
+                    nx, ny, nz = 0.0, -tz, ty
+                else:
+                    nx, ny, nz = tz, 0.0, -tx
+                nl = np.sqrt(nx * nx + ny * ny + nz * nz)
+            nx /= nl
+            ny /= nl
+            nz /= nl
+            # binormal = normal x tangent  (x, y, z right-handed with y = tangent)
+            bx = ny * tz - nz * ty
+            by = nz * tx - nx * tz
+            bz = nx * ty - ny * tx
+            out[k, 0, 0] = nx
+            out[k, 1, 0] = ny
+            out[k, 2, 0] = nz
+            out[k, 0, 1] = tx
+            out[k, 1, 1] = ty
+            out[k, 2, 1] = tz
+            out[k, 0, 2] = bx
+            out[k, 1, 2] = by
+            out[k, 2, 2] = bz
+            px, py, pz = tx, ty, tz
+    return out
+
+
+@njit(cache=True)
+def compose_hierarchy(parents, local):
+    """World matrices from parent indices (parents before children) and local matrices.
+
+    Parameters
+    ----------
+    parents : int64[j]
+        Index of each node's parent, ``-1`` for roots; every parent precedes its children.
+    local : float64[j, 4, 4]
+        Node → parent transforms.
+
+    Returns
+    -------
+    float64[j, 4, 4]
+    """
+    j = parents.shape[0]
+    world = np.empty_like(local)
+    for i in range(j):
+        p = parents[i]
+        if p < 0:
+            world[i] = local[i]
+        else:
+            for r in range(4):
+                for c in range(4):
+                    acc = 0.0
+                    for k in range(4):
+                        acc += world[p, r, k] * local[i, k, c]
+                    world[i, r, c] = acc
+    return world
