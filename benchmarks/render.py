@@ -179,6 +179,8 @@ def main(argv=None) -> int:
     ap.add_argument("--triangles", type=int, default=1_000_000)
     ap.add_argument("--size", default="1920x1080")
     ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--gallery", action="store_true",
+                    help="also time the whole `sylva render` of every gallery example")
     args = ap.parse_args(argv)
     w, h = (int(x) for x in args.size.lower().split("x"))
 
@@ -276,7 +278,28 @@ def main(argv=None) -> int:
     for obj in (vao, prog, vbo_p, vbo_n, ibo, fbo):
         obj.release()
     gpu.release()
+    if args.gallery:
+        gallery_times(args.size)
     return 0 if ok else 1
+
+
+def gallery_times(size: str) -> None:
+    """The whole ``sylva render`` (load, grow, mesh, render, save) of every example."""
+    import contextlib
+    import io
+    import tempfile
+
+    from sylva.cli import main as sylva_main
+    from sylva.data import examples
+
+    print(f"\nsylva render EXAMPLE --size {size}: whole command, in-process")
+    with tempfile.TemporaryDirectory() as tmp:
+        for ex in examples():
+            out = f"{tmp}/{ex.name}.png"
+            t = time.perf_counter()
+            with contextlib.redirect_stderr(io.StringIO()):
+                sylva_main(["render", str(ex.path), "-o", out, "--size", size])
+            print(f"  {ex.name:40s} {time.perf_counter() - t:6.2f} s")
 
 
 if __name__ == "__main__":

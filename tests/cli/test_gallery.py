@@ -17,6 +17,8 @@ def test_gallery_renders_every_example(tmp_path):
         a = np.asarray(Image.open(png).convert("L"), dtype=float)
         assert a.std() > 3, f"{ex.name} rendered a blank image"
         assert ex.name in page
+    textures = sorted(tmp_path.glob("texture-*.png"))
+    assert len(textures) >= 10 and all(t.name in page for t in textures)
 
 
 def test_render_command_frames_a_2d_plant(tmp_path):

@@ -19,8 +19,8 @@ def register(sub) -> None:
     p = sub.add_parser(
         "gallery",
         help="render every built-in example into a folder with an index.html",
-        description="Render every built-in example (all three dialects), a turntable and a "
-        "growth animation, and write DIR/index.html.",
+        description="Render every built-in example (all three dialects), a turntable, a "
+        "growth animation and some procedural textures, and write DIR/index.html.",
     )
     p.add_argument("-o", "--out", default="gallery", metavar="DIR", help="folder (default gallery)")
     p.add_argument("--size", type=parse_size, default=parse_size("800x800"),
@@ -31,11 +31,15 @@ def register(sub) -> None:
 
 
 def _render_example(ex, out: Path, size: tuple[int, int]) -> dict:
+    from ..lsystem import load
     from ..plant import grow
     from ..render import Camera, render, save_image
 
     t0 = time.perf_counter()
-    plant = grow(ex.path)
+    program = load(ex.path)
+    # files that name no step count (seed 001's Source code 1, seed 004's acacia) are shown
+    # after 4 steps, as their theses show them
+    plant = grow(program, None if program.steps is not None else 4)
     mode = "2d" if plant.is_2d else "perspective"
     if mode == "2d":
         plant = plant.with_min_radius(plant.line_radius(2.0, size))
@@ -70,6 +74,32 @@ def _animations(out: Path) -> list[dict]:
     made.append(dict(file="growth-ternary-tree.gif",
                      title="ABOP Fig. 2.8 ternary tree growing (smooth: 4 frames a step)",
                      seconds=time.perf_counter() - t))
+    return made
+
+
+GALLERY_TEXTURES = (
+    "arabescato-marble", "beech-wood", "pink-granite", "oak-bark", "leaf-blade", "lawn",
+    "worley-a", "ridged-terrain", "warped-marble", "seahorse-valley", "julia-dendrite",
+    "burning-ship-armada",
+)
+
+
+def _textures(out: Path, size: int = 256) -> list[dict]:
+    """Some procedural textures (presets of :mod:`sylva.texture`) as PNGs."""
+    from PIL import Image
+
+    from ..texture import PRESETS, render
+
+    made = []
+    for name in GALLERY_TEXTURES:
+        if name not in PRESETS:
+            continue
+        t = time.perf_counter()
+        recipe = dict(PRESETS[name])
+        recipe["size"] = [size, size]
+        Image.fromarray(render(recipe)).save(out / f"texture-{name}.png")
+        made.append(dict(file=f"texture-{name}.png", title=f"texture preset {name}",
+                         seconds=time.perf_counter() - t))
     return made
 
 
@@ -122,7 +152,8 @@ def make(out: str | Path, size=(800, 800), only: str | None = None,
         print(f"{r['name']:40s} {r['modules']:9,d} {r['triangles']:10,d} {r['grow']:6.2f}s "
               f"{r['render']:6.2f}s", file=sys.stderr)
     anims = _animations(out) if animations and only is None else []
-    (out / "index.html").write_text(_page(rows, anims), encoding="utf-8")
-    print(f"sylva: wrote {out / 'index.html'} ({len(rows)} examples, {len(anims)} animations)",
-          file=sys.stderr)
+    textures = _textures(out) if only is None else []
+    (out / "index.html").write_text(_page(rows, anims + textures), encoding="utf-8")
+    print(f"sylva: wrote {out / 'index.html'} ({len(rows)} examples, {len(anims)} animations, "
+          f"{len(textures)} textures)", file=sys.stderr)
     return 0
