@@ -315,7 +315,7 @@ def rewrite_table(ids, key, stochastic, nalt, alt_start, cum_w, succ_start, succ
     depend on the number of threads.
     """
     n = ids.shape[0]
-    nchunks = 64 if n >= 65536 else 1
+    nchunks = 64 if n >= 50_000 else 1  # small words: one chunk, no thread hand-off
     bounds = np.linspace(0, n, nchunks + 1).astype(np.int64)
     pick = np.empty(n, np.int32)
     sizes = np.zeros(nchunks + 1, np.int64)
@@ -334,57 +334,6 @@ def rewrite_table(ids, key, stochastic, nalt, alt_start, cum_w, succ_start, succ
     starts = np.cumsum(sizes)
     out = np.empty(starts[nchunks], ids.dtype)
     for c in prange(nchunks):
-        o = starts[c]
-        for i in range(bounds[c], bounds[c + 1]):
-            a = pick[i]
-            if a < 0:
-                out[o] = ids[i]
-                o += 1
-                continue
-            st = succ_start[a]
-            ln = succ_len[a]
-            if ln == 1:
-                out[o] = succ_ids[st]
-                o += 1
-            else:
-                for q in range(ln):
-                    out[o + q] = succ_ids[st + q]
-                o += ln
-    return out
-
-
-@njit(cache=True)
-def rewrite_table_serial(
-    ids, key, stochastic, nalt, alt_start, cum_w, succ_start, succ_len, succ_ids
-):
-    """:func:`rewrite_table` on one thread (for small words, where threads cost more).
-
-    Per symbol ``s``: ``nalt[s]`` alternatives starting at ``alt_start[s]``; alternative
-    ``a`` has cumulative weight ``cum_w[a]`` (within its symbol) and successor
-    ``succ_ids[succ_start[a]:succ_start[a] + succ_len[a]]``.  ``nalt == 0`` is identity.
-    Random draws use :func:`uniform`'s hash of ``(key, position)``, so the result does not
-    depend on the number of threads.
-    """
-    n = ids.shape[0]
-    nchunks = 64 if n >= 65536 else 1
-    bounds = np.linspace(0, n, nchunks + 1).astype(np.int64)
-    pick = np.empty(n, np.int32)
-    sizes = np.zeros(nchunks + 1, np.int64)
-    for c in range(nchunks):
-        tot = 0
-        for i in range(bounds[c], bounds[c + 1]):
-            s = ids[i]
-            if nalt[s] == 0:
-                pick[i] = -1
-                tot += 1
-            else:
-                a = _pick(i, s, key, stochastic, nalt, alt_start, cum_w)
-                pick[i] = a
-                tot += succ_len[a]
-        sizes[c + 1] = tot
-    starts = np.cumsum(sizes)
-    out = np.empty(starts[nchunks], ids.dtype)
-    for c in range(nchunks):
         o = starts[c]
         for i in range(bounds[c], bounds[c + 1]):
             a = pick[i]

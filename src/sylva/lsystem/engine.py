@@ -399,8 +399,7 @@ def _step_fast(word: ModuleString, rs: _RuleSet, key: np.uint64, limit: int, ste
         _check_limit(int(total), 0, limit, word, step)
     elif n * rs.max_len > 10_000_000:
         _check_limit(0, 0, limit, word, step)  # memory only
-    kernel = _kernels.rewrite_table if n >= 50_000 else _kernels.rewrite_table_serial
-    ids = kernel(
+    ids = _kernels.rewrite_table(
         word.ids,
         key,
         True,

@@ -123,3 +123,36 @@ def content_length(line: str, comment: str = "#") -> int:
             end = i
             break
     return len(line[:end].rstrip())
+
+
+def char_symbols(
+    text: str, offset: int, where: Where, what: str, comment: str
+) -> list[tuple[str, int]]:
+    """The one-character symbols of ``text`` (spaces dropped) with their 1-based columns.
+
+    Used by the one-character dialects (seed 000 and seed 004); ``comment`` is the
+    dialect's comment character, named in the error for a character that cannot be a
+    symbol.  Brackets must balance.
+    """
+    out = []
+    depth: list[int] = []
+    for i, ch in enumerate(text):
+        if ch.isspace():
+            continue
+        col = offset + i + 1
+        if ch == '"' or not ch.isprintable():
+            raise where.error(
+                f"{ch!r} cannot be a symbol; expected a printable character other than "
+                f"'\"' and '{comment}'",
+                col,
+            )
+        if ch == "[":
+            depth.append(col)
+        elif ch == "]":
+            if not depth:
+                raise where.semantic(f"unmatched ']' in {what}; expected a '[' before it", col)
+            depth.pop()
+        out.append((ch, col))
+    if depth:
+        raise where.semantic(f"unclosed '[' in {what}; expected a matching ']'", depth[-1])
+    return out

@@ -38,7 +38,7 @@ from pathlib import Path
 
 from ...errors import LSystemSemanticError
 from ..ast import Module, Num, Pattern, Program, Rule, Span
-from ._diagnostics import Where, join_words
+from ._diagnostics import Where, char_symbols, join_words
 
 __all__ = ["KEYWORDS", "format", "parse"]
 
@@ -66,28 +66,7 @@ def _strip_comment(line: str) -> str:
 
 def _symbols(text: str, offset: int, where: Where, what: str) -> list[tuple[str, int]]:
     """The one-character symbols of ``text`` (spaces dropped) with their columns."""
-    out = []
-    depth: list[int] = []
-    for i, ch in enumerate(text):
-        if ch.isspace():
-            continue
-        col = offset + i + 1
-        if ch == '"' or not ch.isprintable():
-            raise where.error(
-                f"{ch!r} cannot be a symbol; expected a printable character other than "
-                "'\"' and ';'",
-                col,
-            )
-        if ch == "[":
-            depth.append(col)
-        elif ch == "]":
-            if not depth:
-                raise where.semantic(f"unmatched ']' in {what}; expected a '[' before it", col)
-            depth.pop()
-        out.append((ch, col))
-    if depth:
-        raise where.semantic(f"unclosed '[' in {what}; expected a matching ']'", depth[-1])
-    return out
+    return char_symbols(text, offset, where, what, ";")
 
 
 def parse(text: str, filename: str | None = None) -> Program:

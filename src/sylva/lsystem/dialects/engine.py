@@ -35,7 +35,7 @@ from pathlib import Path
 
 from ...errors import LSystemSemanticError
 from ..ast import Module, Num, Pattern, Program, Rule, Span
-from ._diagnostics import Where
+from ._diagnostics import Where, char_symbols
 
 __all__ = ["format", "parse", "parse_all"]
 
@@ -45,28 +45,7 @@ _PRODUCTION = re.compile(r"\s*(\S)\s*>(.*)\Z", re.DOTALL)
 
 
 def _symbols(text: str, offset: int, where: Where, what: str) -> list[str]:
-    out = []
-    depth: list[int] = []
-    for i, ch in enumerate(text):
-        if ch.isspace():
-            continue
-        col = offset + i + 1
-        if ch == '"' or not ch.isprintable():
-            raise where.error(
-                f"{ch!r} cannot be a symbol; expected a printable character other than "
-                "'\"' and '#'",
-                col,
-            )
-        if ch == "[":
-            depth.append(col)
-        elif ch == "]":
-            if not depth:
-                raise where.semantic(f"unmatched ']' in {what}; expected a '[' before it", col)
-            depth.pop()
-        out.append(ch)
-    if depth:
-        raise where.semantic(f"unclosed '[' in {what}; expected a matching ']'", depth[-1])
-    return out
+    return [ch for ch, _ in char_symbols(text, offset, where, what, "#")]
 
 
 class _System:
