@@ -435,3 +435,13 @@ def test_trace_names_the_rule_and_step_of_every_module():
     assert all(w.symbols()[s] == "X" for s, m in zip(src, rw.symbols()) if m == ";")
     d.back()
     assert d.step == 1 and len(d.origin_steps) == len(d.word)
+
+
+def test_non_finite_parameter_names_the_rule(tmp_path):
+    f = tmp_path / "div.lsys"
+    f.write_text("axiom = F(1)\nF(x) -> F(x/0)\n")
+    d = Derivation(load(f))
+    with pytest.raises(LSystemSemanticError) as e:
+        d.advance(1)
+    assert e.value.line == 2 and "non-finite" in str(e.value) and "^" in str(e.value)
+    assert d.step == 0 and str(d.word) == "F(1)"  # nothing lost

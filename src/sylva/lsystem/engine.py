@@ -288,8 +288,16 @@ def _rule_error(rule: Rule, message: str) -> LSystemSemanticError:
     span = rule.span
     if span is None:
         return LSystemSemanticError(message)
+    source = None
+    if span.filename and os.path.isfile(span.filename):
+        try:
+            with open(span.filename, encoding="utf-8", errors="replace") as f:
+                lines = f.read().splitlines()
+            source = lines[span.line - 1] if 0 < span.line <= len(lines) else None
+        except OSError:
+            source = None
     return LSystemSemanticError(
-        message, filename=span.filename, line=span.line, column=span.column
+        message, filename=span.filename, line=span.line, column=span.column, source_line=source
     )
 
 
@@ -633,17 +641,15 @@ def _step_general(
         base = val_start[pos]
         m = pos.size
         for q, f in enumerate(cr.args):
-            new_vals[base + q] = f(env, m)
-    if new_vals.size and not np.isfinite(new_vals).all():
-        bad = int(np.flatnonzero(~np.isfinite(new_vals))[0])
-        mod = int(np.searchsorted(new_off, bad, side="right") - 1)
-        name = word.alphabet.name(int(new_ids[mod]))
-        raise GrowthLimitError(
-            f"step {step + 1} computed a non-finite parameter ({new_vals[bad]}) for module "
-            f"{name!r} at position {mod}: check divisions and powers in the rules",
-            word=word,
-            step=step,
-        )
+            v = f(env, m)
+            if not np.isfinite(v).all():
+                bad = v[~np.isfinite(v)][0]
+                raise _rule_error(
+                    cr.rule,
+                    f"step {step + 1}: this rule computed a non-finite parameter ({bad}); "
+                    "expected finite numbers: check divisions and powers",
+                )
+            new_vals[base + q] = v
     if not new_vals.size:
         return ModuleString(word.alphabet, new_ids)
     return ModuleString(word.alphabet, new_ids, new_off, new_vals)
