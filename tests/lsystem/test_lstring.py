@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from sylva.errors import LSystemSyntaxError, SylvaError
@@ -39,11 +39,13 @@ def test_seed001_t7_tree_structure():
         "i": "d",
     }
     assert w.match[1] == 4 and w.match[4] == 1
+    assert w.parent_vectorised().tolist() == w.parent.tolist()
     assert w.max_depth() == 2
 
 
+@settings(max_examples=300)
 @given(st.lists(st.sampled_from(list("ab[]")), max_size=60))
-def test_match_kernel_equals_vectorised(chars):
+def test_compiled_tree_structure_equals_vectorised(chars):
     # keep only balanced prefixes: drop unmatched ']' and close what is open
     out, depth = [], 0
     for c in chars:
@@ -57,6 +59,7 @@ def test_match_kernel_equals_vectorised(chars):
     out += ["]"] * depth
     w = ModuleString.from_text("".join(out))
     assert w.match.tolist() == w.match_vectorised().tolist()
+    assert w.parent.tolist() == w.parent_vectorised().tolist()
 
 
 def test_unbalanced_brackets_are_reported():

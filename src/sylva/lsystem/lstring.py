@@ -8,7 +8,9 @@ A :class:`ModuleString` holds ``n`` modules as
 * ``values``: ``float64[m]`` — every parameter of every module, in order.
 
 The bracket structure (``match``: the index of the matching bracket; ``parent``: the
-module a module grows from on the axial tree; ``depth``) is computed on demand and cached.
+module a module grows from on the axial tree; ``depth``) is computed on demand and cached,
+by one compiled pass; :meth:`ModuleString.match_vectorised` and
+:meth:`ModuleString.parent_vectorised` compute the same with array operations alone.
 
 Examples
 --------
@@ -456,6 +458,65 @@ class ModuleString:
             m[a] = b
             m[b] = a
         return m
+
+    def parent_vectorised(self) -> np.ndarray:
+        """The parents of :attr:`parent`, computed with array operations only.
+
+        Each module's innermost enclosing ``[`` is found by a sorted search per nesting
+        level; the previous module on the same axis by a running maximum over the modules
+        sorted by that ``[``; a module first on its axis takes what its ``[`` grows from,
+        resolved for all chains at once by pointer jumping (O(log depth) rounds).
+        """
+        ids = self.ids
+        n = ids.shape[0]
+        parent = np.full(n, -1, np.int64)
+        if n == 0:
+            return parent
+        is_open = ids == OPEN
+        is_close = ids == CLOSE
+        is_mod = ~(is_open | is_close)
+        depth = np.cumsum(is_open.astype(np.int64) - is_close.astype(np.int64))
+        # innermost enclosing opener of every module and opener (-1: the root axis)
+        level = np.where(is_open, depth - 1, depth)
+        opens = np.flatnonzero(is_open)
+        g = np.full(n, -1, np.int64)
+        inside = (level > 0) & ~is_close
+        if opens.size:
+            key_o = depth[opens] * (n + 1) + opens
+            order = np.argsort(key_o, kind="stable")
+            ks = key_o[order]
+            q = np.flatnonzero(inside)
+            at = np.searchsorted(ks, level[q] * (n + 1) + q) - 1
+            ok = at >= 0
+            cand = opens[order[np.maximum(at, 0)]]
+            ok &= depth[cand] == level[q]
+            g[q[ok]] = cand[ok]
+        # the previous module of the same axis (same innermost opener), for modules and openers
+        items = np.flatnonzero(is_mod | is_open)
+        srt = items[np.lexsort((items, g[items]))]
+        gs = g[srt]
+        k = np.arange(srt.size)
+        last = np.maximum.accumulate(np.where(is_mod[srt], k, -1))
+        before = np.concatenate(([-1], last[:-1]))
+        same = (before >= 0) & (gs[np.maximum(before, 0)] == gs)
+        prev = np.full(n, -2, np.int64)  # -2: none on this axis
+        prev[srt] = np.where(same, srt[np.maximum(before, 0)], -2)
+        # a module first on its axis grows from what its branch's '[' grows from:
+        # pointer jumping over the openers resolves the chains in O(log depth) rounds
+        ans = prev.copy()
+        ptr = np.where(ans == -2, g, -1)
+        todo = np.flatnonzero((ans == -2) & (is_mod | is_open))
+        while todo.size:
+            p = ptr[todo]
+            root = p < 0
+            ans[todo[root]] = -1
+            todo, p = todo[~root], p[~root]
+            found = ans[p] != -2
+            ans[todo[found]] = ans[p[found]]
+            todo, p = todo[~found], p[~found]
+            ptr[todo] = ptr[p]
+        parent[is_mod] = ans[is_mod]
+        return parent
 
     def _tree(self) -> None:
         self._parent, self._depth = _parents(self.ids, self.match)
