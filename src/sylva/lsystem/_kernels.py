@@ -356,23 +356,13 @@ def rewrite_table(ids, key, stochastic, nalt, alt_start, cum_w, succ_start, succ
 @njit(cache=True)
 def count_table(ids, key, stochastic, nalt, alt_start, cum_w, succ_len):  # pragma: no cover
     """The length :func:`rewrite_table` would produce (for the growth limit)."""
-    n = ids.shape[0]
     total = 0
-    for i in range(n):
+    for i in range(ids.shape[0]):
         s = ids[i]
-        na = nalt[s]
-        if na == 0:
+        if nalt[s] == 0:
             total += 1
-            continue
-        a0 = alt_start[s]
-        a = a0
-        if na > 1 and stochastic:
-            z = key + (np.uint64(i) + np.uint64(1)) * _GOLDEN
-            u = np.float64(_mix(z) >> np.uint64(11)) * (1.0 / 9007199254740992.0)
-            t = u * cum_w[a0 + na - 1]
-            while a < a0 + na - 1 and cum_w[a] <= t:
-                a += 1
-        total += succ_len[a]
+        else:
+            total += succ_len[_pick(i, s, key, stochastic, nalt, alt_start, cum_w)]
     return total
 
 

@@ -10,25 +10,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-MASK32 = 0xFFFFFFFF
-UINT_MAX = 4294967295.0
+from ..turtle._kernels import squirrel1d  # seed 004's Squirrel3, one copy for both
 
 # voxel ids that matter to the kernels (the full table lives in blocks.py)
 AIR = 0
 WATER = 1
-
-
-@njit(cache=True)
-def squirrel1d(x, seed):  # pragma: no cover - compiled
-    """Squirrel3 integer noise (seed 004 A.2) of ``x`` as ``uint32`` (in an int64)."""
-    m = ((np.int64(x) & MASK32) * 0x68E31DA4) & MASK32
-    m = (m + (np.int64(seed) & MASK32)) & MASK32
-    m ^= m >> 8
-    m = (m + 0xB5297A4D) & MASK32
-    m ^= (m << 8) & MASK32
-    m = (m * 0x1B56C4E9) & MASK32
-    m ^= m >> 8
-    return m
 
 
 @njit(cache=True)
