@@ -46,7 +46,7 @@ def tubes_of(g, detail):
         False,
         detail,
     )
-    cont, prev, toff = plan[0], plan[1], plan[5]
+    cont, prev, toff = plan[0], plan[1], plan[4]
     for s in np.flatnonzero(~prev):
         tris = []
         while s >= 0:

@@ -5,13 +5,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit, prange, uint64
 
 TWO_PI = 2.0 * math.pi
 
 
 # --------------------------------------------------------------------------- tubes
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, split_colors, d):
     """Choose axis continuations and lay out vertices and triangles of continuous tubes.
 
@@ -21,19 +21,19 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
 
     cont : int64[n]      the continuing child (-1: the tube ends with a cap)
     prev : bool[n]       True when the segment continues its parent (no start ring)
-    v0, v1 : float64[n]  texture v at the start and end (length / mean circumference)
+    v1 : float64[n]      texture v at the segment's end (length / mean circumference)
     voff, toff : int64[n+1]  first vertex / triangle of each segment
-    ring0, ring1 : int64[n]  first vertex of the start ring and of the end ring
     """
     n = start.shape[0]
-    cont = np.full(n, -1, np.int64)
+    ok = np.empty(n, np.bool_)
     lens = np.empty(n)
-    for s in range(n):
+    for s in prange(n):
         ax = end[s, 0] - start[s, 0]
         ay = end[s, 1] - start[s, 1]
         az = end[s, 2] - start[s, 2]
         la = math.sqrt(ax * ax + ay * ay + az * az)
         lens[s] = la
+        ok[s] = False
         p = parent[s]
         if p < 0 or material[s] != material[p]:
             continue
@@ -44,19 +44,19 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
         bx = end[p, 0] - start[p, 0]
         by = end[p, 1] - start[p, 1]
         bz = end[p, 2] - start[p, 2]
-        c = (ax * bx + ay * by + az * bz) / (la * lens[p])
-        if c < cos_limit:
-            continue
-        q = cont[p]
-        if q < 0 or depth[s] < depth[q]:
-            cont[p] = s
+        lb = math.sqrt(bx * bx + by * by + bz * bz)
+        ok[s] = (ax * bx + ay * by + az * bz) / (la * lb) >= cos_limit
+    cont = np.full(n, -1, np.int64)
+    for s in range(n):
+        if ok[s]:
+            p = parent[s]
+            q = cont[p]
+            if q < 0 or depth[s] < depth[q]:
+                cont[p] = s
     prev = np.empty(n, np.bool_)
-    v0 = np.empty(n)
     v1 = np.empty(n)
     voff = np.empty(n + 1, np.int64)
     toff = np.empty(n + 1, np.int64)
-    ring0 = np.empty(n, np.int64)
-    ring1 = np.empty(n, np.int64)
     voff[0] = 0
     toff[0] = 0
     r = d + 1
@@ -64,17 +64,11 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
         p = parent[s]
         pv = p >= 0 and cont[p] == s
         prev[s] = pv
-        v0[s] = v1[p] if pv else 0.0
         rm = 0.5 * (radius[s, 0] + radius[s, 1])
-        v1[s] = v0[s] + lens[s] / (TWO_PI * max(rm, 1e-12))
+        v1[s] = (v1[p] if pv else 0.0) + lens[s] / (TWO_PI * max(rm, 1e-12))
         nv = r
         nt = 2 * d
-        if pv:
-            ring0[s] = ring1[p]
-            ring1[s] = voff[s]
-        else:
-            ring0[s] = voff[s]
-            ring1[s] = voff[s] + r + 1
+        if not pv:
             nv += r + 1
             nt += d
         if cont[s] < 0:
@@ -82,30 +76,23 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
             nt += d
         voff[s + 1] = voff[s] + nv
         toff[s + 1] = toff[s] + nt
-    return cont, prev, v0, v1, voff, toff, ring0, ring1
+    return cont, prev, v1, voff, toff
 
 
-@njit(cache=True, parallel=True)
-def tube_fill(
-    start, end, radius, ref, color, material, cont, prev, v0, v1, voff, toff, ring0, ring1,
-    d, want_colors, V, N, UV, C, I, M,
-):  # fmt: skip
-    """Write the tube vertices (V, N, UV, C) and triangles (I, M) laid out by tube_plan.
+@njit(cache=True)
+def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, prev, v1, voff,
+                toff, cos_t, sin_t, u_t, d, want_colors, V, N, UV, C, I, M):  # fmt: skip
+    """Tubes of segments ``lo`` … ``hi - 1`` (see :func:`tube_fill`).
 
-    ``M`` may be empty (one material: no per-triangle ids are written)."""
-    n = start.shape[0]
-    cos_t = np.empty(d + 1)
-    sin_t = np.empty(d + 1)
-    for j in range(d + 1):
-        cos_t[j] = math.cos(TWO_PI * j / d)
-        sin_t[j] = math.sin(TWO_PI * j / d)
-    cos_t[d] = 1.0
-    sin_t[d] = 0.0
-    u_t = np.empty(d + 1, np.float32)
-    for j in range(d + 1):
-        u_t[j] = j / d
+    Every ring vertex is ``centre + cos·P + sin·Q`` and its normal ``(G + cos·A + sin·B)·k``:
+    the bases are set once per ring, so the loop over the sides is a few multiply-adds."""
     want_m = M.shape[0] > 0
-    for s in prange(n):
+    # unsigned vertex and triangle numbers spare numba's negative-index checks (-30 %)
+    r = uint64(d + 1)
+    du = uint64(d)
+    one = uint64(1)
+    two = uint64(2)
+    for s in range(lo, hi):
         ax = end[s, 0] - start[s, 0]
         ay = end[s, 1] - start[s, 1]
         az = end[s, 2] - start[s, 2]
@@ -123,51 +110,60 @@ def tube_fill(
         r1 = np.float64(radius[s, 1])
         slope = (r0 - r1) / ln  # outward tilt of the normal on a frustum
         inv = 1.0 / math.sqrt(1.0 + slope * slope)
-        v = voff[s]
-        t = toff[s]
+        gx = slope * ax * inv
+        gy = slope * ay * inv
+        gz = slope * az * inv
+        v = uint64(voff[s])
+        t = uint64(toff[s])
         mat = material[s]
-        # ---------------------------------------------------------------- start ring + cap
-        if not prev[s]:
-            base = v
-            for j in range(d + 1):
+        p = parent[s]
+        if prev[s]:
+            a0 = uint64(voff[p]) if prev[p] else uint64(voff[p]) + r + one  # the parent's end ring
+            e = v
+            vs = v1[p]
+        else:  # ------------------------------------------------ start ring + cap
+            a0 = v
+            e = v + r + one
+            vs = 0.0
+            sx = start[s, 0]
+            sy = start[s, 1]
+            sz = start[s, 2]
+            for j in range(r):
                 c = cos_t[j]
                 sn = sin_t[j]
                 nx = c * rx + sn * bx
                 ny = c * ry + sn * by
                 nz = c * rz + sn * bz
-                V[v, 0] = start[s, 0] + r0 * nx
-                V[v, 1] = start[s, 1] + r0 * ny
-                V[v, 2] = start[s, 2] + r0 * nz
-                N[v, 0] = (nx + slope * ax) * inv
-                N[v, 1] = (ny + slope * ay) * inv
-                N[v, 2] = (nz + slope * az) * inv
-                UV[v, 0] = u_t[j]
-                UV[v, 1] = v0[s]
-                v += 1
-            V[v, 0] = start[s, 0]
-            V[v, 1] = start[s, 1]
-            V[v, 2] = start[s, 2]
-            N[v, 0] = -ax
-            N[v, 1] = -ay
-            N[v, 2] = -az
-            UV[v, 0] = 0.5
-            UV[v, 1] = v0[s]
-            center = v
-            v += 1
-            for j in range(d):
-                I[t, 0] = center
-                I[t, 1] = base + j + 1
-                I[t, 2] = base + j
-                if want_m:
-                    M[t] = mat
-                t += 1
-        # ---------------------------------------------------------------- end ring
+                V[v + j, 0] = sx + r0 * nx
+                V[v + j, 1] = sy + r0 * ny
+                V[v + j, 2] = sz + r0 * nz
+                N[v + j, 0] = nx * inv + gx
+                N[v + j, 1] = ny * inv + gy
+                N[v + j, 2] = nz * inv + gz
+                UV[v + j, 0] = u_t[j]
+                UV[v + j, 1] = vs
+            center = v + r
+            V[center, 0] = sx
+            V[center, 1] = sy
+            V[center, 2] = sz
+            N[center, 0] = -ax
+            N[center, 1] = -ay
+            N[center, 2] = -az
+            UV[center, 0] = 0.5
+            UV[center, 1] = vs
+            for j in range(du):
+                I[t + j, 0] = center
+                I[t + j, 1] = a0 + j + one
+                I[t + j, 2] = a0 + j
+            if want_m:
+                for j in range(du):
+                    M[t + j] = mat
+            t += du
+        # ---------------------------------------------------- end ring
         q = cont[s]
-        mx = 0.0
-        my = 0.0
-        mz = 0.0
-        am = 1.0
         if q >= 0:
+            # mitre: slide each circle point along the axis onto the plane bisecting the
+            # joint (normal m); its normal is the ring direction with m projected out
             qx = end[q, 0] - start[q, 0]
             qy = end[q, 1] - start[q, 1]
             qz = end[q, 2] - start[q, 2]
@@ -180,77 +176,118 @@ def tube_fill(
             my /= ml
             mz /= ml
             am = ax * mx + ay * my + az * mz
-        e = ring1[s]
-        for j in range(d + 1):
+            alpha = rx * mx + ry * my + rz * mz
+            beta = bx * mx + by * my + bz * mz
+            px = r1 * (rx - alpha / am * ax)
+            py = r1 * (ry - alpha / am * ay)
+            pz = r1 * (rz - alpha / am * az)
+            qx = r1 * (bx - beta / am * ax)
+            qy = r1 * (by - beta / am * ay)
+            qz = r1 * (bz - beta / am * az)
+            arx = rx - alpha * mx
+            ary = ry - alpha * my
+            arz = rz - alpha * mz
+            brx = bx - beta * mx
+            bry = by - beta * my
+            brz = bz - beta * mz
+            g0x = 0.0
+            g0y = 0.0
+            g0z = 0.0
+        else:
+            alpha = 0.0
+            beta = 0.0
+            px = r1 * rx
+            py = r1 * ry
+            pz = r1 * rz
+            qx = r1 * bx
+            qy = r1 * by
+            qz = r1 * bz
+            arx = rx * inv
+            ary = ry * inv
+            arz = rz * inv
+            brx = bx * inv
+            bry = by * inv
+            brz = bz * inv
+            g0x = gx
+            g0y = gy
+            g0z = gz
+        ex = end[s, 0]
+        ey = end[s, 1]
+        ez = end[s, 2]
+        ve = v1[s]
+        for j in range(r):
             c = cos_t[j]
             sn = sin_t[j]
-            nx = c * rx + sn * bx
-            ny = c * ry + sn * by
-            nz = c * rz + sn * bz
-            px = r1 * nx
-            py = r1 * ny
-            pz = r1 * nz
-            if q >= 0:
-                # mitre: slide the circle point along the axis onto the bisecting plane
-                h = (px * mx + py * my + pz * mz) / am
-                px -= h * ax
-                py -= h * ay
-                pz -= h * az
-                w = nx * mx + ny * my + nz * mz
-                gx = nx - w * mx
-                gy = ny - w * my
-                gz = nz - w * mz
-                gl = 1.0 / math.sqrt(gx * gx + gy * gy + gz * gz)
-            else:
-                gx = nx + slope * ax
-                gy = ny + slope * ay
-                gz = nz + slope * az
-                gl = inv
-            V[e + j, 0] = end[s, 0] + px
-            V[e + j, 1] = end[s, 1] + py
-            V[e + j, 2] = end[s, 2] + pz
-            N[e + j, 0] = gx * gl
-            N[e + j, 1] = gy * gl
-            N[e + j, 2] = gz * gl
+            w = c * alpha + sn * beta
+            k = 1.0 / math.sqrt(1.0 - w * w)
+            V[e + j, 0] = ex + c * px + sn * qx
+            V[e + j, 1] = ey + c * py + sn * qy
+            V[e + j, 2] = ez + c * pz + sn * qz
+            N[e + j, 0] = (g0x + c * arx + sn * brx) * k
+            N[e + j, 1] = (g0y + c * ary + sn * bry) * k
+            N[e + j, 2] = (g0z + c * arz + sn * brz) * k
             UV[e + j, 0] = u_t[j]
-            UV[e + j, 1] = v1[s]
-        v = e + d + 1
-        a0 = ring0[s]
-        for j in range(d):
-            I[t, 0] = a0 + j
-            I[t, 1] = a0 + j + 1
-            I[t, 2] = e + j + 1
+            UV[e + j, 1] = ve
+        for j in range(du):
+            I[t + two * j, 0] = a0 + j
+            I[t + two * j, 1] = a0 + j + one
+            I[t + two * j, 2] = e + j + one
+            I[t + two * j + one, 0] = a0 + j
+            I[t + two * j + one, 1] = e + j + one
+            I[t + two * j + one, 2] = e + j
+        if want_m:
+            for j in range(two * du):
+                M[t + j] = mat
+        t += two * du
+        if q < 0:  # ------------------------------------------------ end cap
+            center = e + r
+            V[center, 0] = ex
+            V[center, 1] = ey
+            V[center, 2] = ez
+            N[center, 0] = ax
+            N[center, 1] = ay
+            N[center, 2] = az
+            UV[center, 0] = 0.5
+            UV[center, 1] = ve
+            for j in range(du):
+                I[t + j, 0] = center
+                I[t + j, 1] = e + j
+                I[t + j, 2] = e + j + one
             if want_m:
-                M[t] = mat
-            t += 1
-            I[t, 0] = a0 + j
-            I[t, 1] = e + j + 1
-            I[t, 2] = e + j
-            if want_m:
-                M[t] = mat
-            t += 1
-        if q < 0:
-            V[v, 0] = end[s, 0]
-            V[v, 1] = end[s, 1]
-            V[v, 2] = end[s, 2]
-            N[v, 0] = ax
-            N[v, 1] = ay
-            N[v, 2] = az
-            UV[v, 0] = 0.5
-            UV[v, 1] = v1[s]
-            for j in range(d):
-                I[t, 0] = v
-                I[t, 1] = e + j
-                I[t, 2] = e + j + 1
-                if want_m:
-                    M[t] = mat
-                t += 1
+                for j in range(du):
+                    M[t + j] = mat
         if want_colors:
             for k in range(voff[s], voff[s + 1]):
                 C[k, 0] = color[s, 0]
                 C[k, 1] = color[s, 1]
                 C[k, 2] = color[s, 2]
                 C[k, 3] = 1.0
+
+
+TUBE_CHUNK = 1024  # segments per task of the parallel fill
+
+
+@njit(cache=True, parallel=True)
+def tube_fill(start, end, radius, ref, color, material, parent, cont, prev, v1, voff, toff, d,
+              want_colors, V, N, UV, C, I, M):  # fmt: skip
+    """Write the tube vertices (V, N, UV, C) and triangles (I, M) laid out by tube_plan.
+
+    ``M`` may be empty (one material: no per-triangle ids are written)."""
+    n = start.shape[0]
+    cos_t = np.empty(d + 1)
+    sin_t = np.empty(d + 1)
+    u_t = np.empty(d + 1)
+    for j in range(d + 1):
+        cos_t[j] = math.cos(TWO_PI * j / d)
+        sin_t[j] = math.sin(TWO_PI * j / d)
+        u_t[j] = j / d
+    cos_t[d] = 1.0
+    sin_t[d] = 0.0
+    chunks = (n + TUBE_CHUNK - 1) // TUBE_CHUNK
+    for c in prange(chunks):
+        _tube_range(c * TUBE_CHUNK, min(n, (c + 1) * TUBE_CHUNK), start, end, radius, ref, color,
+                    material, parent, cont, prev, v1, voff, toff, cos_t, sin_t, u_t, d,
+                    want_colors, V, N, UV, C, I, M)  # fmt: skip
 
 
 @njit(cache=True)

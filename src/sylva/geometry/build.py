@@ -134,12 +134,13 @@ def build_branches(
             geometry.seg_start, geometry.seg_end, radius, geometry.seg_parent,
             geometry.seg_depth, geometry.seg_material, geometry.seg_color, cos_limit, want, d,
         )  # fmt: skip
-        cont, prev, v0, v1, voff, toff, ring0, ring1 = plan
+        cont, prev, v1, voff, toff = plan
         nv, nt = int(voff[-1]), int(toff[-1])
         mats = geometry.seg_material
         single = n > 0 and int(mats.min()) == int(mats.max())
         V, N, UV, C, I, M = _alloc(nv, 0 if single else nt, want, nt)
-        K.tube_fill(*args, cont, prev, v0, v1, voff, toff, ring0, ring1, d, want, V, N, UV, C, I, M)
+        K.tube_fill(*args, geometry.seg_parent, cont, prev, v1, voff, toff, d, want,
+                    V, N, UV, C, I, M)  # fmt: skip
         if single:  # one material: no per-triangle ids to write
             k = int(mats[0])
             return Mesh(

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange, uint64
 
 from . import tables as T
 
@@ -33,7 +33,8 @@ S_LASTMOVE = 24
 S_OPEN = 25
 S_DIR = 26  # unit direction of the last segment (valid while S_LAST >= 0)
 S_REF = 29  # its ring reference vector
-NS = 32
+S_NROT = 32  # rotations since the frame was last made orthonormal
+NS = 33
 
 # --------------------------------------------------------------------------- settings layout
 C_LEN = 0
@@ -203,36 +204,50 @@ def _transport(rx, ry, rz, ax, ay, az, bx, by, bz, fx, fy, fz):  # pragma: no co
     return ox / n, oy / n, oz / n
 
 
-@njit(cache=True)
-def interpret_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace, blk_cap):
-    """Interpret a word.  See :func:`sylva.turtle.interpret` for the meaning of the outputs.
+# --------------------------------------------------------------------------- counters
+# ``cnt`` (int64) carries the walker's counters between calls and threads
+K_NS = 0  # next segment slot: the ordinal of the next F/G (a slot stays a hole when unused)
+K_NL = 1  # leaves written
+K_NTMP = 2  # open-polygon vertices
+K_NPSTACK = 3  # open polygons
+K_NOPENED = 4  # polygons opened
+K_NV = 5  # polygon vertices kept
+K_NPOLY = 6  # polygons kept
+K_NB = 7  # blocks (counted beyond the room)
+K_HOLES = 8  # segment slots left unused (zero length, inside a polygon)
+K_STOP = 9  # where the walk ended (a top-level % ends it early)
+K_SALT = 10  # seed 004's salt chain
+K_SEL = 11  # next subtree to hand to the parallel walkers
+NK = 12
 
-    Parameters
-    ----------
-    ids : int32[n]; offsets : int64[n+1]; values : float64[m]
-        The word (:class:`~sylva.lsystem.lstring.ModuleString` arrays).
-    match : int64[n]
-        Matching bracket of each bracket (used by ``%``).
-    ops : int32[a]; oparg : float64[a]
-        Opcode and argument per symbol id.
-    cfg : float64[NC]
-        Settings (``C_*`` layout).
-    palette : float64[p, 3]
-        Colour of each colour index (p >= 1).
-    trace : bool
-        Record the position and frame after every module.
-    blk_cap : int
-        Room for blocks; the returned block count may exceed it (then nothing past the
-        room was written: call again with the count).
+PUSH_CAP = 1 << 16  # brackets deeper than this are never split off (the walk still works)
+
+
+@njit(cache=True)
+def scan_word(ids, ops, s_min, s_max):  # pragma: no cover - compiled
+    """One pass over the word: capacities, and the subtrees the turtle may walk in parallel.
+
+    A subtree is a bracket pair ``[ … ]`` of ``s_min`` to ``s_max`` modules that lies in no
+    other chosen pair; for each the pass records its first and last index and the segment and
+    leaf ordinals at its start and after its end.  Returns ``(counts, sel)``: ``counts`` =
+    (F/G draws, leaves, polygon-vertex room, polygons, deepest bracket, serial-only
+    commands) and ``sel`` an ``int64[k, 6]`` of (start, end, draws before, leaves before,
+    draws after, leaves after).
     """
     n = ids.shape[0]
-    # ---------------------------------------------------------------- capacities
     n_draw = 0
     n_leaf = 0
     n_pv = 0
     n_poly = 0
+    serial = 0
     d = 0
     max_d = 0
+    b_pos = np.empty(PUSH_CAP, np.int64)
+    b_ns = np.empty(PUSH_CAP, np.int64)
+    b_nl = np.empty(PUSH_CAP, np.int64)
+    cap = n // max(s_min, 1) + 2
+    sel = np.empty((cap, 6), np.int64)
+    nc = 0
     for i in range(n):
         op = ops[ids[i]]
         if op == T.DRAW or op == T.DRAW_NOREC:
@@ -241,107 +256,89 @@ def interpret_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace,
             n_pv += 1
         if op == T.POLY_BEGIN:
             n_poly += 1
+        if op == T.POLY_BEGIN or op == T.POLY_END or op == T.POLY_VERTEX or op == T.CUT:
+            serial += 1
         if op == T.LEAF or op == T.SURFACE:
             n_leaf += 1
         if op == T.PUSH:
+            if d < PUSH_CAP:
+                b_pos[d] = i
+                b_ns[d] = n_draw
+                b_nl[d] = n_leaf
             d += 1
             if d > max_d:
                 max_d = d
-        elif op == T.POP:
+        elif op == T.POP and d > 0:
             d -= 1
+            if d < PUSH_CAP:
+                a = b_pos[d]
+                size = i - a + 1
+                if size >= s_min and size <= s_max:
+                    while nc > 0 and sel[nc - 1, 0] > a:  # pairs inside this one
+                        nc -= 1
+                    sel[nc, 0] = a
+                    sel[nc, 1] = i
+                    sel[nc, 2] = b_ns[d]
+                    sel[nc, 3] = b_nl[d]
+                    sel[nc, 4] = n_draw
+                    sel[nc, 5] = n_leaf
+                    nc += 1
+    counts = np.array([n_draw, n_leaf, n_pv, n_poly, max_d, serial], np.int64)
+    return counts, sel[:nc].copy()
+
+
+@njit(cache=True)
+def _walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks, tr, sel,
+          slot_state, slot_depth):  # fmt: skip  # pragma: no cover - compiled
+    """Interpret modules ``i`` … ``stop - 1`` from state ``st`` at bracket ``depth``.
+
+    ``stack`` holds the states pushed above bracket level ``base``.  Segment slot ``s`` is
+    the ordinal of the F/G that draws it, so walkers of disjoint subtrees write disjoint
+    rows; a slot that records nothing is marked by ``seg_mod = -1`` and counted as a hole.
+    When ``sel`` lists subtrees, the walk stops at each one's ``[``, stores the state there
+    in ``slot_state`` and jumps past its ``]`` (the state after a bracket pair is the state
+    before it).
+    """
+    ids, offsets, values, match, ops, oparg, cfg, palette = word
+    seg_start, seg_end, seg_rad, seg_col, seg_mat, seg_mod, seg_par, seg_dep, seg_ref = segs
+    leaf_pos, leaf_frame, leaf_size, leaf_col, leaf_mat, leaf_mod = leaves
+    (tmp_pos, tmp_owner, tmp_implicit, pinfo_first, pinfo_dot, pinfo_col, pinfo_mat,
+     pinfo_mod, pstack, poly_v, poly_off, poly_col, poly_mat, poly_mod) = polys  # fmt: skip
+    blk_c, blk_s, blk_b, blk_m = blocks
+    tr_pos, tr_frame = tr
+    n = ids.shape[0]
+    has_par = offsets.shape[0] > 0
+    trace = tr_pos.shape[0] > 0
+    blk_cap = blk_c.shape[0]
+    nsel = sel.shape[0]
     npal = palette.shape[0]
-
-    seg_start = np.empty((n_draw, 3))
-    seg_end = np.empty((n_draw, 3))
-    seg_rad = np.empty((n_draw, 2), np.float32)
-    seg_col = np.empty((n_draw, 3), np.float32)
-    seg_mat = np.empty(n_draw, np.int32)
-    seg_mod = np.empty(n_draw, np.int64)
-    seg_par = np.empty(n_draw, np.int64)
-    seg_dep = np.empty(n_draw, np.int32)
-    seg_ref = np.empty((n_draw, 3), np.float32)
-    ns = 0
-
-    leaf_pos = np.empty((n_leaf, 3))
-    leaf_frame = np.empty((n_leaf, 3, 3))
-    leaf_size = np.empty(n_leaf, np.float32)
-    leaf_col = np.empty((n_leaf, 3), np.float32)
-    leaf_mat = np.empty(n_leaf, np.int32)
-    leaf_mod = np.empty(n_leaf, np.int64)
-    nl = 0
-
-    # open-polygon bookkeeping
-    tmp_pos = np.empty((n_pv, 3))
-    tmp_owner = np.empty(n_pv, np.int64)
-    tmp_implicit = np.empty(n_pv, np.bool_)
-    ntmp = 0
-    pinfo_first = np.empty(n_poly, np.int64)
-    pinfo_dot = np.zeros(n_poly, np.bool_)
-    pinfo_col = np.empty((n_poly, 3), np.float32)
-    pinfo_mat = np.empty(n_poly, np.int32)
-    pinfo_mod = np.empty(n_poly, np.int64)
-    pstack = np.empty(n_poly + 1, np.int64)
-    npstack = 0
-    nopened = 0
-    poly_v = np.empty((n_pv, 3))
-    poly_off = np.zeros(n_poly + 1, np.int64)
-    poly_col = np.empty((n_poly, 3), np.float32)
-    poly_mat = np.empty(n_poly, np.int32)
-    poly_mod = np.empty(n_poly, np.int64)
-    npoly = 0
-    nv = 0
-
-    # blocks: a symbol may place many (the F/U rule); the caller counts them first with
-    # blk_cap = 0 (arrays reassigned inside the loop would cost reference counting on
-    # every iteration, so nothing grows here)
-    blk_c = np.empty((blk_cap, 3))
-    blk_s = np.empty(blk_cap, np.float32)
-    blk_b = np.empty(blk_cap, np.int32)
-    blk_m = np.empty(blk_cap, np.int64)
-    nb = 0
-
-    tr_pos = np.empty((n if trace else 0, 3))
-    tr_frame = np.empty((n if trace else 0, 3, 3))
-
-    # ---------------------------------------------------------------- initial state
     engine = cfg[C_ENGINE] != 0.0
-    st = np.zeros(NS)
-    st[S_H + 1] = 1.0  # H = +Y (up)
-    st[S_L] = -1.0  # L = -X
-    st[S_U + 2] = 1.0  # U = +Z
-    st[S_LEN] = cfg[C_LEN]
-    st[S_ROT] = cfg[C_ROT]
-    st[S_RAD] = cfg[C_RAD]
-    st[S_COL] = cfg[C_COL]
-    st[S_COL + 1] = cfg[C_COL + 1]
-    st[S_COL + 2] = cfg[C_COL + 2]
-    st[S_CIDX] = cfg[C_CIDX]
-    st[S_LAST] = -1.0
-    st[S_OPEN] = -1.0
-    st[S_SCALE] = cfg[C_BASE]
-    if engine:
-        st[S_YAW] = -90.0
-        st[S_PITCH] = 0.0
-        _engine_frame(st)
-        st[S_POS + 1] = -(1.0 - cfg[C_BASE]) / 2.0
-    stack = np.empty((max_d + 1, NS))
-    depth = 0
     reduction = cfg[C_REDUCTION]
-    salt = np.int64(cfg[C_SALT])
     nseed = np.int64(cfg[C_NSEED])
     avar = cfg[C_AVAR]
     clamp = cfg[C_CLAMP] != 0.0
+    ns = cnt[K_NS]
+    nl = cnt[K_NL]
+    ntmp = cnt[K_NTMP]
+    npstack = cnt[K_NPSTACK]
+    nopened = cnt[K_NOPENED]
+    nv = cnt[K_NV]
+    npoly = cnt[K_NPOLY]
+    nb = cnt[K_NB]
+    holes = cnt[K_HOLES]
+    salt = cnt[K_SALT]
+    k_sel = cnt[K_SEL]
     last_ang = np.nan
-    n_rot = 0
     cs = 1.0
     sn = 0.0
-
-    i = 0
-    while i < n:
-        sym = ids[i]
+    while i < stop:
+        sym = ids[uint64(i)]
         op = ops[sym]
-        a = offsets[i]
-        npar = offsets[i + 1] - a
+        a = 0
+        npar = 0
+        if has_par:
+            a = offsets[uint64(i)]
+            npar = offsets[uint64(i + 1)] - a
         delta = 0.0
         if engine:
             delta = (hash01(salt, nseed) - 0.5) * 2.0 * avar
@@ -355,51 +352,55 @@ def interpret_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace,
             st[S_POS] += st[S_H] * length
             st[S_POS + 1] += st[S_H + 1] * length
             st[S_POS + 2] += st[S_H + 2] * length
-            if (op == T.DRAW or op == T.DRAW_NOREC) and npstack == 0 and length != 0.0:
-                s = ns
-                seg_start[s, 0] = x0
-                seg_start[s, 1] = y0
-                seg_start[s, 2] = z0
-                seg_end[s, 0] = st[S_POS]
-                seg_end[s, 1] = st[S_POS + 1]
-                seg_end[s, 2] = st[S_POS + 2]
-                r0 = st[S_RAD]
-                r1 = r0 * reduction
-                st[S_RAD] = r1
-                seg_rad[s, 0] = r0
-                seg_rad[s, 1] = r1
-                seg_col[s, 0] = st[S_COL]
-                seg_col[s, 1] = st[S_COL + 1]
-                seg_col[s, 2] = st[S_COL + 2]
-                seg_mat[s] = np.int32(np.int64(st[S_CIDX]) % npal)
-                seg_mod[s] = i
-                p = np.int64(st[S_LAST])
-                seg_par[s] = p
-                seg_dep[s] = depth
-                sg = 1.0 if length > 0.0 else -1.0
-                bx = st[S_H] * sg
-                by = st[S_H + 1] * sg
-                bz = st[S_H + 2] * sg
-                if p >= 0:  # the parent's direction and reference travel in the state
-                    r0x, r0y, r0z = _transport(
-                        st[S_REF], st[S_REF + 1], st[S_REF + 2],
-                        st[S_DIR], st[S_DIR + 1], st[S_DIR + 2], bx, by, bz,
-                        st[S_L], st[S_L + 1], st[S_L + 2],
-                    )  # fmt: skip
-                else:
-                    r0x, r0y, r0z = st[S_L], st[S_L + 1], st[S_L + 2]
-                seg_ref[s, 0] = r0x
-                seg_ref[s, 1] = r0y
-                seg_ref[s, 2] = r0z
-                st[S_REF] = r0x
-                st[S_REF + 1] = r0y
-                st[S_REF + 2] = r0z
-                st[S_DIR] = bx
-                st[S_DIR + 1] = by
-                st[S_DIR + 2] = bz
-                st[S_LAST] = s
+            if op == T.DRAW or op == T.DRAW_NOREC:
+                s = uint64(ns)  # unsigned: no negative-index checks on the ~30 stores below
                 ns += 1
-            elif op == T.MOVE or op == T.MOVE_NOREC:
+                if npstack == 0 and length != 0.0:
+                    seg_start[s, 0] = x0
+                    seg_start[s, 1] = y0
+                    seg_start[s, 2] = z0
+                    seg_end[s, 0] = st[S_POS]
+                    seg_end[s, 1] = st[S_POS + 1]
+                    seg_end[s, 2] = st[S_POS + 2]
+                    r0 = st[S_RAD]
+                    r1 = r0 * reduction
+                    st[S_RAD] = r1
+                    seg_rad[s, 0] = r0
+                    seg_rad[s, 1] = r1
+                    seg_col[s, 0] = st[S_COL]
+                    seg_col[s, 1] = st[S_COL + 1]
+                    seg_col[s, 2] = st[S_COL + 2]
+                    seg_mat[s] = np.int32(np.int64(st[S_CIDX]) % npal)
+                    seg_mod[s] = i
+                    p = np.int64(st[S_LAST])
+                    seg_par[s] = p
+                    seg_dep[s] = depth
+                    sg = 1.0 if length > 0.0 else -1.0
+                    bx = st[S_H] * sg
+                    by = st[S_H + 1] * sg
+                    bz = st[S_H + 2] * sg
+                    if p >= 0:  # the parent's direction and reference travel in the state
+                        r0x, r0y, r0z = _transport(
+                            st[S_REF], st[S_REF + 1], st[S_REF + 2],
+                            st[S_DIR], st[S_DIR + 1], st[S_DIR + 2], bx, by, bz,
+                            st[S_L], st[S_L + 1], st[S_L + 2],
+                        )  # fmt: skip
+                    else:
+                        r0x, r0y, r0z = st[S_L], st[S_L + 1], st[S_L + 2]
+                    seg_ref[s, 0] = r0x
+                    seg_ref[s, 1] = r0y
+                    seg_ref[s, 2] = r0z
+                    st[S_REF] = r0x
+                    st[S_REF + 1] = r0y
+                    st[S_REF + 2] = r0z
+                    st[S_DIR] = bx
+                    st[S_DIR + 1] = by
+                    st[S_DIR + 2] = bz
+                    st[S_LAST] = ns - 1
+                else:
+                    seg_mod[s] = -1
+                    holes += 1
+            else:
                 st[S_LAST] = -1.0
             if npstack > 0 and (op == T.DRAW or op == T.MOVE):
                 tmp_pos[ntmp, 0] = st[S_POS]
@@ -425,19 +426,30 @@ def interpret_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace,
                 _rotate(st, S_U, S_H, cs, sg * sn)  # about L: H turns toward -U (down)
             else:
                 _rotate(st, S_L, S_U, cs, sg * sn)  # about H: L turns toward U
-            n_rot += 1
-            if n_rot & 63 == 0:  # rotations keep the frame orthonormal to ~1e-16 each
+            # the count of rotations since the frame was last made orthonormal travels in
+            # the state, so every path from the root is normalised alike, however it is walked
+            st[S_NROT] += 1.0
+            if st[S_NROT] >= 64.0:  # rotations keep the frame orthonormal to ~1e-16 each
                 _normalize_frame(st)
+                st[S_NROT] = 0.0
         elif op == T.LEVEL:
             _level(st)
         elif op == T.PUSH:
-            stack[depth, :] = st
+            if k_sel < nsel and sel[k_sel, 0] == i:  # a subtree for a parallel walker
+                slot_state[k_sel, :] = st
+                slot_depth[k_sel] = depth
+                ns = sel[k_sel, 4]
+                nl = sel[k_sel, 5]
+                i = sel[k_sel, 1] + 1
+                k_sel += 1
+                continue
+            stack[depth - base, :] = st
             depth += 1
             st[S_OPEN] = i
         elif op == T.POP:
-            if depth > 0:
+            if depth > base:
                 depth -= 1
-                st[:] = stack[depth, :]
+                st[:] = stack[depth - base, :]
         elif op == T.CUT:
             if depth == 0:
                 break
@@ -453,7 +465,7 @@ def interpret_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace,
                         tr_frame[jj, 2, k] = st[S_U + k]
             i = j
             depth -= 1
-            st[:] = stack[depth, :]
+            st[:] = stack[depth - base, :]
         elif op == T.POLY_BEGIN:
             pid = nopened
             nopened += 1
@@ -558,8 +570,14 @@ def interpret_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace,
             elif op == T.SURFACE and i + 1 < n and ops[ids[i + 1]] == T.NOP:
                 # cpfg: ~l(s) names a surface; the name's first parameter scales it
                 i += 1
-                if offsets[i + 1] > offsets[i]:
+                if has_par and offsets[i + 1] > offsets[i]:
                     size = values[offsets[i]]
+                if trace:  # the name keeps the pose of the ~ before it
+                    for k in range(3):
+                        tr_pos[i - 1, k] = st[S_POS + k]
+                        tr_frame[i - 1, 0, k] = st[S_H + k]
+                        tr_frame[i - 1, 1, k] = st[S_L + k]
+                        tr_frame[i - 1, 2, k] = st[S_U + k]
             leaf_pos[nl, 0] = st[S_POS]
             leaf_pos[nl, 1] = st[S_POS + 1]
             leaf_pos[nl, 2] = st[S_POS + 2]
@@ -595,10 +613,10 @@ def interpret_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace,
             elif op == T.BLOCK_FORWARD or op == T.BLOCK_UP:
                 off = S_H if op == T.BLOCK_FORWARD else S_U
                 sc = st[S_SCALE]
-                base = cfg[C_BASE]
+                base_scale = cfg[C_BASE]
                 x = sc
                 first = True
-                while first or x <= base * (1.0 + 1e-9):
+                while first or x <= base_scale * (1.0 + 1e-9):
                     if nb < blk_cap:
                         blk_c[nb, 0] = st[S_POS]
                         blk_c[nb, 1] = st[S_POS + 1]
@@ -638,19 +656,190 @@ def interpret_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace,
         if engine:
             salt = squirrel1d(salt, nseed)
         i += 1
-    if trace and i < n:  # a top-level cut ended the walk: later modules keep the last pose
-        for j in range(i, n):
+    if trace and i < stop:  # a top-level cut ended the walk: later modules keep the last pose
+        for j in range(i, stop):
             for k in range(3):
                 tr_pos[j, k] = st[S_POS + k]
                 tr_frame[j, 0, k] = st[S_H + k]
                 tr_frame[j, 1, k] = st[S_L + k]
                 tr_frame[j, 2, k] = st[S_U + k]
+    cnt[K_NS] = ns
+    cnt[K_NL] = nl
+    cnt[K_NTMP] = ntmp
+    cnt[K_NPSTACK] = npstack
+    cnt[K_NOPENED] = nopened
+    cnt[K_NV] = nv
+    cnt[K_NPOLY] = npoly
+    cnt[K_NB] = nb
+    cnt[K_HOLES] = holes
+    cnt[K_STOP] = i
+    cnt[K_SALT] = salt
+    cnt[K_SEL] = k_sel
+
+
+@njit(cache=True, parallel=True)
+def walk_subtrees(sel, slot_state, slot_depth, stack_rows, word, segs, leaves, polys, blocks,
+                  tr):  # fmt: skip  # pragma: no cover - compiled
+    """Walk every subtree of ``sel`` from its stored state, in parallel; returns the holes."""
+    k = sel.shape[0]
+    holes = np.zeros(k, np.int64)
+    none = np.empty((0, 6), np.int64)
+    no_slots = np.empty((0, NS))
+    no_depth = np.empty(0, np.int64)
+    for t in prange(k):  # the caller sets numba's chunk size to 1: one subtree at a time
+        st = slot_state[t].copy()
+        stack = np.empty((stack_rows, NS))
+        cnt = np.zeros(NK, np.int64)
+        cnt[K_NS] = sel[t, 2]
+        cnt[K_NL] = sel[t, 3]
+        _walk(sel[t, 0], sel[t, 1] + 1, st, stack, slot_depth[t], slot_depth[t], cnt, word,
+              segs, leaves, polys, blocks, tr, none, no_slots, no_depth)  # fmt: skip
+        holes[t] = cnt[K_HOLES]
+    return holes.sum()
+
+
+@njit(cache=True)
+def _compact(segs, n):  # pragma: no cover - compiled
+    """Drop the hole slots (``seg_mod < 0``) of the first ``n`` and renumber the parents."""
+    seg_start, seg_end, seg_rad, seg_col, seg_mat, seg_mod, seg_par, seg_dep, seg_ref = segs
+    remap = np.empty(n, np.int64)
+    j = 0
+    for s in range(n):
+        if seg_mod[s] < 0:
+            remap[s] = -1
+            continue
+        remap[s] = j
+        if j != s:
+            seg_start[j] = seg_start[s]
+            seg_end[j] = seg_end[s]
+            seg_rad[j] = seg_rad[s]
+            seg_col[j] = seg_col[s]
+            seg_mat[j] = seg_mat[s]
+            seg_mod[j] = seg_mod[s]
+            seg_dep[j] = seg_dep[s]
+            seg_ref[j] = seg_ref[s]
+        p = seg_par[s]
+        seg_par[j] = remap[p] if p >= 0 else -1
+        j += 1
+    return j
+
+
+@njit(cache=True)
+def walk_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace, blk_cap,
+                   counts, sel):  # fmt: skip  # pragma: no cover - compiled
+    """Allocate a word's outputs and walk it, up to the subtrees of ``sel``.
+
+    See :func:`sylva.turtle.interpret` for the meaning of the outputs; :func:`walk_subtrees`
+    walks the subtrees left and :func:`finish_word` cuts the arrays.
+
+    Parameters
+    ----------
+    ids : int[n]; offsets : int64[n+1] or int64[0]; values : float64[m]
+        The word (:class:`~sylva.lsystem.lstring.ModuleString` arrays); empty ``offsets``
+        when no module has parameters.
+    match : int64[n] or int64[0]
+        Matching bracket of each bracket (read by ``%`` only).
+    ops : int32[a]; oparg : float64[a]
+        Opcode and argument per symbol id.
+    cfg : float64[NC]
+        Settings (``C_*`` layout).
+    palette : float64[p, 3]
+        Colour of each colour index (p >= 1).
+    trace : bool
+        Record the position and frame after every module.
+    blk_cap : int
+        Room for blocks; the returned block count may exceed it (then nothing past the
+        room was written: call again with the count).
+    counts : int64[6]; sel : int64[k, 6]
+        From :func:`scan_word`.  The subtrees of ``sel`` are walked in parallel after the
+        rest of the word (the result is the same as one walk: every path from the root
+        meets the same operations in the same order); pass none for one serial walk (the
+        only way for polygons, ``%`` and seed 004's salt chain).
+    """
+    n = ids.shape[0]
+    n_draw, n_leaf, n_pv, n_poly, max_d = counts[0], counts[1], counts[2], counts[3], counts[4]
+
+    segs = (
+        np.empty((n_draw, 3)), np.empty((n_draw, 3)), np.empty((n_draw, 2), np.float32),
+        np.empty((n_draw, 3), np.float32), np.empty(n_draw, np.int32),
+        np.empty(n_draw, np.int64), np.empty(n_draw, np.int64), np.empty(n_draw, np.int32),
+        np.empty((n_draw, 3), np.float32),
+    )  # fmt: skip
+    leaves = (
+        np.empty((n_leaf, 3)), np.empty((n_leaf, 3, 3)), np.empty(n_leaf, np.float32),
+        np.empty((n_leaf, 3), np.float32), np.empty(n_leaf, np.int32),
+        np.empty(n_leaf, np.int64),
+    )  # fmt: skip
+    poly_off = np.zeros(n_poly + 1, np.int64)
+    polys = (
+        np.empty((n_pv, 3)), np.empty(n_pv, np.int64), np.empty(n_pv, np.bool_),
+        np.empty(n_poly, np.int64), np.zeros(n_poly, np.bool_),
+        np.empty((n_poly, 3), np.float32), np.empty(n_poly, np.int32),
+        np.empty(n_poly, np.int64), np.empty(n_poly + 1, np.int64), np.empty((n_pv, 3)),
+        poly_off, np.empty((n_poly, 3), np.float32), np.empty(n_poly, np.int32),
+        np.empty(n_poly, np.int64),
+    )  # fmt: skip
+    blocks = (
+        np.empty((blk_cap, 3)), np.empty(blk_cap, np.float32), np.empty(blk_cap, np.int32),
+        np.empty(blk_cap, np.int64),
+    )  # fmt: skip
+    tr = (np.empty((n if trace else 0, 3)), np.empty((n if trace else 0, 3, 3)))
+    word = (ids, offsets, values, match, ops, oparg, cfg, palette)
+
+    # ---------------------------------------------------------------- initial state
+    engine = cfg[C_ENGINE] != 0.0
+    st = np.zeros(NS)
+    st[S_H + 1] = 1.0  # H = +Y (up)
+    st[S_L] = -1.0  # L = -X
+    st[S_U + 2] = 1.0  # U = +Z
+    st[S_LEN] = cfg[C_LEN]
+    st[S_ROT] = cfg[C_ROT]
+    st[S_RAD] = cfg[C_RAD]
+    st[S_COL] = cfg[C_COL]
+    st[S_COL + 1] = cfg[C_COL + 1]
+    st[S_COL + 2] = cfg[C_COL + 2]
+    st[S_CIDX] = cfg[C_CIDX]
+    st[S_LAST] = -1.0
+    st[S_OPEN] = -1.0
+    st[S_SCALE] = cfg[C_BASE]
+    if engine:
+        st[S_YAW] = -90.0
+        st[S_PITCH] = 0.0
+        _engine_frame(st)
+        st[S_POS + 1] = -(1.0 - cfg[C_BASE]) / 2.0
+    stack = np.empty((max_d + 1, NS))
+    cnt = np.zeros(NK, np.int64)
+    cnt[K_SALT] = np.int64(cfg[C_SALT])
+    k = sel.shape[0]
+    slot_state = np.empty((k, NS))
+    slot_depth = np.empty(k, np.int64)
+    _walk(0, n, st, stack, 0, 0, cnt, word, segs, leaves, polys, blocks, tr, sel, slot_state,
+          slot_depth)  # fmt: skip
+    return word, segs, leaves, polys, blocks, tr, cnt, slot_state, slot_depth
+
+
+@njit(cache=True)
+def finish_word(segs, leaves, polys, blocks, tr, cnt, holes):  # pragma: no cover - compiled
+    """The output tuple of a walked word: holes dropped, arrays cut to their counts."""
+    ns = cnt[K_NS]  # below the F/G count when a cut ended the walk early
+    if holes > 0:
+        ns = _compact(segs, ns)
+    nl = cnt[K_NL]
+    nv = cnt[K_NV]
+    npoly = cnt[K_NPOLY]
+    nb = cnt[K_NB]
+    seg_start, seg_end, seg_rad, seg_col, seg_mat, seg_mod, seg_par, seg_dep, seg_ref = segs
+    leaf_pos, leaf_frame, leaf_size, leaf_col, leaf_mat, leaf_mod = leaves
+    poly_v = polys[9]
+    poly_off = polys[10]
+    poly_col, poly_mat, poly_mod = polys[11], polys[12], polys[13]
+    blk_c, blk_s, blk_b, blk_m = blocks
+    nbw = min(nb, blk_c.shape[0])
     return (
         seg_start[:ns], seg_end[:ns], seg_rad[:ns], seg_col[:ns], seg_mat[:ns], seg_mod[:ns],
         seg_par[:ns], seg_dep[:ns], seg_ref[:ns],
         leaf_pos[:nl], leaf_frame[:nl], leaf_size[:nl], leaf_col[:nl], leaf_mat[:nl],
         leaf_mod[:nl],
         poly_v[:nv], poly_off[: npoly + 1], poly_col[:npoly], poly_mat[:npoly], poly_mod[:npoly],
-        blk_c[: min(nb, blk_cap)], blk_s[: min(nb, blk_cap)], blk_b[: min(nb, blk_cap)],
-        blk_m[: min(nb, blk_cap)], tr_pos, tr_frame, salt, nb,
+        blk_c[:nbw], blk_s[:nbw], blk_b[:nbw], blk_m[:nbw], tr[0], tr[1], cnt[K_SALT], nb,
     )  # fmt: skip

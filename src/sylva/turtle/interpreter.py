@@ -29,6 +29,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from ..errors import SylvaError
@@ -37,11 +38,18 @@ from ..geometry.records import Geometry
 from ..lsystem.ast import Program
 from ..lsystem.lstring import ModuleString
 from . import _kernels as K
+from . import tables as T
 from .tables import ARGS, DEFAULTS, PALETTE, TABLES, compile_table
 
 __all__ = ["DIALECTS", "Trace", "TurtleSettingsError", "interpret", "trace"]
 
 DIALECTS = tuple(TABLES)
+
+#: Words of at least this many modules are walked by every numba thread, one subtree each
+#: (the result does not depend on it: tests set it to 0 and to a huge value to compare).
+PARALLEL_MIN = 20_000
+#: The smallest bracket pair handed to a thread of its own.
+SUBTREE_MIN = 256
 
 _BUFFER_COLORS = (
     (0.40, 0.26, 0.13),  # 0 trunk and branches
@@ -242,12 +250,42 @@ def _run(word, program, dialect, seed, overrides, trace_on):
     dialect, s = _settings(program, dialect, overrides)
     cfg, palette, materials, vertex_colors, bg = _configure(dialect, s, seed)
     ops, arg = compile_table(TABLES[dialect], word.alphabet.names, ARGS.get(dialect))
-    match = word.match if np.any(ops == 18) else np.full(len(word), -1, np.int64)
-    args = (word.ids, word.offsets, word.values, match, ops, arg, cfg, palette, trace_on)
-    out = K.interpret_word(*args, 0)
+    n = len(word)
+    threads = _threads()
+    parallel = threads > 1 and n >= PARALLEL_MIN and cfg[K.C_ENGINE] == 0.0
+    s_max = max(n // (16 * threads), 1) if parallel else n + 1
+    counts, sel = K.scan_word(word.ids, ops, max(s_max // 64, SUBTREE_MIN), s_max)
+    if counts[5] > 0 or sel.shape[0] < 2:  # polygons or %: one serial walk
+        sel = sel[:0]
+    empty = np.zeros(0, np.int64)
+    match = word.match if np.any(ops == T.CUT) else empty
+    offsets = word.offsets if word.values.size else empty  # no parameters: none to read
+    args = (word.ids, offsets, word.values, match, ops, arg, cfg, palette, trace_on)
+    out = _walk(args, 0, counts, sel)
     if out[-1] > 0:  # blocks were counted, not written: run again with room for them
-        out = K.interpret_word(*args, out[-1])
+        out = _walk(args, out[-1], counts, sel)
     return dialect, s, materials, vertex_colors, bg, out
+
+
+def _threads() -> int:
+    return numba.get_num_threads()
+
+
+def _walk(args, blk_cap, counts, sel):
+    word, segs, leaves, polys, blocks, tr, cnt, slots, depths = K.walk_word(
+        *args, blk_cap, counts, sel
+    )
+    holes = int(cnt[K.K_HOLES])
+    if sel.shape[0]:
+        # subtrees differ in size: threads take them one at a time as they become free
+        old = numba.set_parallel_chunksize(1)
+        try:
+            holes += K.walk_subtrees(
+                sel, slots, depths, int(counts[4]) + 1, word, segs, leaves, polys, blocks, tr
+            )
+        finally:
+            numba.set_parallel_chunksize(old)
+    return K.finish_word(segs, leaves, polys, blocks, tr, cnt, holes)
 
 
 def interpret(

@@ -1,0 +1,116 @@
+"""The parallel turtle (one subtree per thread) gives exactly the serial walk's geometry."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from sylva.lsystem.lstring import ModuleString
+from sylva.turtle import _kernels as K
+from sylva.turtle import interpret, interpreter, trace
+from sylva.turtle.tables import TABLES, compile_table
+
+from .words import expand
+
+FIELDS = (
+    "seg_start", "seg_end", "seg_radius", "seg_color", "seg_material", "seg_module",
+    "seg_parent", "seg_depth", "seg_ref", "leaf_pos", "leaf_frame", "leaf_size", "leaf_color",
+    "leaf_material", "leaf_module",
+)  # fmt: skip
+
+
+def _both(monkeypatch, fn, *args, **kw):
+    """``fn`` walked in parallel and serially, and how many subtrees the threads walked."""
+    walked = []
+    walk = K.walk_subtrees
+
+    def spy(sel, *rest):
+        walked.append(sel.shape[0])
+        return walk(sel, *rest)
+
+    monkeypatch.setattr(interpreter, "SUBTREE_MIN", 1)
+    monkeypatch.setattr(interpreter, "PARALLEL_MIN", 0)
+    monkeypatch.setattr(interpreter, "_threads", lambda: 2)
+    monkeypatch.setattr(K, "walk_subtrees", spy)
+    par = fn(*args, **kw)
+    monkeypatch.setattr(interpreter, "PARALLEL_MIN", 10**18)
+    ser = fn(*args, **kw)
+    return par, ser, sum(walked)
+
+
+def _subtrees(text: str, dialect: str = "abop") -> int:
+    w = ModuleString.from_text(text)
+    ops, _ = compile_table(TABLES[dialect], w.alphabet.names)
+    return K.scan_word(w.ids, ops, 1, max(len(w) // 4, 1))[1].shape[0]
+
+
+def _same(par, ser):
+    for f in FIELDS:
+        a, b = getattr(par, f), getattr(ser, f)
+        assert a.shape == b.shape, f
+        assert np.array_equal(a, b), f
+
+
+def test_scan_picks_maximal_disjoint_pairs():
+    # [ab] (4) and [c[d]] (6) are the largest pairs of at most 6 modules; [d] lies inside
+    w = ModuleString.from_text("F[ab]F[c[d]]F[efghijk]")
+    ops, _ = compile_table(TABLES["abop"], w.alphabet.names)
+    counts, sel = K.scan_word(w.ids, ops, 2, 6)
+    assert sel[:, :2].tolist() == [[1, 4], [6, 11]]
+    # F/G ordinals before and after each pair: 1 F before [ab], 2 before [c[d]]
+    assert sel[:, 2].tolist() == [1, 2] and sel[:, 4].tolist() == [1, 2]
+    assert counts[0] == 3 and counts[4] == 2
+
+
+def test_plant_matches_serial(monkeypatch):
+    text = expand("X", {"X": "F[&+X]/[&-X]\\[^X]FX~", "F": "FF"}, 6)
+    assert _subtrees(text) >= 2
+    par, ser, walked = _both(monkeypatch, interpret, text, dialect="abop", rot=28, thick=0.1,
+                             thick_factor=0.9)  # fmt: skip
+    assert walked >= 2
+    assert par.n_segments > 1000 and par.n_leaves > 100
+    _same(par, ser)
+
+
+def test_holes_and_parameters_match_serial(monkeypatch):
+    # F(0) draws nothing: its slot is dropped and the parents renumbered
+    text = "F(1)[+F(0)F(2)[-F(1)]F(0)]F(3)[^F(0)[&F(1)~]]/F(1)" * 5
+    assert _subtrees(text) >= 2
+    par, ser, walked = _both(monkeypatch, interpret, text, dialect="abop", rot=30)
+    assert walked >= 2
+    assert par.n_segments == text.count("F(") - text.count("F(0)")
+    assert par.seg_parent.max() < par.n_segments
+    _same(par, ser)
+
+
+def test_trace_matches_serial(monkeypatch):
+    text = expand("X", {"X": "F[+X][-X]FX", "F": "FF"}, 4)
+    par, ser, walked = _both(monkeypatch, trace, text, dialect="abop", rot=25)
+    assert walked >= 2
+    assert np.array_equal(par.positions, ser.positions)
+    assert np.array_equal(par.frames, ser.frames)
+
+
+def test_polygons_and_cut_walk_serially(monkeypatch):
+    text = "F[+F{.+F.-F.}][-F%F]F[&F]F" * 4
+    par, ser, walked = _both(monkeypatch, interpret, text, dialect="abop", rot=40)
+    assert walked == 0
+    _same(par, ser)
+    assert np.array_equal(par.poly_vertices, ser.poly_vertices)
+
+
+_SYMS = ["F", "F", "f", "G", "+", "-", "&", "^", "\\", "/", "|", "$", "!", "'", "~", "[", "]"]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.sampled_from(_SYMS), min_size=1, max_size=200))
+def test_random_words_match_serial(syms):
+    text = "".join(syms)
+    mp = pytest.MonkeyPatch()
+    try:
+        par, ser, _ = _both(mp, interpret, text, dialect="abop", rot=33, thick=0.2)
+    finally:
+        mp.undo()
+    _same(par, ser)
