@@ -24,7 +24,7 @@ FIELDS = (
 def _both(monkeypatch, fn, *args, **kw):
     """``fn`` walked in parallel and serially, and how many subtrees the threads walked."""
     walked = []
-    walk = K.walk_subtrees
+    walk = interpreter._walk_subtrees
 
     def spy(sel, *rest):
         walked.append(sel.shape[0])
@@ -33,7 +33,7 @@ def _both(monkeypatch, fn, *args, **kw):
     monkeypatch.setattr(interpreter, "SUBTREE_MIN", 1)
     monkeypatch.setattr(interpreter, "PARALLEL_MIN", 0)
     monkeypatch.setattr(interpreter, "_threads", lambda: 2)
-    monkeypatch.setattr(K, "walk_subtrees", spy)
+    monkeypatch.setattr(interpreter, "_walk_subtrees", spy)
     par = fn(*args, **kw)
     monkeypatch.setattr(interpreter, "PARALLEL_MIN", 10**18)
     ser = fn(*args, **kw)
@@ -76,7 +76,7 @@ def test_plant_matches_serial(monkeypatch):
 
 def test_holes_and_parameters_match_serial(monkeypatch):
     # F(0) draws nothing: its slot is dropped and the parents renumbered
-    text = "F(1)[+F(0)F(2)[-F(1)]F(0)]F(3)[^F(0)[&F(1)~]]/F(1)" * 5
+    text = "F(1)[+F(0)F(2)[-F(1)]F(0)]F(3)[^F(0)[&F(1)~]]/F(1)" * 40
     assert _subtrees(text) >= 2
     par, ser, walked = _both(monkeypatch, interpret, text, dialect="abop", rot=30)
     assert walked >= 2
@@ -113,4 +113,18 @@ def test_random_words_match_serial(syms):
         par, ser, _ = _both(mp, interpret, text, dialect="abop", rot=33, thick=0.2)
     finally:
         mp.undo()
+    _same(par, ser)
+
+
+def test_long_random_word_matches_serial(monkeypatch):
+    rng = np.random.default_rng(7)
+    parts, depth = [], 0
+    for sym in rng.choice(_SYMS, 4000):
+        if sym == "]" and depth == 0:
+            continue
+        depth += {"[": 1, "]": -1}.get(sym, 0)
+        parts.append(sym)
+    text = "".join(parts)
+    par, ser, walked = _both(monkeypatch, interpret, text, dialect="abop", rot=33, thick=0.2)
+    assert walked >= 2 and par.n_segments > 200
     _same(par, ser)

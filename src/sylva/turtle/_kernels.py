@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange, uint64
+from numba import njit, uint64
 
 from . import tables as T
 
@@ -287,8 +287,8 @@ def scan_word(ids, ops, s_min, s_max):  # pragma: no cover - compiled
     return counts, sel[:nc].copy()
 
 
-@njit(cache=True)
-def _walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks, tr, sel,
+@njit(cache=True, nogil=True)
+def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks, tr, sel,
           slot_state, slot_depth):  # fmt: skip  # pragma: no cover - compiled
     """Interpret modules ``i`` … ``stop - 1`` from state ``st`` at bracket ``depth``.
 
@@ -677,27 +677,6 @@ def _walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, block
     cnt[K_SEL] = k_sel
 
 
-@njit(cache=True, parallel=True)
-def walk_subtrees(sel, slot_state, slot_depth, stack_rows, word, segs, leaves, polys, blocks,
-                  tr):  # fmt: skip  # pragma: no cover - compiled
-    """Walk every subtree of ``sel`` from its stored state, in parallel; returns the holes."""
-    k = sel.shape[0]
-    holes = np.zeros(k, np.int64)
-    none = np.empty((0, 6), np.int64)
-    no_slots = np.empty((0, NS))
-    no_depth = np.empty(0, np.int64)
-    for t in prange(k):  # the caller sets numba's chunk size to 1: one subtree at a time
-        st = slot_state[t].copy()
-        stack = np.empty((stack_rows, NS))
-        cnt = np.zeros(NK, np.int64)
-        cnt[K_NS] = sel[t, 2]
-        cnt[K_NL] = sel[t, 3]
-        _walk(sel[t, 0], sel[t, 1] + 1, st, stack, slot_depth[t], slot_depth[t], cnt, word,
-              segs, leaves, polys, blocks, tr, none, no_slots, no_depth)  # fmt: skip
-        holes[t] = cnt[K_HOLES]
-    return holes.sum()
-
-
 @njit(cache=True)
 def _compact(segs, n):  # pragma: no cover - compiled
     """Drop the hole slots (``seg_mod < 0``) of the first ``n`` and renumber the parents."""
@@ -729,8 +708,9 @@ def walk_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace, blk_
                    counts, sel):  # fmt: skip  # pragma: no cover - compiled
     """Allocate a word's outputs and walk it, up to the subtrees of ``sel``.
 
-    See :func:`sylva.turtle.interpret` for the meaning of the outputs; :func:`walk_subtrees`
-    walks the subtrees left and :func:`finish_word` cuts the arrays.
+    See :func:`sylva.turtle.interpret` for the meaning of the outputs.  The interpreter
+    walks the subtrees left (:func:`walk` on threads) and :func:`finish_word` cuts the
+    arrays.
 
     Parameters
     ----------
@@ -813,7 +793,7 @@ def walk_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace, blk_
     k = sel.shape[0]
     slot_state = np.empty((k, NS))
     slot_depth = np.empty(k, np.int64)
-    _walk(0, n, st, stack, 0, 0, cnt, word, segs, leaves, polys, blocks, tr, sel, slot_state,
+    walk(0, n, st, stack, 0, 0, cnt, word, segs, leaves, polys, blocks, tr, sel, slot_state,
           slot_depth)  # fmt: skip
     return word, segs, leaves, polys, blocks, tr, cnt, slot_state, slot_depth
 

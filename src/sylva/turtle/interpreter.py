@@ -26,7 +26,9 @@ Examples
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Mapping
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numba
@@ -45,7 +47,8 @@ __all__ = ["DIALECTS", "Trace", "TurtleSettingsError", "interpret", "trace"]
 
 DIALECTS = tuple(TABLES)
 
-#: Words of at least this many modules are walked by every numba thread, one subtree each
+#: Words of at least this many modules are walked by as many threads as numba uses, one
+#: subtree at a time
 #: (the result does not depend on it: tests set it to 0 and to a huge value to compare).
 PARALLEL_MIN = 20_000
 #: The smallest bracket pair handed to a thread of its own.
@@ -255,15 +258,15 @@ def _run(word, program, dialect, seed, overrides, trace_on):
     parallel = threads > 1 and n >= PARALLEL_MIN and cfg[K.C_ENGINE] == 0.0
     s_max = max(n // (16 * threads), 1) if parallel else n + 1
     counts, sel = K.scan_word(word.ids, ops, max(s_max // 64, SUBTREE_MIN), s_max)
-    if counts[5] > 0 or sel.shape[0] < 2:  # polygons or %: one serial walk
+    if not parallel or counts[5] > 0 or sel.shape[0] < 2:  # polygons or %: one serial walk
         sel = sel[:0]
     empty = np.zeros(0, np.int64)
     match = word.match if np.any(ops == T.CUT) else empty
     offsets = word.offsets if word.values.size else empty  # no parameters: none to read
     args = (word.ids, offsets, word.values, match, ops, arg, cfg, palette, trace_on)
-    out = _walk(args, 0, counts, sel)
+    out = _walk(args, 0, counts, sel, threads)
     if out[-1] > 0:  # blocks were counted, not written: run again with room for them
-        out = _walk(args, out[-1], counts, sel)
+        out = _walk(args, out[-1], counts, sel, threads)
     return dialect, s, materials, vertex_colors, bg, out
 
 
@@ -271,21 +274,49 @@ def _threads() -> int:
     return numba.get_num_threads()
 
 
-def _walk(args, blk_cap, counts, sel):
+def _walk(args, blk_cap, counts, sel, threads):
     word, segs, leaves, polys, blocks, tr, cnt, slots, depths = K.walk_word(
         *args, blk_cap, counts, sel
     )
     holes = int(cnt[K.K_HOLES])
     if sel.shape[0]:
-        # subtrees differ in size: threads take them one at a time as they become free
-        old = numba.set_parallel_chunksize(1)
-        try:
-            holes += K.walk_subtrees(
-                sel, slots, depths, int(counts[4]) + 1, word, segs, leaves, polys, blocks, tr
-            )
-        finally:
-            numba.set_parallel_chunksize(old)
+        holes += _walk_subtrees(
+            sel, slots, depths, int(counts[4]) + 1, (word, segs, leaves, polys, blocks, tr), threads
+        )
     return K.finish_word(segs, leaves, polys, blocks, tr, cnt, holes)
+
+
+def _walk_subtrees(sel, slots, depths, rows, arrays, threads) -> int:
+    """Walk the subtrees of ``sel`` from their stored states on ``threads`` threads.
+
+    The compiled walk releases the GIL; each thread takes the largest subtree left, so the
+    threads finish together however unequal the subtrees are.  Returns the hole count.
+    """
+    order = iter(np.argsort(sel[:, 0] - sel[:, 1], kind="stable").tolist())
+    lock = threading.Lock()
+    none = np.zeros((0, 6), np.int64)
+    no_slots = np.zeros((0, K.NS))
+    no_depth = np.zeros(0, np.int64)
+
+    def worker(_) -> int:
+        stack = np.empty((rows, K.NS))
+        cnt = np.zeros(K.NK, np.int64)
+        holes = 0
+        while True:
+            with lock:
+                t = next(order, None)
+            if t is None:
+                return holes
+            cnt[:] = 0
+            cnt[K.K_NS] = sel[t, 2]
+            cnt[K.K_NL] = sel[t, 3]
+            d = int(depths[t])
+            a, b = int(sel[t, 0]), int(sel[t, 1])
+            K.walk(a, b + 1, slots[t].copy(), stack, d, d, cnt, *arrays, none, no_slots, no_depth)
+            holes += int(cnt[K.K_HOLES])
+
+    with ThreadPoolExecutor(threads, thread_name_prefix="sylva-turtle") as pool:
+        return sum(pool.map(worker, range(threads)))
 
 
 def interpret(
