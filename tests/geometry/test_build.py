@@ -46,7 +46,7 @@ def tubes_of(g, detail):
         False,
         detail,
     )
-    cont, prev, toff = plan[0], plan[1], plan[4]
+    cont, prev, toff = plan[0], plan[1], plan[5]
     for s in np.flatnonzero(~prev):
         tris = []
         while s >= 0:
@@ -76,6 +76,27 @@ def test_tube_counts_share_rings_along_axes():
     # main axis of 4 segments: 1 start ring + 4 end rings + 2 caps; branch: 2 rings + 2 caps
     assert m.n_vertices == (5 * (d + 1) + 2) + (2 * (d + 1) + 2)
     assert m.n_triangles == 4 * 2 * d + 2 * d + 2 * d + 2 * d
+
+
+def test_colour_changes_keep_one_closed_tube():
+    # abop ; switches the material: the axis stays one tube, each segment in its own
+    # material, with a copy of the previous end ring where the material changes
+    g = interpret("F;+(20)F;-(35)F", dialect="abop", thick=0.3)
+    assert len(set(g.seg_material.tolist())) == 3
+    d = 9
+    r = d + 1
+    m = build_branches(g, detail=d)
+    assert m.n_triangles == 3 * 2 * d + 2 * d  # two caps only
+    assert m.n_vertices == 6 * r + 2
+    ids = m.triangle_materials()
+    assert [len(set(ids[k : k + 2 * d].tolist())) for k in (d, 3 * d, 5 * d)] == [1, 1, 1]
+    # the copies lie exactly on the rings they copy
+    ring = [m.vertices[k * r + 1 : (k + 1) * r + 1] for k in range(5)]  # after start cap
+    np.testing.assert_array_equal(ring[2], ring[1])
+    np.testing.assert_array_equal(ring[4], ring[3])
+    body = as_trimesh(m)
+    assert body.is_watertight and body.is_winding_consistent and body.volume > 0
+    assert body.euler_number == 2
 
 
 def test_mitred_joint_has_no_gap_and_keeps_the_radius():

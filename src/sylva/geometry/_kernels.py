@@ -16,11 +16,14 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
     """Choose axis continuations and lay out vertices and triangles of continuous tubes.
 
     A segment continues its parent's tube when it is the parent's child of lowest bracket
-    depth (first drawn on ties), bends by less than ``acos(cos_limit)``, and keeps its
-    material (and colour, with ``split_colors``).  Returns
+    depth (first drawn on ties) and bends by less than ``acos(cos_limit)``.  A continuing
+    segment of another material (or colour, with ``split_colors``) starts with its own copy
+    of the parent's end ring, so the surface stays closed where the colour changes.
+    Returns
 
     cont : int64[n]      the continuing child (-1: the tube ends with a cap)
-    prev : bool[n]       True when the segment continues its parent (no start ring)
+    prev : bool[n]       True when the segment continues its parent (no start cap)
+    dup : bool[n]        True when it continues with its own copy of the parent's end ring
     v1 : float64[n]      texture v at the segment's end (length / mean circumference)
     voff, toff : int64[n+1]  first vertex / triangle of each segment
     """
@@ -35,11 +38,7 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
         lens[s] = la
         ok[s] = False
         p = parent[s]
-        if p < 0 or material[s] != material[p]:
-            continue
-        if split_colors and (
-            color[s, 0] != color[p, 0] or color[s, 1] != color[p, 1] or color[s, 2] != color[p, 2]
-        ):
+        if p < 0:
             continue
         bx = end[p, 0] - start[p, 0]
         by = end[p, 1] - start[p, 1]
@@ -54,6 +53,7 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
             if q < 0 or depth[s] < depth[q]:
                 cont[p] = s
     prev = np.empty(n, np.bool_)
+    dup = np.zeros(n, np.bool_)
     v1 = np.empty(n)
     voff = np.empty(n + 1, np.int64)
     toff = np.empty(n + 1, np.int64)
@@ -64,6 +64,15 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
         p = parent[s]
         pv = p >= 0 and cont[p] == s
         prev[s] = pv
+        if pv:
+            dup[s] = material[s] != material[p] or (
+                split_colors
+                and (
+                    color[s, 0] != color[p, 0]
+                    or color[s, 1] != color[p, 1]
+                    or color[s, 2] != color[p, 2]
+                )
+            )
         rm = 0.5 * (radius[s, 0] + radius[s, 1])
         v1[s] = (v1[p] if pv else 0.0) + lens[s] / (TWO_PI * max(rm, 1e-12))
         nv = r
@@ -71,21 +80,121 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
         if not pv:
             nv += r + 1
             nt += d
+        elif dup[s]:
+            nv += r
         if cont[s] < 0:
             nv += 1
             nt += d
         voff[s + 1] = voff[s] + nv
         toff[s + 1] = toff[s] + nt
-    return cont, prev, v1, voff, toff
+    return cont, prev, dup, v1, voff, toff
+
+
+@njit(cache=True, inline="always")
+def _frame(s, start, end, radius, ref):
+    """Segment ``s``: unit axis, ring reference r, b = axis × r, radii, taper slope."""
+    ax = end[s, 0] - start[s, 0]
+    ay = end[s, 1] - start[s, 1]
+    az = end[s, 2] - start[s, 2]
+    ln = math.sqrt(ax * ax + ay * ay + az * az)
+    ax /= ln
+    ay /= ln
+    az /= ln
+    rx = np.float64(ref[s, 0])
+    ry = np.float64(ref[s, 1])
+    rz = np.float64(ref[s, 2])
+    bx = ay * rz - az * ry
+    by = az * rx - ax * rz
+    bz = ax * ry - ay * rx
+    r0 = np.float64(radius[s, 0])
+    r1 = np.float64(radius[s, 1])
+    slope = (r0 - r1) / ln  # outward tilt of the normal on a frustum
+    return ax, ay, az, rx, ry, rz, bx, by, bz, r0, r1, slope
+
+
+@njit(cache=True, inline="always")
+def _end_basis(s, q, start, end, radius, ref):
+    """The end ring of segment ``s`` (mitred toward its continuation ``q`` when q >= 0).
+
+    Ring vertex j is ``centre + cos·P + sin·Q``, its normal ``(G + cos·A + sin·B)·k`` with
+    ``k = 1 / sqrt(1 - (cos·alpha + sin·beta)²)``.  Returns (centre, P, Q, A, B, G, alpha,
+    beta) as 20 floats."""
+    ax, ay, az, rx, ry, rz, bx, by, bz, r0, r1, slope = _frame(s, start, end, radius, ref)
+    if q >= 0:
+        # mitre: slide each circle point along the axis onto the plane bisecting the
+        # joint (normal m); its normal is the ring direction with m projected out
+        qx = end[q, 0] - start[q, 0]
+        qy = end[q, 1] - start[q, 1]
+        qz = end[q, 2] - start[q, 2]
+        ql = math.sqrt(qx * qx + qy * qy + qz * qz)
+        mx = ax + qx / ql
+        my = ay + qy / ql
+        mz = az + qz / ql
+        ml = math.sqrt(mx * mx + my * my + mz * mz)
+        mx /= ml
+        my /= ml
+        mz /= ml
+        am = ax * mx + ay * my + az * mz
+        alpha = rx * mx + ry * my + rz * mz
+        beta = bx * mx + by * my + bz * mz
+        return (
+            end[s, 0], end[s, 1], end[s, 2],
+            r1 * (rx - alpha / am * ax), r1 * (ry - alpha / am * ay), r1 * (rz - alpha / am * az),
+            r1 * (bx - beta / am * ax), r1 * (by - beta / am * ay), r1 * (bz - beta / am * az),
+            rx - alpha * mx, ry - alpha * my, rz - alpha * mz,
+            bx - beta * mx, by - beta * my, bz - beta * mz,
+            0.0, 0.0, 0.0, alpha, beta,
+        )  # fmt: skip
+    inv = 1.0 / math.sqrt(1.0 + slope * slope)
+    return (
+        end[s, 0], end[s, 1], end[s, 2],
+        r1 * rx, r1 * ry, r1 * rz, r1 * bx, r1 * by, r1 * bz,
+        rx * inv, ry * inv, rz * inv, bx * inv, by * inv, bz * inv,
+        slope * ax * inv, slope * ay * inv, slope * az * inv, 0.0, 0.0,
+    )  # fmt: skip
+
+
+@njit(cache=True, inline="always")
+def _start_basis(s, start, end, radius, ref):
+    """The start ring of a tube's first segment (see :func:`_end_basis`)."""
+    ax, ay, az, rx, ry, rz, bx, by, bz, r0, r1, slope = _frame(s, start, end, radius, ref)
+    inv = 1.0 / math.sqrt(1.0 + slope * slope)
+    return (
+        start[s, 0], start[s, 1], start[s, 2],
+        r0 * rx, r0 * ry, r0 * rz, r0 * bx, r0 * by, r0 * bz,
+        rx * inv, ry * inv, rz * inv, bx * inv, by * inv, bz * inv,
+        slope * ax * inv, slope * ay * inv, slope * az * inv, 0.0, 0.0,
+    )  # fmt: skip
+
+
+@njit(cache=True, inline="always")
+def _write_ring(e, bs, vv, cos_t, sin_t, u_t, r, V, N, UV):
+    """Write ring vertices ``e`` … ``e + r - 1`` from the bases ``bs`` at texture v ``vv``."""
+    (cx, cy, cz, px, py, pz, qx, qy, qz, arx, ary, arz, brx, bry, brz, g0x, g0y, g0z, alpha,
+     beta) = bs  # fmt: skip
+    for j in range(r):
+        c = cos_t[j]
+        sn = sin_t[j]
+        w = c * alpha + sn * beta
+        k = 1.0 / math.sqrt(1.0 - w * w)
+        V[e + j, 0] = cx + c * px + sn * qx
+        V[e + j, 1] = cy + c * py + sn * qy
+        V[e + j, 2] = cz + c * pz + sn * qz
+        N[e + j, 0] = (g0x + c * arx + sn * brx) * k
+        N[e + j, 1] = (g0y + c * ary + sn * bry) * k
+        N[e + j, 2] = (g0z + c * arz + sn * brz) * k
+        UV[e + j, 0] = u_t[j]
+        UV[e + j, 1] = vv
 
 
 @njit(cache=True)
-def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, prev, v1, voff,
-                toff, cos_t, sin_t, u_t, d, want_colors, V, N, UV, C, I, M):  # fmt: skip
+def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, prev, dup, v1,
+                voff, toff, cos_t, sin_t, u_t, d, want_colors, V, N, UV, C, I, M):  # fmt: skip
     """Tubes of segments ``lo`` … ``hi - 1`` (see :func:`tube_fill`).
 
-    Every ring vertex is ``centre + cos·P + sin·Q`` and its normal ``(G + cos·A + sin·B)·k``:
-    the bases are set once per ring, so the loop over the sides is a few multiply-adds."""
+    Every ring comes from bases set once per ring (:func:`_end_basis`), so the loop over
+    the sides is a few multiply-adds; a segment that changes colour on its tube copies its
+    parent's end ring from the same bases, so the copy lies exactly on the original."""
     want_m = M.shape[0] > 0
     # unsigned vertex and triangle numbers spare numba's negative-index checks (-30 %)
     r = uint64(d + 1)
@@ -93,59 +202,35 @@ def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, 
     one = uint64(1)
     two = uint64(2)
     for s in range(lo, hi):
-        ax = end[s, 0] - start[s, 0]
-        ay = end[s, 1] - start[s, 1]
-        az = end[s, 2] - start[s, 2]
-        ln = math.sqrt(ax * ax + ay * ay + az * az)
-        ax /= ln
-        ay /= ln
-        az /= ln
-        rx = np.float64(ref[s, 0])
-        ry = np.float64(ref[s, 1])
-        rz = np.float64(ref[s, 2])
-        bx = ay * rz - az * ry
-        by = az * rx - ax * rz
-        bz = ax * ry - ay * rx
-        r0 = np.float64(radius[s, 0])
-        r1 = np.float64(radius[s, 1])
-        slope = (r0 - r1) / ln  # outward tilt of the normal on a frustum
-        inv = 1.0 / math.sqrt(1.0 + slope * slope)
-        gx = slope * ax * inv
-        gy = slope * ay * inv
-        gz = slope * az * inv
         v = uint64(voff[s])
         t = uint64(toff[s])
         mat = material[s]
         p = parent[s]
         if prev[s]:
-            a0 = uint64(voff[p]) if prev[p] else uint64(voff[p]) + r + one  # the parent's end ring
-            e = v
             vs = v1[p]
+            if dup[s]:  # own copy of the parent's end ring (another colour or material)
+                _write_ring(v, _end_basis(p, s, start, end, radius, ref), vs, cos_t, sin_t, u_t,
+                            r, V, N, UV)  # fmt: skip
+                a0 = v
+                e = v + r
+            else:
+                a0 = uint64(voff[p])  # the parent's end ring
+                if not prev[p]:
+                    a0 += r + one
+                elif dup[p]:
+                    a0 += r
+                e = v
         else:  # ------------------------------------------------ start ring + cap
+            vs = 0.0
+            bs = _start_basis(s, start, end, radius, ref)
+            _write_ring(v, bs, vs, cos_t, sin_t, u_t, r, V, N, UV)
             a0 = v
             e = v + r + one
-            vs = 0.0
-            sx = start[s, 0]
-            sy = start[s, 1]
-            sz = start[s, 2]
-            for j in range(r):
-                c = cos_t[j]
-                sn = sin_t[j]
-                nx = c * rx + sn * bx
-                ny = c * ry + sn * by
-                nz = c * rz + sn * bz
-                V[v + j, 0] = sx + r0 * nx
-                V[v + j, 1] = sy + r0 * ny
-                V[v + j, 2] = sz + r0 * nz
-                N[v + j, 0] = nx * inv + gx
-                N[v + j, 1] = ny * inv + gy
-                N[v + j, 2] = nz * inv + gz
-                UV[v + j, 0] = u_t[j]
-                UV[v + j, 1] = vs
             center = v + r
-            V[center, 0] = sx
-            V[center, 1] = sy
-            V[center, 2] = sz
+            ax, ay, az = _frame(s, start, end, radius, ref)[:3]
+            V[center, 0] = bs[0]
+            V[center, 1] = bs[1]
+            V[center, 2] = bs[2]
             N[center, 0] = -ax
             N[center, 1] = -ay
             N[center, 2] = -az
@@ -159,75 +244,11 @@ def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, 
                 for j in range(du):
                     M[t + j] = mat
             t += du
-        # ---------------------------------------------------- end ring
+        # ---------------------------------------------------- end ring and mantle
         q = cont[s]
-        if q >= 0:
-            # mitre: slide each circle point along the axis onto the plane bisecting the
-            # joint (normal m); its normal is the ring direction with m projected out
-            qx = end[q, 0] - start[q, 0]
-            qy = end[q, 1] - start[q, 1]
-            qz = end[q, 2] - start[q, 2]
-            ql = math.sqrt(qx * qx + qy * qy + qz * qz)
-            mx = ax + qx / ql
-            my = ay + qy / ql
-            mz = az + qz / ql
-            ml = math.sqrt(mx * mx + my * my + mz * mz)
-            mx /= ml
-            my /= ml
-            mz /= ml
-            am = ax * mx + ay * my + az * mz
-            alpha = rx * mx + ry * my + rz * mz
-            beta = bx * mx + by * my + bz * mz
-            px = r1 * (rx - alpha / am * ax)
-            py = r1 * (ry - alpha / am * ay)
-            pz = r1 * (rz - alpha / am * az)
-            qx = r1 * (bx - beta / am * ax)
-            qy = r1 * (by - beta / am * ay)
-            qz = r1 * (bz - beta / am * az)
-            arx = rx - alpha * mx
-            ary = ry - alpha * my
-            arz = rz - alpha * mz
-            brx = bx - beta * mx
-            bry = by - beta * my
-            brz = bz - beta * mz
-            g0x = 0.0
-            g0y = 0.0
-            g0z = 0.0
-        else:
-            alpha = 0.0
-            beta = 0.0
-            px = r1 * rx
-            py = r1 * ry
-            pz = r1 * rz
-            qx = r1 * bx
-            qy = r1 * by
-            qz = r1 * bz
-            arx = rx * inv
-            ary = ry * inv
-            arz = rz * inv
-            brx = bx * inv
-            bry = by * inv
-            brz = bz * inv
-            g0x = gx
-            g0y = gy
-            g0z = gz
-        ex = end[s, 0]
-        ey = end[s, 1]
-        ez = end[s, 2]
+        bs = _end_basis(s, q, start, end, radius, ref)
         ve = v1[s]
-        for j in range(r):
-            c = cos_t[j]
-            sn = sin_t[j]
-            w = c * alpha + sn * beta
-            k = 1.0 / math.sqrt(1.0 - w * w)
-            V[e + j, 0] = ex + c * px + sn * qx
-            V[e + j, 1] = ey + c * py + sn * qy
-            V[e + j, 2] = ez + c * pz + sn * qz
-            N[e + j, 0] = (g0x + c * arx + sn * brx) * k
-            N[e + j, 1] = (g0y + c * ary + sn * bry) * k
-            N[e + j, 2] = (g0z + c * arz + sn * brz) * k
-            UV[e + j, 0] = u_t[j]
-            UV[e + j, 1] = ve
+        _write_ring(e, bs, ve, cos_t, sin_t, u_t, r, V, N, UV)
         for j in range(du):
             I[t + two * j, 0] = a0 + j
             I[t + two * j, 1] = a0 + j + one
@@ -240,10 +261,11 @@ def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, 
                 M[t + j] = mat
         t += two * du
         if q < 0:  # ------------------------------------------------ end cap
+            ax, ay, az = _frame(s, start, end, radius, ref)[:3]
             center = e + r
-            V[center, 0] = ex
-            V[center, 1] = ey
-            V[center, 2] = ez
+            V[center, 0] = bs[0]
+            V[center, 1] = bs[1]
+            V[center, 2] = bs[2]
             N[center, 0] = ax
             N[center, 1] = ay
             N[center, 2] = az
@@ -268,8 +290,8 @@ TUBE_CHUNK = 1024  # segments per task of the parallel fill
 
 
 @njit(cache=True, parallel=True)
-def tube_fill(start, end, radius, ref, color, material, parent, cont, prev, v1, voff, toff, d,
-              want_colors, V, N, UV, C, I, M):  # fmt: skip
+def tube_fill(start, end, radius, ref, color, material, parent, cont, prev, dup, v1, voff, toff,
+              d, want_colors, V, N, UV, C, I, M):  # fmt: skip
     """Write the tube vertices (V, N, UV, C) and triangles (I, M) laid out by tube_plan.
 
     ``M`` may be empty (one material: no per-triangle ids are written)."""
@@ -286,7 +308,7 @@ def tube_fill(start, end, radius, ref, color, material, parent, cont, prev, v1, 
     chunks = (n + TUBE_CHUNK - 1) // TUBE_CHUNK
     for c in prange(chunks):
         _tube_range(c * TUBE_CHUNK, min(n, (c + 1) * TUBE_CHUNK), start, end, radius, ref, color,
-                    material, parent, cont, prev, v1, voff, toff, cos_t, sin_t, u_t, d,
+                    material, parent, cont, prev, dup, v1, voff, toff, cos_t, sin_t, u_t, d,
                     want_colors, V, N, UV, C, I, M)  # fmt: skip
 
 

@@ -10,7 +10,9 @@
     parallel-transported frame (no twist), rings shared between a segment and the child that
     continues its axis, and mitred at joints (the circle is slid along the axis onto the
     bisecting plane, where both cylinders meet exactly), so there are no gaps and none of
-    the hemisphere artefacts of seed 000 §2.5.  Every tube is closed by a cap at each end,
+    the hemisphere artefacts of seed 000 §2.5.  Where the colour or material changes along
+    an axis the tube goes on: the next segment starts on a copy of the ring (same
+    positions and normals, its own colour).  Every tube is closed by a cap at each end,
     so each is a closed 2-manifold.  UVs: u in [0, 1] around, v along the length
     (length / mean circumference, so a square texel stays square).
 ``"prism"``
@@ -134,12 +136,12 @@ def build_branches(
             geometry.seg_start, geometry.seg_end, radius, geometry.seg_parent,
             geometry.seg_depth, geometry.seg_material, geometry.seg_color, cos_limit, want, d,
         )  # fmt: skip
-        cont, prev, v1, voff, toff = plan
+        cont, prev, dup, v1, voff, toff = plan
         nv, nt = int(voff[-1]), int(toff[-1])
         mats = geometry.seg_material
         single = n > 0 and int(mats.min()) == int(mats.max())
         V, N, UV, C, I, M = _alloc(nv, 0 if single else nt, want, nt)
-        K.tube_fill(*args, geometry.seg_parent, cont, prev, v1, voff, toff, d, want,
+        K.tube_fill(*args, geometry.seg_parent, cont, prev, dup, v1, voff, toff, d, want,
                     V, N, UV, C, I, M)  # fmt: skip
         if single:  # one material: no per-triangle ids to write
             k = int(mats[0])
