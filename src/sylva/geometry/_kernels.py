@@ -113,13 +113,14 @@ def _frame(s, start, end, radius, ref):
 
 
 @njit(cache=True, inline="always")
-def _end_basis(s, q, start, end, radius, ref):
-    """The end ring of segment ``s`` (mitred toward its continuation ``q`` when q >= 0).
+def _end_basis(fr, s, q, start, end):
+    """The end ring of segment ``s`` of frame ``fr`` (:func:`_frame`), mitred toward its
+    continuation ``q`` when q >= 0.
 
     Ring vertex j is ``centre + cos·P + sin·Q``, its normal ``(G + cos·A + sin·B)·k`` with
     ``k = 1 / sqrt(1 - (cos·alpha + sin·beta)²)``.  Returns (centre, P, Q, A, B, G, alpha,
     beta) as 20 floats."""
-    ax, ay, az, rx, ry, rz, bx, by, bz, r0, r1, slope = _frame(s, start, end, radius, ref)
+    ax, ay, az, rx, ry, rz, bx, by, bz, r0, r1, slope = fr
     if q >= 0:
         # mitre: slide each circle point along the axis onto the plane bisecting the
         # joint (normal m); its normal is the ring direction with m projected out
@@ -155,9 +156,9 @@ def _end_basis(s, q, start, end, radius, ref):
 
 
 @njit(cache=True, inline="always")
-def _start_basis(s, start, end, radius, ref):
+def _start_basis(fr, s, start):
     """The start ring of a tube's first segment (see :func:`_end_basis`)."""
-    ax, ay, az, rx, ry, rz, bx, by, bz, r0, r1, slope = _frame(s, start, end, radius, ref)
+    ax, ay, az, rx, ry, rz, bx, by, bz, r0, r1, slope = fr
     inv = 1.0 / math.sqrt(1.0 + slope * slope)
     return (
         start[s, 0], start[s, 1], start[s, 2],
@@ -206,11 +207,13 @@ def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, 
         t = uint64(toff[s])
         mat = material[s]
         p = parent[s]
+        fr = _frame(s, start, end, radius, ref)
         if prev[s]:
             vs = v1[p]
             if dup[s]:  # own copy of the parent's end ring (another colour or material)
-                _write_ring(v, _end_basis(p, s, start, end, radius, ref), vs, cos_t, sin_t, u_t,
-                            r, V, N, UV)  # fmt: skip
+                frp = _frame(p, start, end, radius, ref)
+                _write_ring(v, _end_basis(frp, p, s, start, end), vs, cos_t, sin_t, u_t, r, V,
+                            N, UV)  # fmt: skip
                 a0 = v
                 e = v + r
             else:
@@ -222,18 +225,17 @@ def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, 
                 e = v
         else:  # ------------------------------------------------ start ring + cap
             vs = 0.0
-            bs = _start_basis(s, start, end, radius, ref)
+            bs = _start_basis(fr, s, start)
             _write_ring(v, bs, vs, cos_t, sin_t, u_t, r, V, N, UV)
             a0 = v
             e = v + r + one
             center = v + r
-            ax, ay, az = _frame(s, start, end, radius, ref)[:3]
             V[center, 0] = bs[0]
             V[center, 1] = bs[1]
             V[center, 2] = bs[2]
-            N[center, 0] = -ax
-            N[center, 1] = -ay
-            N[center, 2] = -az
+            N[center, 0] = -fr[0]
+            N[center, 1] = -fr[1]
+            N[center, 2] = -fr[2]
             UV[center, 0] = 0.5
             UV[center, 1] = vs
             for j in range(du):
@@ -246,9 +248,23 @@ def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, 
             t += du
         # ---------------------------------------------------- end ring and mantle
         q = cont[s]
-        bs = _end_basis(s, q, start, end, radius, ref)
+        bs = _end_basis(fr, s, q, start, end)
         ve = v1[s]
-        _write_ring(e, bs, ve, cos_t, sin_t, u_t, r, V, N, UV)
+        (cx, cy, cz, px, py, pz, qx, qy, qz, arx, ary, arz, brx, bry, brz, g0x, g0y, g0z, alpha,
+         beta) = bs  # fmt: skip
+        for j in range(r):  # _write_ring written out: this, the hot loop, runs 40 % faster
+            c = cos_t[j]
+            sn = sin_t[j]
+            w = c * alpha + sn * beta
+            k = 1.0 / math.sqrt(1.0 - w * w)
+            V[e + j, 0] = cx + c * px + sn * qx
+            V[e + j, 1] = cy + c * py + sn * qy
+            V[e + j, 2] = cz + c * pz + sn * qz
+            N[e + j, 0] = (g0x + c * arx + sn * brx) * k
+            N[e + j, 1] = (g0y + c * ary + sn * bry) * k
+            N[e + j, 2] = (g0z + c * arz + sn * brz) * k
+            UV[e + j, 0] = u_t[j]
+            UV[e + j, 1] = ve
         for j in range(du):
             I[t + two * j, 0] = a0 + j
             I[t + two * j, 1] = a0 + j + one
@@ -261,14 +277,13 @@ def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, 
                 M[t + j] = mat
         t += two * du
         if q < 0:  # ------------------------------------------------ end cap
-            ax, ay, az = _frame(s, start, end, radius, ref)[:3]
             center = e + r
             V[center, 0] = bs[0]
             V[center, 1] = bs[1]
             V[center, 2] = bs[2]
-            N[center, 0] = ax
-            N[center, 1] = ay
-            N[center, 2] = az
+            N[center, 0] = fr[0]
+            N[center, 1] = fr[1]
+            N[center, 2] = fr[2]
             UV[center, 0] = 0.5
             UV[center, 1] = ve
             for j in range(du):
