@@ -26,7 +26,9 @@ from .geometry.records import Geometry
 from .lsystem import DEFAULT_MODULE_LIMIT, Derivation, ModuleString, Program, load
 from .turtle import interpret
 
-__all__ = ["Plant", "grow", "growth_scenes", "is_2d", "resolve"]
+__all__ = [
+    "Plant", "grow", "growth_scenes", "is_2d", "plant_texture", "resolve", "texture_segments",
+]  # fmt: skip
 
 #: Symbols that leave the plane (seed 001 §5.3: the camera is 2D when none is used).
 _3D_SYMBOLS = frozenset("^&\\/$")
@@ -216,3 +218,78 @@ def _scale_fresh(
     first = offsets[:-1][is_draw]
     values[first] *= t
     return ModuleString(word.alphabet, word.ids, offsets, values)
+
+
+# --------------------------------------------------------------------------- textures
+#: Bark to leaf, one colour per colour index of the abop turtle (L-Studio's colour increment)
+TEXTURE_PALETTE = ("#3b2414", "#4a2f1b", "#5b3a1f", "#4f5a24", "#2f5d1e", "#3f7a25", "#5d9b35",
+                   "#8cc152")  # fmt: skip
+
+def texture_segments(geometry: Geometry, *, width: float = 4.0):
+    """The turtle's segments as a 2D line drawing for :mod:`sylva.texture` (seed 003 §4.8).
+
+    Segments are projected onto the XY plane (where 2D systems are drawn); a segment's
+    line is ``width`` pixels at the radius of the first segment and scales with its own
+    radius (``!`` thins it); its palette index is its colour index (``;`` advances it), and
+    its generation is its bracket depth.
+    """
+    from .texture.lsystem_texture import Segments
+
+    n = geometry.n_segments
+    r0 = float(geometry.seg_radius[0, 0]) if n else 1.0
+    rad = geometry.seg_radius.mean(axis=1).astype(np.float64)
+    return Segments(
+        np.ascontiguousarray(geometry.seg_start[:, :2], np.float64),
+        np.ascontiguousarray(geometry.seg_end[:, :2], np.float64),
+        width * rad / (r0 if r0 > 0 else 1.0),
+        geometry.seg_material.astype(np.int32),
+        np.minimum(geometry.seg_depth, np.iinfo(np.int16).max).astype(np.int16),
+    )
+
+
+def plant_texture(
+    source: Program | str | os.PathLike,
+    shape: tuple[int, int] = (512, 512),
+    *,
+    steps: int | None = None,
+    seed: int | None = None,
+    width: float = 4.0,
+    palette=None,
+    background="#000000",
+    tileable: bool = False,
+    count: int = 1,
+    size: float = 0.9,
+    limit: int = DEFAULT_MODULE_LIMIT,
+) -> np.ndarray:
+    """An L-system texture from any sylva program (parametric, stochastic, any dialect).
+
+    Seed 003's L-system textures with sylva's engine and turtle: the program is derived
+    (``steps``, ``seed`` as in :func:`grow`), interpreted, and its segments drawn by
+    :func:`sylva.texture.lsystem_texture.draw_segments` (see :func:`texture_segments`) in
+    ``palette`` (indexed by the colour index that ``;`` advances; the default runs from
+    bark to leaf over the 8 indices of the abop turtle); ``tileable`` scatters
+    ``count`` copies over a seamless tile.  Leaves and polygons are not drawn.
+
+    Returns
+    -------
+    ndarray, uint8, shape (H, W, 3)
+
+    Examples
+    --------
+    >>> img = plant_texture("axiom = F\nF -> F[+F]F[-F]F", (32, 48), steps=2)
+    >>> img.shape
+    (32, 48, 3)
+    """
+    from .texture.lsystem_texture import draw_segments
+
+    program = resolve(source)
+    if seed is None:
+        seed = program.seed if program.seed is not None else 1
+    d = Derivation(program, seed=seed, limit=limit)
+    d.advance(steps if steps is not None else (program.steps or 0))
+    geometry = interpret(d.render_word(), program, seed=seed)
+    return draw_segments(
+        shape, texture_segments(geometry, width=width),
+        palette=TEXTURE_PALETTE if palette is None else palette, background=background,
+        tileable=tileable, count=count, size=size, seed=seed,
+    )  # fmt: skip

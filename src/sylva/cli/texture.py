@@ -59,6 +59,10 @@ def register(subparsers) -> None:
     p.add_argument("--preset", metavar="FILE", help="load a TOML preset file")
     p.add_argument("--save-preset", metavar="FILE", help="write the parameter set as TOML")
     p.add_argument("--list", action="store_true", help="list texture kinds, presets and maps")
+    p.add_argument("--lsystem", metavar="SOURCE",
+                   help="draw a sylva L-system (a file in any dialect, or an example name, e.g. "
+                        "36-seed003-lstudio-tree) as a 2D line texture; uses --size, --seed, "
+                        "--iterations (derivation steps) and --tileable")
     p.set_defaults(func=run)
 
 
@@ -114,6 +118,8 @@ def run(args: argparse.Namespace) -> int:
     if args.list:
         print(_listing())
         return 0
+    if args.lsystem:
+        return _run_lsystem(args)
     if args.preset:
         recipe = presets.load_preset(args.preset)
         if args.kind and args.kind != recipe["kind"]:
@@ -154,4 +160,22 @@ def run(args: argparse.Namespace) -> int:
     _save_image(out, frames, fps)
     print(f"wrote {out} ({recipe['size'][0]}x{recipe['size'][1]}, {len(frames)} frame"
           f"{'s' if len(frames) != 1 else ''})")
+    return 0
+
+
+def _run_lsystem(args: argparse.Namespace) -> int:
+    from ..plant import plant_texture
+    from ..texture.presets import parse_size
+
+    if args.kind:
+        raise SylvaError("--lsystem draws its own L-system: give it without a KIND")
+    if not args.out:
+        raise SylvaError("give an output file with -o OUT.png")
+    w, h = parse_size(args.size or "512x512")
+    img = plant_texture(args.lsystem, (h, w), steps=args.iterations, seed=args.seed,
+                        tileable=bool(args.tileable), count=4 if args.tileable else 1,
+                        size=0.45 if args.tileable else 0.9)
+    out = Path(args.out)
+    _save_image(out, [img], 24.0)
+    print(f"wrote {out} ({w}x{h}, L-system {args.lsystem})")
     return 0

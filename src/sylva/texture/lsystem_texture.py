@@ -23,6 +23,13 @@ apart), so this module carries its own minimal pipeline for textures:
    ``#``   widen the line by ``width_increment``; ``!`` narrows it
    ``;``   advance the colour index by ``color_increment``
    digits  a count before ``+ - F f B``: ``3+`` is ``+++`` (L-Systems Explorer)
+   ``R``   draw forward by a random length, ``step`` times a seeded uniform factor in
+           ``random_step`` (WWW L-System Explorer, seed 003 §5.9 Table 3)
+   ``<``   descend one nesting level: the step is multiplied by ``step_scale`` and the
+           angle by ``angle_scale`` (the explorer's Δ step and Δ angle); ``>`` ascends
+   ``*``   a big dot (the symbols in ``dot``), ``dot_size`` times the line width, in
+           palette colour ``dot_color``
+   ``_``   place the turtle (the explorer's root marker; nothing to do here)
    ======  ==============================================================
 
    Other symbols are ignored when drawing (they are non-terminals).  Each segment's
@@ -218,7 +225,10 @@ class Segments:
 def turtle(word: str, angle: float, *, generation=None, step: float = 1.0,
            start_angle: float = 90.0, draw: str = "F", move: str = "fG", width: float = 2.0,
            width_factor: float = 1.0, width_increment: float = 0.0, color_start: int = 0,
-           color_increment: int = 1) -> Segments:
+           color_increment: int = 1, random_step: tuple[float, float] = (0.5, 1.5),
+           step_scale: float = 1.0, angle_scale: float = 1.0, dot: str = "",
+           dot_size: float = 3.0, dot_color: int | None = None,
+           seed: int | None = None) -> Segments:
     """Interpret ``word`` with a 2D turtle (see the module notes for the commands).
 
     Parameters
@@ -238,6 +248,16 @@ def turtle(word: str, angle: float, *, generation=None, step: float = 1.0,
         Initial width in pixels; factor per generation; ``#``/``!`` change.
     color_start, color_increment : int
         Palette index of generation 0 and the change per generation (and per ``;``).
+    random_step : (float, float)
+        Range of the factor of an ``R`` step.
+    step_scale, angle_scale : float
+        Factors of the step and the angle per ``<`` level (WWW L-System Explorer's Δ step
+        30 % is ``step_scale=0.7``).
+    dot, dot_size, dot_color : str, float, int or None
+        Symbols drawn as dots, their diameter in line widths, their palette index (None:
+        the colour a segment would have there).
+    seed : int, optional
+        Seed of the ``R`` lengths (``default_rng``; None means 0).
 
     Examples
     --------
@@ -252,8 +272,13 @@ def turtle(word: str, angle: float, *, generation=None, step: float = 1.0,
     x = y = 0.0
     head = math.radians(start_angle)
     turn = math.radians(angle)
+    cur_step = step
     wdelta = 0.0
     cdelta = 0
+    lo, hi = (float(v) for v in random_step)
+    if not (0.0 <= lo <= hi):
+        raise LSystemTextureError(f"random_step must be a range 0 <= lo <= hi, got {random_step}")
+    rng = np.random.default_rng(0 if seed is None else seed)
     stack: list[tuple] = []
     sx: list[float] = []
     sy: list[float] = []
@@ -269,12 +294,13 @@ def turtle(word: str, angle: float, *, generation=None, step: float = 1.0,
             continue
         reps = count or 1
         count = 0
-        if ch in draw or ch in move or ch == "B":
+        if ch in draw or ch in move or ch == "B" or ch == "R":
             sign = -1.0 if ch == "B" else 1.0
             for _ in range(reps):
-                nx = x + sign * step * math.cos(head)
-                ny = y + sign * step * math.sin(head)
-                if ch != "B" and ch in move and ch not in draw:
+                length = cur_step * (rng.uniform(lo, hi) if ch == "R" else 1.0)
+                nx = x + sign * length * math.cos(head)
+                ny = y + sign * length * math.sin(head)
+                if ch not in "BR" and ch in move and ch not in draw:
                     x, y = nx, ny
                     continue
                 g = int(gens[i])
@@ -286,18 +312,35 @@ def turtle(word: str, angle: float, *, generation=None, step: float = 1.0,
                 cs.append(color_start + color_increment * (g + cdelta))
                 gs.append(g)
                 x, y = nx, ny
+        elif ch in dot:
+            g = int(gens[i])
+            sx.append(x)
+            sy.append(y)
+            ex.append(x)
+            ey.append(y)
+            ws.append(max(dot_size * (width * width_factor**g + wdelta), 0.25))
+            cs.append(color_start + color_increment * (g + cdelta) if dot_color is None
+                      else int(dot_color))
+            gs.append(g)
         elif ch == "+":
             head += turn * reps
         elif ch == "-":
             head -= turn * reps
         elif ch == "|":
             head += math.pi
+        elif ch == "<":
+            cur_step *= step_scale
+            turn *= angle_scale
+        elif ch == ">":
+            if step_scale != 0.0 and angle_scale != 0.0:
+                cur_step /= step_scale
+                turn /= angle_scale
         elif ch == "[":
-            stack.append((x, y, head, wdelta, cdelta))
+            stack.append((x, y, head, wdelta, cdelta, cur_step, turn))
         elif ch == "]":
             if not stack:
                 raise LSystemTextureError(f"unbalanced ']' at position {i} of the word")
-            x, y, head, wdelta, cdelta = stack.pop()
+            x, y, head, wdelta, cdelta, cur_step, turn = stack.pop()
         elif ch == "#":
             wdelta += width_increment
         elif ch == "!":
@@ -392,10 +435,13 @@ def lsystem_texture(shape, axiom: str, rules: Mapping, iterations: int, angle: f
                     width_increment: float = 0.0, color_start: int = 0,
                     color_increment: int = 1, palette: Sequence = DEFAULT_PALETTE,
                     background="#000000", tileable: bool = False, count: int = 1,
-                    size: float = 0.9, alpha: bool = False) -> np.ndarray:
+                    size: float = 0.9, alpha: bool = False,
+                    random_step: tuple[float, float] = (0.5, 1.5), step_scale: float = 1.0,
+                    angle_scale: float = 1.0, dot: str = "", dot_size: float = 3.0,
+                    dot_color: int | None = None) -> np.ndarray:
     """Derive an L-system and draw it: :func:`rewrite`, :func:`turtle`, :func:`draw_segments`.
 
-    ``seed`` drives both the stochastic rules and the tileable layout.
+    ``seed`` drives the stochastic rules, the ``R`` step lengths and the tileable layout.
 
     Examples
     --------
@@ -407,7 +453,9 @@ def lsystem_texture(shape, axiom: str, rules: Mapping, iterations: int, angle: f
     word, gen = rewrite(axiom, rules, iterations, seed=seed)
     segs = turtle(word, angle, generation=gen, start_angle=start_angle, draw=draw, move=move,
                   width=width, width_factor=width_factor, width_increment=width_increment,
-                  color_start=color_start, color_increment=color_increment)
+                  color_start=color_start, color_increment=color_increment,
+                  random_step=random_step, step_scale=step_scale, angle_scale=angle_scale,
+                  dot=dot, dot_size=dot_size, dot_color=dot_color, seed=seed)
     return draw_segments(shape, segs, palette=palette, background=background,
                          tileable=tileable, count=count, size=size, seed=seed, alpha=alpha)
 
@@ -437,6 +485,14 @@ LSYSTEM_EXAMPLES: dict[str, dict] = {
                "angle": 8.0, "iterations": 4, "draw": "F", "move": "f",
                "source": "seed 003 §4.8 ex. 6 (L-Systems Explorer plant B; '|' as in that "
                          "tool draws a plain line, here mapped to 'I')"},
+    "lilac": {"axiom": "_*", "rules": {"*": "[+RR<*>][RRRR<*>][-RR<*>]"}, "angle": 30.0,
+              "iterations": 7, "step_scale": 0.7, "angle_scale": 0.9, "dot": "*",
+              "dot_size": 2.5, "dot_color": 7, "width": 2.0, "seed": 60,
+              "palette": ["#4a2f1b", "#5b3a1f", "#6a4a26", "#5c6630", "#4f7a2e", "#5d9b35",
+                          "#7bb342", "#b57edc"],
+              "background": "#f4f1e8",
+              "source": "seed 003 §4.8 ex. 7 (WWW L-System Explorer lilac bush, fig. 60: step "
+                        "30, Δ step 30 %, Δ angle 10 %; R steps by 0.5-1.5 times the step)"},
     "koch": {"axiom": "F--F--F", "rules": {"F": "F+F--F+F"}, "angle": 60.0, "iterations": 4,
              "start_angle": 0.0, "source": "seed 003 §4.6 (Koch snowflake)"},
 }

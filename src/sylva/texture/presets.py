@@ -94,7 +94,8 @@ _KEYS = {
     "ifs": {"system", "points", "gamma"},
     "lsystem": {"example", "axiom", "rules", "iterations", "angle", "start_angle", "draw",
                 "move", "width", "width_factor", "width_increment", "color_start",
-                "color_increment", "palette", "background", "count", "size_fraction"},
+                "color_increment", "palette", "background", "count", "size_fraction",
+                "random_step", "step_scale", "angle_scale", "dot", "dot_size", "dot_color"},
 }
 
 _DEFAULT_CMAP = {"value": "gray", "perlin": "gray", "improved": "gray", "simplex": "gray",
@@ -292,7 +293,10 @@ def _lsystem(r: dict, frame: int | None, frames: int) -> np.ndarray:
     if frame is not None:
         it = min(it, round(frame * it / max(frames - 1, 1)))
     kw = _pick(r, ("start_angle", "draw", "move", "width", "width_factor", "width_increment",
-                   "color_start", "color_increment", "palette", "background", "count"))
+                   "color_start", "color_increment", "palette", "background", "count",
+                   "step_scale", "angle_scale", "dot", "dot_size", "dot_color"))
+    if "random_step" in r:
+        kw["random_step"] = tuple(float(v) for v in r["random_step"])
     if "size_fraction" in r:
         kw["size"] = r["size_fraction"]
     rules = {k: (v if isinstance(v, str) else [tuple(p) for p in v])
