@@ -8,6 +8,11 @@ Measures, after a warm-up that compiles the kernels:
 * ``mesh``: :func:`sylva.geometry.build.build_branches` (continuous tubes, parallel-transport
   frames, mitred shared rings, caps, normals, UVs);
 * segments per second for both together (best of ``--repeat``);
+* ``peer``: the issue's reference, a straightforward vectorised NumPy tube builder
+  (:func:`numpy_tubes`), on the same turtle output, and the ratio to it;
+* ``floor``: allocating and writing, in parallel and without arithmetic, fresh arrays
+  as large as the mesh — on this VM fresh pages cost about twice the writes themselves,
+  so no builder that returns new arrays can beat it;
 * peak memory per triangle: the growth of the process's peak resident set during one
   turtle + mesh run (Linux ``VmHWM`` after resetting it), divided by the triangle count;
   it includes the turtle's records and the finished mesh.
@@ -46,6 +51,36 @@ def plant_word(min_segments: int) -> ModuleString:
     return ModuleString(alphabet, ids)
 
 
+def numpy_tubes(g, d: int):
+    """The issue's reference: a straightforward vectorised NumPy tube builder.
+
+    Every segment gets its own start and end ring (no sharing, no mitres, no caps), with
+    normals, UVs and indices, from NumPy array operations alone."""
+    start, end = g.seg_start, g.seg_end
+    axis = end - start
+    length = np.linalg.norm(axis, axis=1, keepdims=True)
+    axis = axis / length
+    ref = g.seg_ref.astype(np.float64)
+    bin_ = np.cross(axis, ref)
+    ang = np.linspace(0.0, 2.0 * np.pi, d + 1)
+    c, s = np.cos(ang)[None, :, None], np.sin(ang)[None, :, None]
+    ring = c * ref[:, None, :] + s * bin_[:, None, :]  # (n, d+1, 3)
+    r = g.seg_radius.astype(np.float64)
+    v0 = start[:, None, :] + r[:, :1, None] * ring
+    v1 = end[:, None, :] + r[:, 1:, None] * ring
+    verts = np.concatenate([v0, v1], axis=1).astype(np.float32).reshape(-1, 3)
+    normals = np.concatenate([ring, ring], axis=1).astype(np.float32).reshape(-1, 3)
+    u = np.tile(np.linspace(0.0, 1.0, d + 1), 2)
+    v = np.repeat([0.0, 1.0], d + 1)
+    uvs = np.broadcast_to(np.stack([u, v], axis=1), (len(start), 2 * (d + 1), 2))
+    uvs = uvs.astype(np.float32).reshape(-1, 2)
+    j = np.arange(d)
+    quad = np.stack([j, j + 1, d + 1 + j + 1, j, d + 1 + j + 1, d + 1 + j], axis=1).reshape(-1, 3)
+    base = (np.arange(len(start)) * 2 * (d + 1))[:, None, None]
+    idx = (quad[None] + base).astype(np.uint32).reshape(-1, 3)
+    return verts, normals, uvs, idx
+
+
 def run_once(word: ModuleString, detail: int) -> tuple[float, float, int, int, float, float]:
     """Wall and CPU seconds of the turtle and of the mesh, segments and triangles."""
     c0, t0 = time.process_time(), time.perf_counter()
@@ -53,6 +88,7 @@ def run_once(word: ModuleString, detail: int) -> tuple[float, float, int, int, f
     c1, t1 = time.process_time(), time.perf_counter()
     m = build_branches(g, detail=detail)
     c2, t2 = time.process_time(), time.perf_counter()
+    run_once.vertices = m.n_vertices
     return t1 - t0, t2 - t1, g.n_segments, m.n_triangles, c1 - c0, c2 - c1
 
 
@@ -96,11 +132,51 @@ def main(argv=None) -> int:
     tot = tt + tm
     cpu = (ct + cm) * 1e3
     print(f"total:  {tot * 1e3:8.1f} ms  ({n / tot / 1e6:6.2f} M segments/s)  cpu {cpu:7.1f} ms")
+    g = interpret(word, dialect="abop", rot=28.0, thick=0.05, thick_factor=0.85)
+    times = []
+    for _ in range(max(1, args.repeat - 1)):
+        t0 = time.perf_counter()
+        numpy_tubes(g, args.detail)
+        times.append(time.perf_counter() - t0)
+    tn = min(times)
+    print(
+        f"peer:   {tn * 1e3:8.1f} ms  ({n / tn / 1e6:6.2f} M segments/s)  a straightforward "
+        f"vectorised NumPy tube builder, mesh only; sylva's mesh is {tn / tm:.1f}x as fast, "
+        f"turtle + mesh {tn / tot:.1f}x"
+    )
+    floor = fresh_write_floor(tris, run_once.vertices)
+    print(
+        f"floor:  {floor * 1e3:8.1f} ms  writing fresh arrays of the mesh's size in parallel "
+        f"(no arithmetic): turtle + mesh take {tot / floor:.1f}x that"
+    )
+    del g
     if not args.no_memory:
         p = peak_memory(word, args.detail)
         print(f"peak memory: {p['kib'] / 1024:.0f} MiB for {p['triangles']:,} triangles = "
               f"{p['kib'] * 1024 / p['triangles']:.1f} bytes per triangle")  # fmt: skip
     return 0
+
+
+def fresh_write_floor(triangles: int, vertices: int) -> float:
+    """Seconds to allocate and write, on every numba thread, as many bytes as the mesh
+    (positions, normals and UVs of its vertices, indices of its triangles) — best of three."""
+    import numba
+
+    @numba.njit(parallel=True)
+    def fill(a):
+        n = a.shape[0]
+        for c in numba.prange(256):
+            for i in range(c * n // 256, (c + 1) * n // 256):
+                a[i] = 1.0
+
+    words = int(vertices * 8 + triangles * 3)  # 8 float32 per vertex, 3 uint32 per triangle
+    fill(np.empty(16, np.float32))
+    best = float("inf")
+    for _ in range(3):
+        t0 = time.perf_counter()
+        fill(np.empty(words, np.float32))
+        best = min(best, time.perf_counter() - t0)
+    return best
 
 
 def _numba_threads() -> int:
