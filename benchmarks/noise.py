@@ -1,17 +1,28 @@
 """Noise throughput of sylva.texture against FastNoise Lite (pyfastnoiselite), same run.
 
-Run:  .venv/bin/python benchmarks/noise.py [--repeat 7] [--size 1024]
+Run:  .venv/bin/python benchmarks/noise.py [--repeat 11] [--size 1024]
 
 For each case both libraries produce the same number of float32 samples: sylva evaluates a
 regular grid with :func:`sylva.texture.noise_grid`; FastNoise Lite evaluates the same grid's
 coordinates with ``FastNoiseLite.gen_from_coords`` (single-threaded).  sylva runs with
-``numba.set_num_threads(1)`` for the one-core figure and then with every core for the
-speed-up.  Figures are the median of ``--repeat`` runs, in million samples per second.
+``numba.set_num_threads(1)`` for the one-core figure and with every core for the speed-up.
+
+Measurement: ``--repeat`` rounds per case; a round times sylva on one core, FastNoise Lite
+and sylva on all cores back to back (each the best of ``--inner`` calls; the order within a
+round alternates), so that a slow phase of a shared machine hits the three alike.  The
+ratio and the speed-up are the medians of the per-round ratios; the rates are the medians
+of the per-round rates, in million samples per second.
+
+The two-core speed-up of a shared virtual machine varies from moment to moment whatever the
+code (the host decides where the virtual cores run), so every round also times a
+trivially parallel arithmetic kernel on one and on all cores: its median speed-up
+(``machine``) is what the machine gave during that case's rounds.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import statistics
 import time
@@ -23,26 +34,60 @@ from pyfastnoiselite.pyfastnoiselite import FastNoiseLite, FractalType, NoiseTyp
 from sylva.texture import noise_grid
 
 
-def _clock(fn) -> float:
-    t0 = time.perf_counter()
-    fn()
-    return time.perf_counter() - t0
+@numba.njit(parallel=True)
+def _probe_kernel(out):
+    """Arithmetic only, rows in parallel: the machine's own multi-core speed-up."""
+    ny, nx = out.shape
+    for j in numba.prange(ny):
+        for i in range(nx):
+            x = (i + j) * 1e-3
+            acc = 0.0
+            for _ in range(12):
+                acc = acc * 0.5 + x * (x * (x * 0.25 + 0.5) + math.sqrt(x))
+            out[j, i] = acc
 
 
-def _interleaved(ours, peer, repeat: int, cores: int) -> tuple[float, float, float]:
-    """Median times of ours on one core, the peer, and ours on ``cores`` cores, measured
-    in alternation so that a busy machine slows all three alike."""
+_PROBE_OUT = np.empty((1024, 1024), np.float32)
+
+
+def _probe():
+    _probe_kernel(_PROBE_OUT)
+
+
+def _best(fn, inner: int) -> float:
+    best = float("inf")
+    for _ in range(inner):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def _rounds(ours, peer, repeat: int, inner: int, cores: int):
+    """Per-round times: ours on one core, the peer, ours on ``cores`` cores, the probe on
+    one core and on ``cores`` cores."""
     numba.set_num_threads(1)
     ours()  # warm-up (and compile)
     peer()
-    t1, tp, tn = [], [], []
-    for _ in range(repeat):
-        numba.set_num_threads(1)
-        t1.append(_clock(ours))
-        tp.append(_clock(peer))
+    _probe()
+    numba.set_num_threads(cores)
+    ours()
+    _probe()
+    rounds = []
+    try:
+        for r in range(repeat):
+            t = {}
+            order = ["one", "peer", "all", "probe1", "probeN"]
+            if r % 2:
+                order.reverse()
+            for what in order:
+                numba.set_num_threads(1 if what in ("one", "probe1") else cores)
+                fn = _probe if what.startswith("probe") else peer if what == "peer" else ours
+                t[what] = _best(fn, inner)
+            rounds.append((t["one"], t["peer"], t["all"], t["probe1"], t["probeN"]))
+    finally:
         numba.set_num_threads(cores)
-        tn.append(_clock(ours))
-    return statistics.median(t1), statistics.median(tp), statistics.median(tn)
+    return rounds
 
 
 def _fnl(noise_type, octaves: int) -> FastNoiseLite:
@@ -61,9 +106,12 @@ def _fnl(noise_type, octaves: int) -> FastNoiseLite:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--repeat", type=int, default=7)
-    ap.add_argument("--size", type=int, default=1024,
-                    help="2D grid side (3D: 16 x side/4 x side/4)")
+    ap.add_argument("--repeat", type=int, default=11, help="rounds per case")
+    ap.add_argument("--inner", type=int, default=3, help="calls per timing (best is kept)")
+    ap.add_argument(
+        "--size", type=int, default=1024, help="2D grid side (3D: 16 x side/4 x side/4)"
+    )
+    ap.add_argument("--only", default="", help="run the cases whose name contains this")
     args = ap.parse_args(argv)
     n2 = args.size
     shape2 = (n2, n2)
@@ -90,29 +138,46 @@ def main(argv=None) -> int:
         ("2D Worley F1", shape2, "worley", 1, c2, NoiseType.NoiseType_Cellular),
     ]
     ncores = numba.config.NUMBA_NUM_THREADS
-    print(f"sylva.texture vs FastNoise Lite  ({os.cpu_count()} CPUs, numba {numba.__version__},"
-          f" median of {args.repeat}, float32 output, M samples/s)")
+    print(
+        f"sylva.texture vs FastNoise Lite  ({os.cpu_count()} CPUs, numba {numba.__version__},"
+        f" {args.repeat} rounds, float32 output, M samples/s)"
+    )
     print(f"load average before the run: {os.getloadavg()[0]:.2f}")
-    head = (f"{'case':<24}{'samples':>10}{'sylva 1c':>10}{'FNL 1c':>9}{'ratio':>8}"
-            f"{f'sylva {ncores}c':>11}{'speed-up':>10}")
+    head = (
+        f"{'case':<24}{'samples':>10}{'sylva 1c':>10}{'FNL 1c':>9}{'ratio':>8}"
+        f"{f'sylva {ncores}c':>11}{'speed-up':>10}{'machine':>9}{'ratio range':>15}"
+    )
     print(head)
     print("-" * len(head))
     for name, shape, kind, octaves, c, ntype in cases:
+        if args.only.lower() not in name.lower():
+            continue
         count = int(np.prod(shape))
 
         def ours(shape=shape, kind=kind, octaves=octaves):
             return noise_grid(shape, kind=kind, octaves=octaves, scale=scale, seed=1)
 
         fnl = _fnl(ntype, octaves)
-        t1, tf, tn = _interleaved(ours, lambda fnl=fnl, c=c: fnl.gen_from_coords(c),
-                                  args.repeat, ncores)
-        r1 = count / t1 / 1e6
-        rf = count / tf / 1e6
-        rn = count / tn / 1e6
-        print(f"{name:<24}{count:>10}{r1:>10.1f}{rf:>9.1f}{r1 / rf:>7.2f}x{rn:>11.1f}"
-              f"{t1 / tn:>9.2f}x")
-    print("\nratio = sylva one core / FastNoise Lite one core; speed-up = sylva one core time /"
-          f" sylva {ncores} cores time.")
+        rounds = _rounds(
+            ours, lambda fnl=fnl, c=c: fnl.gen_from_coords(c), args.repeat, args.inner, ncores
+        )
+        r1 = statistics.median(count / r[0] / 1e6 for r in rounds)
+        rf = statistics.median(count / r[1] / 1e6 for r in rounds)
+        rn = statistics.median(count / r[2] / 1e6 for r in rounds)
+        ratios = sorted(r[1] / r[0] for r in rounds)
+        speedup = statistics.median(r[0] / r[2] for r in rounds)
+        machine = statistics.median(r[3] / r[4] for r in rounds)
+        print(
+            f"{name:<24}{count:>10}{r1:>10.1f}{rf:>9.1f}{statistics.median(ratios):>7.2f}x"
+            f"{rn:>11.1f}{speedup:>9.2f}x{machine:>8.2f}x{ratios[0]:>8.2f}-{ratios[-1]:.2f}x"
+        )
+    print(f"load average after the run: {os.getloadavg()[0]:.2f}")
+    print(
+        "\nratio = sylva one core / FastNoise Lite one core (median of the rounds; range: the"
+        " rounds' lowest and highest); speed-up = sylva one core time / sylva"
+        f" {ncores} cores time (median of the rounds); machine = the same speed-up of a"
+        " trivially parallel arithmetic kernel, measured in the same rounds."
+    )
     return 0
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from numba import njit, uint64
 
 MASK = 0xFFFFFFFF
 INV32 = 1.0 / 4294967296.0
@@ -112,3 +112,274 @@ def worley(ndim, x, y, z, w, px, py, pz, pw, metric, jitter, seed, needk):
             break
         r += 1
     return f1, f2, f3, hash32(best ^ 0x2545F491) * INV32
+
+
+# Worley combinations (``wpar[1]``)
+W_F1, W_F2, W_F3, W_F2_F1, W_F1_F2SUM, W_F1F2, W_SQRT_F1F2, W_SQRT_F2_F1 = range(8)
+W_INV_F1, W_INV_F2, W_CELL, W_LINEAR = 8, 9, 10, 11
+NEEDK = (1, 2, 3, 2, 2, 2, 2, 2, 1, 2, 1, 3)
+
+
+@njit(cache=True, inline="always")
+def combine(combo, f1, f2, f3, cid, c1, c2, c3):
+    """The Worley output ``combo`` from F1..F3 and the cell id (``c*``: linear weights)."""
+    if combo == W_F1:
+        return f1
+    if combo == W_F2:
+        return f2
+    if combo == W_F3:
+        return f3
+    if combo == W_F2_F1:
+        return f2 - f1
+    if combo == W_F1_F2SUM:
+        return f1 + f2
+    if combo == W_F1F2:
+        return f1 * f2
+    if combo == W_SQRT_F1F2:
+        return math.sqrt(f1 * f2)
+    if combo == W_SQRT_F2_F1:
+        return math.sqrt(f2 - f1)
+    if combo == W_INV_F1:
+        return 1.0 - f1
+    if combo == W_INV_F2:
+        return 1.0 - f2
+    if combo == W_CELL:
+        return cid
+    return c1 * f1 + c2 * f2 + c3 * f3
+
+
+# ----------------------------------------------------------------------------- grids
+# On a grid row (fixed y and z) the samples that share a lattice cell form a run, and every
+# sample of a run has the same 3^d candidate feature points.  Each run takes its candidates
+# from a window of three lattice columns (each column hashed once per row) and updates
+# F1..F3 for all its samples in branch-free loops that vectorise.  The distances use the
+# operations of :func:`worley`, so F1..F3 are the same (they do not depend on the order in
+# which the candidates come); for the nearest cell's id, where the order decides ties, the
+# candidates are visited in the order of :func:`worley`.  A sample whose k-th distance is
+# not provably final after the 3^d neighbourhood is handed to :func:`worley` itself.
+
+
+@njit(cache=True, inline="always")
+def _feature(hs, ndim, ix, iy, iz, px, py, pz, jitter):
+    """Hash and feature point of cell ``(ix, iy[, iz])`` exactly as in :func:`worley`."""
+    h = hash32(hs ^ (_pmod(ix, px) & MASK))
+    h = hash32(h ^ (_pmod(iy, py) & MASK))
+    if ndim >= 3:
+        h = hash32(h ^ (_pmod(iz, pz) & MASK))
+    fx = ix + 0.5 + jitter * (hash32(h ^ 0x68E31DA4) * INV32 - 0.5)
+    fy = iy + 0.5 + jitter * (hash32(h ^ 0xB5297A4D) * INV32 - 0.5)
+    fz = 0.0
+    if ndim >= 3:
+        fz = iz + 0.5 + jitter * (hash32(h ^ 0x1B56C4E9) * INV32 - 0.5)
+    return h, fx, fy, fz
+
+
+@njit(cache=True, inline="always")
+def _dist(metric, ddx, cy2, cz2, cy, cz):
+    """The distance of :func:`worley` from the x offset and the precomputed y/z parts
+    (squared ``cy2, cz2`` or absolute ``cy, cz``; zero in 2D, where adding them changes
+    nothing)."""
+    if metric == MANHATTAN:
+        return abs(ddx) + cy + cz
+    if metric == CHEBYSHEV:
+        return max(max(abs(ddx), cy), cz)
+    d = ddx * ddx + cy2 + cz2
+    return math.sqrt(d) if metric == EUCLIDEAN else d
+
+
+@njit(cache=True, inline="always")
+def _keep(d, o1, o2, o3):
+    """F1 <= F2 <= F3 after offering distance ``d``: the branches of :func:`worley` as
+    selects (equal values in every case, ties included)."""
+    return min(d, o1), o1 if d < o1 else min(d, o2), o2 if d < o2 else min(d, o3)
+
+
+@njit(cache=True, inline="always")
+def _dist_sel(metric, ddx, cy2, cz2, cy, cz):
+    """:func:`_dist` for the metrics without a square root, all three computed and one
+    selected: no branch in the loop, so it vectorises without a copy per metric."""
+    a = abs(ddx)
+    l1 = a + cy + cz
+    li = max(max(a, cy), cz)
+    sq = ddx * ddx + cy2 + cz2
+    return l1 if metric == MANHATTAN else (li if metric == CHEBYSHEV else sq)
+
+
+@njit(cache=True)
+def worley_row(
+    ndim,
+    xs,
+    fx,
+    ox,
+    y,
+    z,
+    px,
+    py,
+    pz,
+    metric,
+    jitter,
+    seed,
+    combo,
+    c1,
+    c2,
+    c3,
+    xb,
+    f1,
+    f2,
+    f3,
+    best,
+    nb,
+    win,
+    winh,
+    slot,
+):
+    """Worley output ``combo`` along one grid row into ``nb[:nx]``: the samples
+    ``x = xs[i] * fx + ox`` at fixed ``y`` (and ``z`` when ``ndim == 3``).
+
+    ``win`` (5, 3, 9), ``winh`` (3, 9) and ``slot`` (3,) are work space: a window of three
+    lattice columns (column ``c`` in slot ``c % 3``) holding their candidate feature points
+    (x, squared and absolute y and z offsets, hash), so neighbouring runs share them.
+    """
+    nx = xs.shape[0]
+    hs = hash32(seed)
+    needk = NEEDK[combo]
+    # only the cell id needs the nearest point's hash; without it Euclidean distances are
+    # compared squared and rooted at the end (sqrt is monotonic, so the k-th smallest root
+    # is the root of the k-th smallest square: F1..F3 come out the same)
+    track = combo == W_CELL
+    dmetric = EUCLIDEAN_SQ if metric == EUCLIDEAN and not track else metric
+    cyf = math.floor(y)
+    icy = int(cyf)
+    czf = math.floor(z) if ndim >= 3 else 0.0
+    icz = int(czf)
+    rz = 1 if ndim >= 3 else 0
+    n3 = 3 if ndim >= 3 else 1  # groups of three candidates per column
+    # the y and z parts of the gap to unexamined cells are the same for the whole row
+    gyz = min(y - cyf + 1, 2 - (y - cyf))
+    if ndim >= 3:
+        gyz = min(gyz, min(z - czf + 1, 2 - (z - czf)))
+    for i in range(nx):
+        xb[i] = xs[i] * fx + ox
+        f1[i] = math.inf
+        f2[i] = math.inf
+        f3[i] = math.inf
+        best[i] = 0
+    for s in range(3):  # an empty window: a column the first run cannot ask for
+        slot[s] = math.floor(xb[0]) + 5
+    a = 0
+    while a < nx:
+        icx = math.floor(xb[a])
+        b = a + 1
+        while b < nx and math.floor(xb[b]) == icx:
+            b += 1
+        for dx in range(-1, 2):
+            ic = icx + dx
+            s = ic % 3
+            if slot[s] != ic:
+                slot[s] = ic
+                e = 0
+                for dz in range(-rz, rz + 1):
+                    for dy in range(-1, 2):
+                        h, fpx, fpy, fpz = _feature(
+                            hs, ndim, ic, icy + dy, icz + dz, px, py, pz, jitter
+                        )
+                        ddy = fpy - y
+                        ddz = fpz - z if ndim >= 3 else 0.0
+                        win[0, s, e] = fpx
+                        win[1, s, e] = ddy * ddy
+                        win[2, s, e] = ddz * ddz
+                        win[3, s, e] = abs(ddy)
+                        win[4, s, e] = abs(ddz)
+                        winh[s, e] = h
+                        e += 1
+        n = b - a
+        ua = uint64(a)  # unsigned indices: no negative-index wrap-around, the loops vectorise
+        if track:  # F1 and the nearest hash; the order of worley() decides ties
+            for e in range(3 * n3):  # dz, dy outer
+                for dx in range(-1, 2):  # dx inner
+                    s = (icx + dx) % 3
+                    cx = win[0, s, e]
+                    cy2 = win[1, s, e]
+                    cz2 = win[2, s, e]
+                    cy = win[3, s, e]
+                    cz = win[4, s, e]
+                    ch = winh[s, e]
+                    for q in range(n):
+                        p = ua + uint64(q)
+                        d = _dist(dmetric, cx - xb[p], cy2, cz2, cy, cz)
+                        o1 = f1[p]
+                        f1[p] = min(d, o1)
+                        best[p] = ch if d < o1 else best[p]
+            a = b
+            continue
+        # F1..F3 do not depend on the order of the candidates: three at a time
+        for dx in range(-1, 2):
+            s = (icx + dx) % 3
+            for g in range(n3):
+                e = 3 * g
+                cx0 = win[0, s, e]
+                cx1 = win[0, s, e + 1]
+                cx2 = win[0, s, e + 2]
+                cy20 = win[1, s, e]
+                cy21 = win[1, s, e + 1]
+                cy22 = win[1, s, e + 2]
+                cz20 = win[2, s, e]
+                cz21 = win[2, s, e + 1]
+                cz22 = win[2, s, e + 2]
+                cy0 = win[3, s, e]
+                cy1 = win[3, s, e + 1]
+                cy2 = win[3, s, e + 2]
+                cz0 = win[4, s, e]
+                cz1 = win[4, s, e + 1]
+                cz2 = win[4, s, e + 2]
+                if needk == 1:
+                    for q in range(n):
+                        p = ua + uint64(q)
+                        x = xb[p]
+                        d0 = _dist_sel(dmetric, cx0 - x, cy20, cz20, cy0, cz0)
+                        d1 = _dist_sel(dmetric, cx1 - x, cy21, cz21, cy1, cz1)
+                        d2 = _dist_sel(dmetric, cx2 - x, cy22, cz22, cy2, cz2)
+                        f1[p] = min(d2, min(d1, min(d0, f1[p])))
+                else:  # F1..F3 (F3 is not needed for needk 2, but costs little)
+                    for q in range(n):
+                        p = ua + uint64(q)
+                        x = xb[p]
+                        o1, o2, o3 = _keep(
+                            _dist_sel(dmetric, cx0 - x, cy20, cz20, cy0, cz0), f1[p], f2[p], f3[p]
+                        )
+                        o1, o2, o3 = _keep(
+                            _dist_sel(dmetric, cx1 - x, cy21, cz21, cy1, cz1), o1, o2, o3
+                        )
+                        o1, o2, o3 = _keep(
+                            _dist_sel(dmetric, cx2 - x, cy22, cz22, cy2, cz2), o1, o2, o3
+                        )
+                        f1[p] = o1
+                        f2[p] = o2
+                        f3[p] = o3
+        a = b
+    if dmetric != metric:
+        for i in range(nx):
+            f1[i] = math.sqrt(f1[i])
+            f2[i] = math.sqrt(f2[i])
+            f3[i] = math.sqrt(f3[i])
+    # F1..F3 of the 3^d neighbourhood are final where the k-th distance is within the gap
+    # to the unexamined cells (as in worley()); elsewhere (flag 1 in nb) the full search
+    for i in range(nx):
+        x = xb[i]
+        cxf = math.floor(x)
+        gap = min(min(x - cxf + 1, 2 - (x - cxf)), gyz)
+        if metric == EUCLIDEAN_SQ:
+            gap = gap * gap
+        fk = f1[i] if needk <= 1 else (f2[i] if needk == 2 else f3[i])
+        nb[i] = 0.0 if fk <= gap else 1.0
+    if combo == W_CELL:
+        for i in range(nx):
+            f1[i] = hash32(best[i] ^ 0x2545F491) * INV32
+    for i in range(nx):
+        if nb[i] != 0.0:
+            r1, r2, r3, cid = worley(
+                ndim, xb[i], y, z, 0.0, px, py, pz, 0, metric, jitter, seed, needk
+            )
+            nb[i] = combine(combo, r1, r2, r3, cid, c1, c2, c3)
+        else:
+            nb[i] = combine(combo, f1[i], f2[i], f3[i], f1[i], c1, c2, c3)

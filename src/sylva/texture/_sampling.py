@@ -9,12 +9,7 @@ import numpy as np
 from numba import njit, prange
 
 from . import _kernels as k
-from ._cellkernels import worley
-
-# Worley combinations (``wpar[1]``)
-W_F1, W_F2, W_F3, W_F2_F1, W_F1_F2SUM, W_F1F2, W_SQRT_F1F2, W_SQRT_F2_F1 = range(8)
-W_INV_F1, W_INV_F2, W_CELL, W_LINEAR = 8, 9, 10, 11
-_NEEDK = (1, 2, 3, 2, 2, 2, 2, 2, 1, 2, 1, 3)
+from ._cellkernels import NEEDK, combine, worley
 
 # a direction for time in the 4D torus embedding of tileable simplex (unit length)
 _TD = (0.3872983346207417, -0.5477225575051661, 0.4472135954999579, 0.5916079783099616)
@@ -48,36 +43,35 @@ def noise_at(kind, ndim, x, y, z, w, px, py, pz, pw, interp, perm, perm12, vals,
             return k.value3(x, y, z, px, py, pz, interp, perm, vals)
         return k.value4(x, y, z, w, px, py, pz, pw, interp, perm, vals)
     combo = int(wpar[1])
-    f1, f2, f3, cid = worley(ndim, x, y, z, w, px, py, pz, pw, int(wpar[0]), wpar[2],
-                             int(wpar[3]), _NEEDK[combo])
-    if combo == W_F1:
-        return f1
-    if combo == W_F2:
-        return f2
-    if combo == W_F3:
-        return f3
-    if combo == W_F2_F1:
-        return f2 - f1
-    if combo == W_F1_F2SUM:
-        return f1 + f2
-    if combo == W_F1F2:
-        return f1 * f2
-    if combo == W_SQRT_F1F2:
-        return math.sqrt(f1 * f2)
-    if combo == W_SQRT_F2_F1:
-        return math.sqrt(f2 - f1)
-    if combo == W_INV_F1:
-        return 1.0 - f1
-    if combo == W_INV_F2:
-        return 1.0 - f2
-    if combo == W_CELL:
-        return cid
-    return wpar[4] * f1 + wpar[5] * f2 + wpar[6] * f3
+    f1, f2, f3, cid = worley(
+        ndim, x, y, z, w, px, py, pz, pw, int(wpar[0]), wpar[2], int(wpar[3]), NEEDK[combo]
+    )
+    return combine(combo, f1, f2, f3, cid, wpar[4], wpar[5], wpar[6])
 
 
 @njit(cache=True)
-def fractal_at(kind, mode, ndim, x, y, z, w, torus, freqs, amps, offs, pers, interp,
-               perm, perm12, vals, cg, wpar, norm, gain):
+def fractal_at(
+    kind,
+    mode,
+    ndim,
+    x,
+    y,
+    z,
+    w,
+    torus,
+    freqs,
+    amps,
+    offs,
+    pers,
+    interp,
+    perm,
+    perm12,
+    vals,
+    cg,
+    wpar,
+    norm,
+    gain,
+):
     """Sum of octaves at one point.
 
     Octave ``o`` samples ``noise(freqs[o] * p + offs[o])`` (per-axis frequencies) with
@@ -94,15 +88,32 @@ def fractal_at(kind, mode, ndim, x, y, z, w, torus, freqs, amps, offs, pers, int
             rx = pers[o, 0] / k.TWO_PI
             ry = pers[o, 1] / k.TWO_PI
             tz = z * freqs[o, 2] if ndim >= 3 else 0.0
-            n = k.simplex4(rx * math.cos(x) + offs[o, 0] + tz * _TD[0],
-                           rx * math.sin(x) + offs[o, 1] + tz * _TD[1],
-                           ry * math.cos(y) + offs[o, 2] + tz * _TD[2],
-                           ry * math.sin(y) + offs[o, 3] + tz * _TD[3], perm)
+            n = k.simplex4(
+                rx * math.cos(x) + offs[o, 0] + tz * _TD[0],
+                rx * math.sin(x) + offs[o, 1] + tz * _TD[1],
+                ry * math.cos(y) + offs[o, 2] + tz * _TD[2],
+                ry * math.sin(y) + offs[o, 3] + tz * _TD[3],
+                perm,
+            )
         else:
-            n = noise_at(kind, ndim, x * freqs[o, 0] + offs[o, 0], y * freqs[o, 1] + offs[o, 1],
-                         z * freqs[o, 2] + offs[o, 2], w * freqs[o, 3] + offs[o, 3],
-                         int(pers[o, 0]), int(pers[o, 1]), int(pers[o, 2]), int(pers[o, 3]),
-                         interp, perm, perm12, vals, cg, wpar)
+            n = noise_at(
+                kind,
+                ndim,
+                x * freqs[o, 0] + offs[o, 0],
+                y * freqs[o, 1] + offs[o, 1],
+                z * freqs[o, 2] + offs[o, 2],
+                w * freqs[o, 3] + offs[o, 3],
+                int(pers[o, 0]),
+                int(pers[o, 1]),
+                int(pers[o, 2]),
+                int(pers[o, 3]),
+                interp,
+                perm,
+                perm12,
+                vals,
+                cg,
+                wpar,
+            )
         if mode == k.FBM:
             total += amps[o] * n
         elif mode == k.TURBULENCE:
@@ -117,8 +128,30 @@ def fractal_at(kind, mode, ndim, x, y, z, w, torus, freqs, amps, offs, pers, int
 
 
 @njit(cache=True, parallel=True)
-def generic_kernel(points, kind, mode, ndim, xs, ys, zs, ws, out, torus, freqs, amps, offs,
-                   pers, interp, perm, perm12, vals, cg, wpar, norm, gain):
+def generic_kernel(
+    points,
+    kind,
+    mode,
+    ndim,
+    xs,
+    ys,
+    zs,
+    ws,
+    out,
+    torus,
+    freqs,
+    amps,
+    offs,
+    pers,
+    interp,
+    perm,
+    perm12,
+    vals,
+    cg,
+    wpar,
+    norm,
+    gain,
+):
     """Fill ``out[nw, nz, ny, nx]`` with the fractal sum, rows in parallel.
 
     Grid mode: the product grid of the axes ``xs[nx], ys[ny], zs[nz], ws[nw]``.
@@ -142,27 +175,93 @@ def generic_kernel(points, kind, mode, ndim, xs, ys, zs, ws, out, torus, freqs, 
                 y = ys[iy]
                 z = zs[iz]
                 w = ws[iw]
-            out[iw, iz, iy, ix] = fractal_at(kind, mode, ndim, x, y, z, w, torus, freqs, amps,
-                                             offs, pers, interp, perm, perm12, vals, cg, wpar,
-                                             norm, gain)
+            out[iw, iz, iy, ix] = fractal_at(
+                kind,
+                mode,
+                ndim,
+                x,
+                y,
+                z,
+                w,
+                torus,
+                freqs,
+                amps,
+                offs,
+                pers,
+                interp,
+                perm,
+                perm12,
+                vals,
+                cg,
+                wpar,
+                norm,
+                gain,
+            )
 
 
-CHUNK = 2048
+CHUNK = 2048  # points per parallel row, at most
 
 
-def run_points(kind, mode, ndim, px, py, pz, pw, freqs, amps, offs, pers, interp, perm, perm12,
-               vals, cg, wpar, norm, gain):
-    """The fractal sum at ``n`` points (float64 arrays of equal length); returns (n,)."""
+def run_points(
+    kind,
+    mode,
+    ndim,
+    px,
+    py,
+    pz,
+    pw,
+    freqs,
+    amps,
+    offs,
+    pers,
+    interp,
+    perm,
+    perm12,
+    vals,
+    cg,
+    wpar,
+    norm,
+    gain,
+):
+    """The fractal sum at ``n`` points (float64 arrays of equal length); returns (n,).
+
+    The points are cut into rows of at most :data:`CHUNK` of equal length, padded by fewer
+    than one point per row (a single point costs one evaluation, not a whole row).
+    """
     n = px.shape[0]
     rows = max(1, -(-n // CHUNK))
-    size = rows * CHUNK
+    chunk = max(1, -(-n // rows))
+    size = rows * chunk
     coords = []
     for c in (px, py, pz, pw):
-        padded = np.zeros(size)
-        padded[:n] = c
-        coords.append(padded)
-    out = np.empty((1, 1, rows, CHUNK))
-    generic_kernel(True, kind, mode, ndim, coords[0], coords[1], coords[2], coords[3], out,
-                   False, freqs, amps, offs, pers, interp, perm, perm12, vals, cg, wpar, norm,
-                   gain)
+        if size != n:
+            padded = np.zeros(size)
+            padded[:n] = c
+            c = padded
+        coords.append(c)
+    out = np.empty((1, 1, rows, chunk))
+    generic_kernel(
+        True,
+        kind,
+        mode,
+        ndim,
+        coords[0],
+        coords[1],
+        coords[2],
+        coords[3],
+        out,
+        False,
+        freqs,
+        amps,
+        offs,
+        pers,
+        interp,
+        perm,
+        perm12,
+        vals,
+        cg,
+        wpar,
+        norm,
+        gain,
+    )
     return out.reshape(-1)[:n]

@@ -33,11 +33,13 @@ itself is always computed in float64.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from ..errors import SylvaError
@@ -73,6 +75,7 @@ class NoiseError(SylvaError, ValueError):
     """Invalid noise parameters (unknown kind, bad octave count, unsupported tiling …)."""
 
 
+# fmt: off
 REFERENCE_PERMUTATION = np.array(
     [151, 160, 137, 91, 90, 15, 131, 13, 201, 95, 96, 53, 194, 233, 7, 225, 140, 36, 103, 30,
      69, 142, 8, 99, 37, 240, 21, 10, 23, 190, 6, 148, 247, 120, 234, 75, 0, 26, 197, 62, 94,
@@ -89,10 +92,16 @@ REFERENCE_PERMUTATION = np.array(
      138, 236, 205, 93, 222, 114, 67, 29, 24, 72, 243, 141, 128, 195, 78, 66, 215, 61, 156, 180],
     dtype=np.int32,
 )
+# fmt: on
 REFERENCE_PERMUTATION.setflags(write=False)
 
-KINDS = {"value": _k.VALUE, "perlin": _k.PERLIN, "improved": _k.IMPROVED,
-         "simplex": _k.SIMPLEX, "worley": _k.WORLEY}
+KINDS = {
+    "value": _k.VALUE,
+    "perlin": _k.PERLIN,
+    "improved": _k.IMPROVED,
+    "simplex": _k.SIMPLEX,
+    "worley": _k.WORLEY,
+}
 """Noise kinds by name: value, classic Perlin (1985), improved Perlin (2002), simplex, Worley."""
 
 INTERPOLATIONS = {"linear": 0, "cosine": 1, "cubic": 2, "quintic": 3}
@@ -104,14 +113,30 @@ FRACTALS = {"fbm": _k.FBM, "turbulence": _k.TURBULENCE, "ridged": _k.RIDGED}
 METRICS = {"euclidean": 0, "manhattan": 1, "chebyshev": 2, "euclidean2": 3}
 """Worley distance metrics (``euclidean2`` is the squared Euclidean distance)."""
 
-WORLEY_OUTPUTS = {"f1": 0, "f2": 1, "f3": 2, "f2-f1": 3, "f1+f2": 4, "f1*f2": 5,
-                  "sqrt(f1*f2)": 6, "sqrt(f2-f1)": 7, "1-f1": 8, "1-f2": 9, "cell": 10,
-                  "linear": 11}
+WORLEY_OUTPUTS = {
+    "f1": 0,
+    "f2": 1,
+    "f3": 2,
+    "f2-f1": 3,
+    "f1+f2": 4,
+    "f1*f2": 5,
+    "sqrt(f1*f2)": 6,
+    "sqrt(f2-f1)": 7,
+    "1-f1": 8,
+    "1-f2": 9,
+    "cell": 10,
+    "linear": 11,
+}
 """Worley outputs: distances F1..F3, the combinations of seed 003, the nearest cell's id in
 [0, 1) (``cell``), and ``linear`` = c1*F1 + c2*F2 + c3*F3 (``coefficients``)."""
 
-_DEFAULT_INTERP = {"value": "quintic", "perlin": "cubic", "improved": "quintic",
-                   "simplex": "quintic", "worley": "quintic"}
+_DEFAULT_INTERP = {
+    "value": "quintic",
+    "perlin": "cubic",
+    "improved": "quintic",
+    "simplex": "quintic",
+    "worley": "quintic",
+}
 # per-octave coordinate offsets decorrelate octaves (octave 0 is not moved)
 _OCTAVE_SHIFT = np.array([37.1934, 17.3871, 53.7159, 29.9173])
 
@@ -171,6 +196,35 @@ def noise_tables(seed: int | None = None) -> NoiseTables:
     return out
 
 
+# below this many samples x octaves a call runs on one thread: waking the other threads of
+# numba's pool costs more than the work (milliseconds when the other cores are busy)
+_SERIAL_WORK = 1 << 16
+
+
+@contextlib.contextmanager
+def _threads(work):
+    """Run the block's kernels on the calling thread alone when ``work`` is small, else on
+    all threads with dynamic scheduling: the parallel loops hand out their iterations
+    (blocks of rows) one at a time, so a thread on a busier core takes fewer of them.
+    Both settings are local to the calling thread and restored afterwards."""
+    before = numba.get_num_threads()
+    if before == 1:
+        yield
+        return
+    if work >= _SERIAL_WORK:
+        chunk = numba.set_parallel_chunksize(1)
+        try:
+            yield
+        finally:
+            numba.set_parallel_chunksize(chunk)
+        return
+    numba.set_num_threads(1)
+    try:
+        yield
+    finally:
+        numba.set_num_threads(before)
+
+
 # ----------------------------------------------------------------------------- validation
 def _check_seed(seed):
     if seed is None:
@@ -186,9 +240,7 @@ def _lookup(table: dict, name, what: str) -> int:
     try:
         return table[str(name).lower()]
     except KeyError:
-        raise NoiseError(
-            f"unknown {what} {name!r}; expected one of: {', '.join(table)}"
-        ) from None
+        raise NoiseError(f"unknown {what} {name!r}; expected one of: {', '.join(table)}") from None
 
 
 def _dtype(dtype):
@@ -218,8 +270,15 @@ class _Setup:
     wpar: np.ndarray
 
 
-def _setup(kind, seed, interpolation, output="f1", metric="euclidean", jitter=1.0,
-           coefficients=(1.0, 0.0, 0.0)) -> _Setup:
+def _setup(
+    kind,
+    seed,
+    interpolation,
+    output="f1",
+    metric="euclidean",
+    jitter=1.0,
+    coefficients=(1.0, 0.0, 0.0),
+) -> _Setup:
     kname = str(kind).lower()
     kid = _lookup(KINDS, kname, "noise kind")
     interp = _lookup(INTERPOLATIONS, interpolation or _DEFAULT_INTERP[kname], "interpolation")
@@ -230,8 +289,16 @@ def _setup(kind, seed, interpolation, output="f1", metric="euclidean", jitter=1.
         raise NoiseError("coefficients must be three numbers (for F1, F2, F3)")
     seed = _check_seed(seed)
     wseed = 0 if seed is None else seed & 0xFFFFFFFF
-    wpar = np.array([_lookup(METRICS, metric, "metric"), _lookup(WORLEY_OUTPUTS, output,
-                     "Worley output"), float(jitter), wseed, *c], dtype=np.float64)
+    wpar = np.array(
+        [
+            _lookup(METRICS, metric, "metric"),
+            _lookup(WORLEY_OUTPUTS, output, "Worley output"),
+            float(jitter),
+            wseed,
+            *c,
+        ],
+        dtype=np.float64,
+    )
     return _Setup(kid, interp, noise_tables(seed), wpar)
 
 
@@ -276,8 +343,22 @@ def _coords(x, y, z, w):
     return len(cs), flat, shape, scalar
 
 
-def _run_points(setup, mode, x, y, z, w, octaves, persistence, lacunarity, frequency, period,
-                normalize, gain, dtype):
+def _run_points(
+    setup,
+    mode,
+    x,
+    y,
+    z,
+    w,
+    octaves,
+    persistence,
+    lacunarity,
+    frequency,
+    period,
+    normalize,
+    gain,
+    dtype,
+):
     ndim, flat, shape, scalar = _coords(x, y, z, w)
     octaves, persistence, lacunarity = _octave_params(octaves, persistence, lacunarity)
     base = _periods(period, ndim, setup.kind)
@@ -300,9 +381,28 @@ def _run_points(setup, mode, x, y, z, w, octaves, persistence, lacunarity, frequ
     norm = 1.0 / amps.sum() if (normalize and mode != -1) else 1.0
     dt = np.float64 if scalar else _dtype(dtype)
     t = setup.tables
-    out = _s.run_points(setup.kind, max(mode, 0), ndim, flat[0], flat[1], flat[2], flat[3],
-                        freqs, amps, offs, pers, setup.interp, t.perm, t.perm12, t.values,
-                        t.gradients, setup.wpar, norm, float(gain))
+    with _threads(flat[0].shape[0] * octaves):
+        out = _s.run_points(
+            setup.kind,
+            max(mode, 0),
+            ndim,
+            flat[0],
+            flat[1],
+            flat[2],
+            flat[3],
+            freqs,
+            amps,
+            offs,
+            pers,
+            setup.interp,
+            t.perm,
+            t.perm12,
+            t.values,
+            t.gradients,
+            setup.wpar,
+            norm,
+            float(gain),
+        )
     if scalar:
         return float(out[0])
     return out.astype(dt, copy=False).reshape(shape)
@@ -319,8 +419,9 @@ def _single(kind, x, y, z, w, seed, interpolation, period, dtype, **cell):
     return _run_points(setup, -1, x, y, z, w, 1, 0.5, 2.0, 1.0, period, False, 2.0, dtype)
 
 
-def value_noise(x, y, z=None, w=None, *, seed=None, interpolation="quintic", period=None,
-                dtype=None):
+def value_noise(
+    x, y, z=None, w=None, *, seed=None, interpolation="quintic", period=None, dtype=None
+):
     """Value noise: random values at lattice points, interpolated.
 
     Parameters
@@ -364,8 +465,9 @@ def perlin(x, y, z=None, w=None, *, seed=None, interpolation="cubic", period=Non
     return _single("perlin", x, y, z, w, seed, interpolation, period, dtype)
 
 
-def improved_perlin(x, y, z=None, w=None, *, seed=None, interpolation="quintic", period=None,
-                    dtype=None):
+def improved_perlin(
+    x, y, z=None, w=None, *, seed=None, interpolation="quintic", period=None, dtype=None
+):
     """Improved Perlin noise (2002): 12 edge gradients, quintic fade.
 
     With ``seed=None`` the 3D noise is bit-exact with Perlin's reference ``ImprovedNoise``;
@@ -393,8 +495,20 @@ def simplex(x, y, z=None, w=None, *, seed=None, dtype=None):
     return _single("simplex", x, y, z, w, seed, None, None, dtype)
 
 
-def worley(x, y, z=None, w=None, *, seed=None, output="f1", metric="euclidean", jitter=1.0,
-           coefficients=(1.0, 0.0, 0.0), period=None, dtype=None):
+def worley(
+    x,
+    y,
+    z=None,
+    w=None,
+    *,
+    seed=None,
+    output="f1",
+    metric="euclidean",
+    jitter=1.0,
+    coefficients=(1.0, 0.0, 0.0),
+    period=None,
+    dtype=None,
+):
     """Worley cellular noise (1996): distances to the nearest feature points.
 
     One feature point per unit cell at ``cell + 0.5 + jitter * (u - 0.5)`` with ``u``
@@ -420,12 +534,26 @@ def worley(x, y, z=None, w=None, *, seed=None, output="f1", metric="euclidean", 
     >>> worley(0.5, 0.5, jitter=0.0)
     0.0
     """
-    return _single("worley", x, y, z, w, seed, None, period, dtype, output=output,
-                   metric=metric, jitter=jitter, coefficients=coefficients)
+    return _single(
+        "worley",
+        x,
+        y,
+        z,
+        w,
+        seed,
+        None,
+        period,
+        dtype,
+        output=output,
+        metric=metric,
+        jitter=jitter,
+        coefficients=coefficients,
+    )
 
 
-def worley_features(x, y, z=None, w=None, *, seed=None, metric="euclidean", jitter=1.0,
-                    period=None, dtype=None):
+def worley_features(
+    x, y, z=None, w=None, *, seed=None, metric="euclidean", jitter=1.0, period=None, dtype=None
+):
     """F1, F2, F3 and the cell id at once, as a tuple of four arrays (see :func:`worley`).
 
     Examples
@@ -434,8 +562,21 @@ def worley_features(x, y, z=None, w=None, *, seed=None, metric="euclidean", jitt
     >>> bool((f1 <= f2).all() and (f2 <= f3).all())
     True
     """
-    return tuple(worley(x, y, z, w, seed=seed, output=o, metric=metric, jitter=jitter,
-                        period=period, dtype=dtype) for o in ("f1", "f2", "f3", "cell"))
+    return tuple(
+        worley(
+            x,
+            y,
+            z,
+            w,
+            seed=seed,
+            output=o,
+            metric=metric,
+            jitter=jitter,
+            period=period,
+            dtype=dtype,
+        )
+        for o in ("f1", "f2", "f3", "cell")
+    )
 
 
 # ----------------------------------------------------------------------------- fractal sums
@@ -469,64 +610,181 @@ _FRACTAL_DOC = """
 """
 
 
-def fbm(x, y, z=None, w=None, *, kind="improved", octaves=6, persistence=0.5, lacunarity=2.0,
-        frequency=1.0, seed=None, interpolation=None, period=None, normalize=True,
-        output="f1", metric="euclidean", jitter=1.0, dtype=None):
+def fbm(
+    x,
+    y,
+    z=None,
+    w=None,
+    *,
+    kind="improved",
+    octaves=6,
+    persistence=0.5,
+    lacunarity=2.0,
+    frequency=1.0,
+    seed=None,
+    interpolation=None,
+    period=None,
+    normalize=True,
+    output="f1",
+    metric="euclidean",
+    jitter=1.0,
+    dtype=None,
+):
     setup = _setup(kind, seed, interpolation, output, metric, jitter)
-    return _run_points(setup, _k.FBM, x, y, z, w, octaves, persistence, lacunarity, frequency,
-                       period, normalize, 2.0, dtype)
+    return _run_points(
+        setup,
+        _k.FBM,
+        x,
+        y,
+        z,
+        w,
+        octaves,
+        persistence,
+        lacunarity,
+        frequency,
+        period,
+        normalize,
+        2.0,
+        dtype,
+    )
 
 
-fbm.__doc__ = """Fractional Brownian motion: ``sum_i persistence**i * noise(lacunarity**i * f * p)``
+fbm.__doc__ = (
+    """Fractional Brownian motion: ``sum_i persistence**i * noise(lacunarity**i * f * p)``
     (seed 003 §4.2: frequency 2^i, amplitude persistence^i for lacunarity 2).
-""" + _FRACTAL_DOC + """
+"""
+    + _FRACTAL_DOC
+    + """
     Examples
     --------
     >>> float(abs(fbm(0.3, 0.6, octaves=4))) <= 1.0
     True
     """
+)
 
 
-def turbulence(x, y, z=None, w=None, *, kind="improved", octaves=6, persistence=0.5,
-               lacunarity=2.0, frequency=1.0, seed=None, interpolation=None, period=None,
-               normalize=True, output="f1", metric="euclidean", jitter=1.0, dtype=None):
+def turbulence(
+    x,
+    y,
+    z=None,
+    w=None,
+    *,
+    kind="improved",
+    octaves=6,
+    persistence=0.5,
+    lacunarity=2.0,
+    frequency=1.0,
+    seed=None,
+    interpolation=None,
+    period=None,
+    normalize=True,
+    output="f1",
+    metric="euclidean",
+    jitter=1.0,
+    dtype=None,
+):
     setup = _setup(kind, seed, interpolation, output, metric, jitter)
-    return _run_points(setup, _k.TURBULENCE, x, y, z, w, octaves, persistence, lacunarity,
-                       frequency, period, normalize, 2.0, dtype)
+    return _run_points(
+        setup,
+        _k.TURBULENCE,
+        x,
+        y,
+        z,
+        w,
+        octaves,
+        persistence,
+        lacunarity,
+        frequency,
+        period,
+        normalize,
+        2.0,
+        dtype,
+    )
 
 
-turbulence.__doc__ = """Perlin's turbulence: ``sum_i persistence**i * |noise(lacunarity**i f p)|``.
-""" + _FRACTAL_DOC + """
+turbulence.__doc__ = (
+    """Perlin's turbulence: ``sum_i persistence**i * |noise(lacunarity**i f p)|``.
+"""
+    + _FRACTAL_DOC
+    + """
     Examples
     --------
     >>> float(turbulence(0.3, 0.6)) >= 0.0
     True
     """
+)
 
 
-def ridged(x, y, z=None, w=None, *, kind="improved", octaves=6, persistence=0.5,
-           lacunarity=2.0, frequency=1.0, gain=2.0, seed=None, interpolation=None,
-           period=None, normalize=True, output="f1", metric="euclidean", jitter=1.0,
-           dtype=None):
+def ridged(
+    x,
+    y,
+    z=None,
+    w=None,
+    *,
+    kind="improved",
+    octaves=6,
+    persistence=0.5,
+    lacunarity=2.0,
+    frequency=1.0,
+    gain=2.0,
+    seed=None,
+    interpolation=None,
+    period=None,
+    normalize=True,
+    output="f1",
+    metric="euclidean",
+    jitter=1.0,
+    dtype=None,
+):
     setup = _setup(kind, seed, interpolation, output, metric, jitter)
-    return _run_points(setup, _k.RIDGED, x, y, z, w, octaves, persistence, lacunarity,
-                       frequency, period, normalize, gain, dtype)
+    return _run_points(
+        setup,
+        _k.RIDGED,
+        x,
+        y,
+        z,
+        w,
+        octaves,
+        persistence,
+        lacunarity,
+        frequency,
+        period,
+        normalize,
+        gain,
+        dtype,
+    )
 
 
-ridged.__doc__ = """Ridged multifractal (Musgrave): ``s_i = (1 - |noise_i|)**2 * w_i``, with the
+ridged.__doc__ = (
+    """Ridged multifractal (Musgrave): ``s_i = (1 - |noise_i|)**2 * w_i``, with the
     weight ``w_i = clip(gain * s_{i-1}, 0, 1)`` (``w_0 = 1``), summed with amplitudes
     ``persistence**i``.  ``gain`` (default 2) sets how strongly ridges suppress detail in
     valleys.
-""" + _FRACTAL_DOC + """
+"""
+    + _FRACTAL_DOC
+    + """
     Examples
     --------
     >>> 0.0 <= float(ridged(0.3, 0.6)) <= 1.0
     True
     """
+)
 
 
-def domain_warp(x, y, z=None, *, amount=1.0, kind="improved", octaves=4, persistence=0.5,
-                lacunarity=2.0, frequency=1.0, seed=None, period=None):
+def domain_warp(
+    x,
+    y,
+    z=None,
+    *,
+    amount=1.0,
+    kind="improved",
+    octaves=4,
+    persistence=0.5,
+    lacunarity=2.0,
+    frequency=1.0,
+    seed=None,
+    period=None,
+):
     """Displace coordinates by vector fBm (POV-Ray style turbulence, seed 003 §4.3).
 
     ``p' = p + amount * (fbm(p + o_x), fbm(p + o_y)[, fbm(p + o_z)])`` with fixed, distinct
@@ -549,15 +807,31 @@ def domain_warp(x, y, z=None, *, amount=1.0, kind="improved", octaves=4, persist
     out = []
     for a, c in enumerate(coords):
         moved = [cc + shifts[a][b] for b, cc in enumerate(coords)]
-        d = fbm(*moved, kind=kind, octaves=octaves, persistence=persistence,
-                lacunarity=lacunarity, frequency=frequency,
-                seed=None if seed is None else seed + 7919 * (a + 1), period=period,
-                dtype=np.float64)
+        d = fbm(
+            *moved,
+            kind=kind,
+            octaves=octaves,
+            persistence=persistence,
+            lacunarity=lacunarity,
+            frequency=frequency,
+            seed=None if seed is None else seed + 7919 * (a + 1),
+            period=period,
+            dtype=np.float64,
+        )
         out.append(c + float(amount) * d)
     return tuple(out)
 
 
 # ----------------------------------------------------------------------------- grids
+def _grid_out(shape, dt):
+    """The output array and the (float32, float64) pair the grid kernels take: the output
+    and an empty array of the other type (one compiled kernel serves both types)."""
+    out = np.empty(shape, dtype=dt)
+    if dt == np.float32:
+        return out, (out, np.empty((0, 0, 0)))
+    return out, (np.empty((0, 0, 0), np.float32), out)
+
+
 def _axis_flags(tileable, naxes):
     if isinstance(tileable, bool | np.bool_):
         return [bool(tileable)] * naxes
@@ -567,10 +841,28 @@ def _axis_flags(tileable, naxes):
     return flags
 
 
-def noise_grid(shape: Sequence[int], *, kind="improved", fractal="fbm", scale=4.0, octaves=1,
-               persistence=0.5, lacunarity=2.0, gain=2.0, seed=None, interpolation=None,
-               tileable=False, time=None, offset=(0.0, 0.0, 0.0, 0.0), warp=0.0,
-               normalize=True, output="f1", metric="euclidean", jitter=1.0, dtype=None):
+def noise_grid(
+    shape: Sequence[int],
+    *,
+    kind="improved",
+    fractal="fbm",
+    scale=4.0,
+    octaves=1,
+    persistence=0.5,
+    lacunarity=2.0,
+    gain=2.0,
+    seed=None,
+    interpolation=None,
+    tileable=False,
+    time=None,
+    offset=(0.0, 0.0, 0.0, 0.0),
+    warp=0.0,
+    normalize=True,
+    output="f1",
+    metric="euclidean",
+    jitter=1.0,
+    dtype=None,
+):
     """Noise (or a fractal sum of octaves) sampled on a regular grid.
 
     Parameters
@@ -680,54 +972,164 @@ def noise_grid(shape: Sequence[int], *, kind="improved", fractal="fbm", scale=4.
     t = setup.tables
     gain = float(gain)
 
-    if warp:
-        grids = np.meshgrid(*axes[:ndim][::-1], indexing="ij")[::-1]
-        pts = [g.ravel() for g in grids]
-        while len(pts) < 4:
-            pts.append(np.zeros(pts[0].shape[0]))
-        warped = []
-        for a in range(ndim):
-            wseed = _setup(kind, (0 if seed is None else seed) + 7919 * (a + 1), interpolation,
-                           output, metric, jitter)
-            wt = wseed.tables
-            d = _s.run_points(setup.kind, _k.FBM, ndim, pts[0], pts[1], pts[2], pts[3], freqs,
-                              amps, offs, pers, setup.interp, wt.perm, wt.perm12, wt.values,
-                              wt.gradients, wseed.wpar, norm, gain)
-            warped.append(pts[a] + float(warp) * d)
-        while len(warped) < 4:
-            warped.append(np.zeros(pts[0].shape[0]))
-        out = _s.run_points(setup.kind, mode, ndim, warped[0], warped[1], warped[2], warped[3],
-                            freqs, amps, offs, pers, setup.interp, t.perm, t.perm12, t.values,
-                            t.gradients, setup.wpar, norm, gain)
-        return out.astype(dt, copy=False).reshape(shape)
+    with _threads(math.prod(shape) * octaves * (1 + ndim * bool(warp))):
+        if warp:
+            grids = np.meshgrid(*axes[:ndim][::-1], indexing="ij")[::-1]
+            pts = [g.ravel() for g in grids]
+            while len(pts) < 4:
+                pts.append(np.zeros(pts[0].shape[0]))
+            warped = []
+            for a in range(ndim):
+                wseed = _setup(
+                    kind,
+                    (0 if seed is None else seed) + 7919 * (a + 1),
+                    interpolation,
+                    output,
+                    metric,
+                    jitter,
+                )
+                wt = wseed.tables
+                d = _s.run_points(
+                    setup.kind,
+                    _k.FBM,
+                    ndim,
+                    pts[0],
+                    pts[1],
+                    pts[2],
+                    pts[3],
+                    freqs,
+                    amps,
+                    offs,
+                    pers,
+                    setup.interp,
+                    wt.perm,
+                    wt.perm12,
+                    wt.values,
+                    wt.gradients,
+                    wseed.wpar,
+                    norm,
+                    gain,
+                )
+                warped.append(pts[a] + float(warp) * d)
+            while len(warped) < 4:
+                warped.append(np.zeros(pts[0].shape[0]))
+            out = _s.run_points(
+                setup.kind,
+                mode,
+                ndim,
+                warped[0],
+                warped[1],
+                warped[2],
+                warped[3],
+                freqs,
+                amps,
+                offs,
+                pers,
+                setup.interp,
+                t.perm,
+                t.perm12,
+                t.values,
+                t.gradients,
+                setup.wpar,
+                norm,
+                gain,
+            )
+            return out.astype(dt, copy=False).reshape(shape)
 
-    full = tuple(len(a) for a in axes[:4])  # nx, ny, nz, nw
-    if setup.kind in (_k.VALUE, _k.PERLIN, _k.IMPROVED) and ndim in (2, 3):
-        tabs = [_gk.axis_tables(axes[a], np.ascontiguousarray(freqs[:, a]),
-                                np.ascontiguousarray(offs[:, a]),
-                                np.ascontiguousarray(pers[:, a]), setup.interp)
-                for a in range(ndim)]
-        path = _gk.LATTICE2 if ndim == 2 else _gk.LATTICE3
-        zt = tabs[2] if ndim == 3 else tabs[1]
-        out = np.empty((full[2], full[1], full[0]))
-        _gk.fast_grid(path, setup.kind, mode, ndim, tabs[0], tabs[1], zt, axes[0], axes[1],
-                      axes[2], out, freqs, amps, offs, t.perm, t.perm12, t.values,
-                      t.gradients[0], t.gradients[1], norm, gain)
+        full = tuple(len(a) for a in axes[:4])  # nx, ny, nz, nw
+        if setup.kind in (_k.VALUE, _k.PERLIN, _k.IMPROVED) and ndim in (2, 3):
+            tabs = [
+                _gk.axis_tables(
+                    axes[a],
+                    np.ascontiguousarray(freqs[:, a]),
+                    np.ascontiguousarray(offs[:, a]),
+                    np.ascontiguousarray(pers[:, a]),
+                    setup.interp,
+                )
+                for a in range(ndim)
+            ]
+            zt = tabs[2] if ndim == 3 else tabs[1]
+            out, outs = _grid_out((full[2], full[1], full[0]), dt)
+            _gk.lattice_grid(
+                setup.kind,
+                mode,
+                ndim,
+                tabs[0],
+                tabs[1],
+                zt,
+                *outs,
+                amps,
+                t.perm,
+                t.values,
+                t.gradients[0],
+                t.gradients[1],
+                norm,
+                gain,
+            )
+            return out.reshape(shape)
+        if setup.kind == _k.SIMPLEX and ndim in (2, 3) and not torus:
+            out, outs = _grid_out((full[2], full[1], full[0]), dt)
+            _gk.simplex_grid(
+                ndim,
+                mode,
+                axes[0],
+                axes[1],
+                axes[2],
+                *outs,
+                freqs,
+                amps,
+                offs,
+                t.perm,
+                t.perm12,
+                norm,
+                gain,
+            )
+            return out.reshape(shape)
+        if setup.kind == _k.WORLEY and ndim in (2, 3):
+            out, outs = _grid_out((full[2], full[1], full[0]), dt)
+            _gk.worley_grid(
+                ndim,
+                mode,
+                axes[0],
+                axes[1],
+                axes[2],
+                *outs,
+                freqs,
+                amps,
+                offs,
+                pers,
+                setup.wpar,
+                norm,
+                gain,
+            )
+            return out.reshape(shape)
+        if torus:
+            # x and y become angles; the circumferences (pers) are the octave's cell counts
+            axes[0] = 2.0 * np.pi * np.arange(sizes[0], dtype=np.float64) / sizes[0]
+            axes[1] = 2.0 * np.pi * np.arange(sizes[1], dtype=np.float64) / sizes[1]
+        out = np.empty((full[3], full[2], full[1], full[0]), dtype=np.float64)
+        _s.generic_kernel(
+            False,
+            setup.kind,
+            mode,
+            ndim,
+            axes[0],
+            axes[1],
+            axes[2],
+            axes[3],
+            out,
+            torus,
+            freqs,
+            amps,
+            offs,
+            pers,
+            setup.interp,
+            t.perm,
+            t.perm12,
+            t.values,
+            t.gradients,
+            setup.wpar,
+            norm,
+            gain,
+        )
         return out.astype(dt, copy=False).reshape(shape)
-    if setup.kind == _k.SIMPLEX and ndim in (2, 3) and not torus:
-        tab = _gk.axis_tables(axes[0][:1], freqs[:1, 0].copy(), offs[:1, 0].copy(),
-                              pers[:1, 0].copy(), 0)  # unused placeholder tables
-        out = np.empty((full[2], full[1], full[0]))
-        _gk.fast_grid(_gk.SIMPLEX, setup.kind, mode, ndim, tab, tab, tab, axes[0], axes[1],
-                      axes[2], out, freqs, amps, offs, t.perm, t.perm12, t.values,
-                      t.gradients[0], t.gradients[1], norm, gain)
-        return out.astype(dt, copy=False).reshape(shape)
-    if torus:
-        # x and y become angles; the circumferences (pers) are the octave's cell counts
-        axes[0] = 2.0 * np.pi * np.arange(sizes[0], dtype=np.float64) / sizes[0]
-        axes[1] = 2.0 * np.pi * np.arange(sizes[1], dtype=np.float64) / sizes[1]
-    out = np.empty((full[3], full[2], full[1], full[0]), dtype=np.float64)
-    _s.generic_kernel(False, setup.kind, mode, ndim, axes[0], axes[1], axes[2], axes[3], out,
-                      torus, freqs, amps, offs, pers, setup.interp, t.perm, t.perm12, t.values,
-                      t.gradients, setup.wpar, norm, gain)
-    return out.astype(dt, copy=False).reshape(shape)
