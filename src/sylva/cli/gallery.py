@@ -80,7 +80,7 @@ def _animations(out: Path) -> list[dict]:
 GALLERY_TEXTURES = (
     "arabescato-marble", "beech-wood", "pink-granite", "oak-bark", "leaf-blade", "lawn",
     "worley-a", "ridged-terrain", "warped-marble", "seahorse-valley", "julia-dendrite",
-    "burning-ship-armada",
+    "burning-ship-armada", "lilac",
 )
 
 
