@@ -364,21 +364,7 @@ def prism_fill(start, end, radius, ref, color, material, d, want_colors, V, N, U
     n = start.shape[0]
     faces = d if d >= 3 else 2
     for s in range(n):  # fidelity mode: serial (cheap to compile)
-        ax = end[s, 0] - start[s, 0]
-        ay = end[s, 1] - start[s, 1]
-        az = end[s, 2] - start[s, 2]
-        ln = math.sqrt(ax * ax + ay * ay + az * az)
-        ax /= ln
-        ay /= ln
-        az /= ln
-        rx = np.float64(ref[s, 0])
-        ry = np.float64(ref[s, 1])
-        rz = np.float64(ref[s, 2])
-        bx = ay * rz - az * ry
-        by = az * rx - ax * rz
-        bz = ax * ry - ay * rx
-        r0 = np.float64(radius[s, 0])
-        r1 = np.float64(radius[s, 1])
+        ax, ay, az, rx, ry, rz, bx, by, bz, r0, r1, _ = _frame(s, start, end, radius, ref)
         v = s * faces * 4
         t = s * faces * 2
         for f in range(faces):
@@ -460,22 +446,7 @@ def cone_fill(start, end, radius, ref, color, material, d, h, want_colors, V, N,
     nv = r * (h + 2) + 2
     nt = 2 * d * h + 2 * d + d + d
     for s in range(n):  # fidelity mode: serial (cheap to compile)
-        ax = end[s, 0] - start[s, 0]
-        ay = end[s, 1] - start[s, 1]
-        az = end[s, 2] - start[s, 2]
-        ln = math.sqrt(ax * ax + ay * ay + az * az)
-        ax /= ln
-        ay /= ln
-        az /= ln
-        rx = np.float64(ref[s, 0])
-        ry = np.float64(ref[s, 1])
-        rz = np.float64(ref[s, 2])
-        bx = ay * rz - az * ry
-        by = az * rx - ax * rz
-        bz = ax * ry - ay * rx
-        r0 = np.float64(radius[s, 0])
-        r1 = np.float64(radius[s, 1])
-        slope = (r0 - r1) / ln
+        ax, ay, az, rx, ry, rz, bx, by, bz, r0, r1, slope = _frame(s, start, end, radius, ref)
         v0 = s * nv
         t = s * nt
         # rings 0..h-1: hemisphere latitudes from the pole side up to the equator (ring h)
