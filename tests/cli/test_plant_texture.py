@@ -77,3 +77,5 @@ def test_cli_draws_an_lsystem(capsys, tmp_path):
         assert im.size == (64, 48)
     assert main(["texture", "--lsystem", "no-such-plant", "-o", str(out)]) != 0
     assert "no such file" in capsys.readouterr().err
+    assert main(["texture", "--lsystem", TREE, "-o", str(out), "--octaves", "3"]) != 0
+    assert "not --octaves" in capsys.readouterr().err

@@ -169,6 +169,13 @@ def _run_lsystem(args: argparse.Namespace) -> int:
 
     if args.kind:
         raise SylvaError("--lsystem draws its own L-system: give it without a KIND")
+    ignored = [flag for dest, flag, *_ in _OPTIONS if dest not in ("size", "seed", "iterations")
+               and getattr(args, dest) is not None]
+    ignored += [f for f, v in (("--frames", args.frames), ("--preset", args.preset),
+                               ("--save-preset", args.save_preset)) if v is not None]
+    if ignored:
+        raise SylvaError(f"--lsystem takes --size, --seed, --iterations and --tileable; "
+                         f"not {', '.join(ignored)}")
     if not args.out:
         raise SylvaError("give an output file with -o OUT.png")
     w, h = parse_size(args.size or "512x512")
