@@ -48,8 +48,7 @@ __all__ = ["DIALECTS", "Trace", "TurtleSettingsError", "interpret", "trace"]
 DIALECTS = tuple(TABLES)
 
 #: Words of at least this many modules are walked by as many threads as numba uses, one
-#: subtree at a time
-#: (the result does not depend on it: tests set it to 0 and to a huge value to compare).
+#: subtree at a time (the result does not depend on it: tests compare both walks).
 PARALLEL_MIN = 20_000
 #: The smallest bracket pair handed to a thread of its own.
 SUBTREE_MIN = 256
@@ -256,9 +255,10 @@ def _run(word, program, dialect, seed, overrides, trace_on):
     n = len(word)
     threads = _threads()
     parallel = threads > 1 and n >= PARALLEL_MIN and cfg[K.C_ENGINE] == 0.0
-    s_max = max(n // (16 * threads), 1) if parallel else n + 1
+    # subtrees of 1/64 to 1/16 of a thread's share, so that the threads can be kept even
+    s_max = max(n // (16 * threads), 1) if parallel else -1
     counts, sel = K.scan_word(word.ids, ops, max(s_max // 64, SUBTREE_MIN), s_max)
-    if not parallel or counts[5] > 0 or sel.shape[0] < 2:  # polygons or %: one serial walk
+    if counts[5] > 0 or sel.shape[0] < 2:  # polygons or %: one serial walk
         sel = sel[:0]
     empty = np.zeros(0, np.int64)
     match = word.match if np.any(ops == T.CUT) else empty
