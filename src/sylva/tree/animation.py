@@ -97,8 +97,11 @@ def growth_animation(tree, start: float, end: float, seconds: float = 6.0, fps: 
     ages = np.linspace(start, end, k)
     times = np.linspace(0.0, seconds, k)
     bind = np.concatenate([geo.joint_matrix, np.zeros((groups, 4, 4))])
+    # the mesh is drawn with the tree's ZScale applied to heights; world matrices are not
+    zs = np.array([1.0, getattr(tree, "zscale", 1.0), 1.0])
     for gi, b in enumerate(leafy):
         bind[J + gi] = b.world_matrix()
+        bind[J + gi, :3, 3] *= zs
     trans = np.zeros((k, J + groups, 3))
     rot = np.zeros((k, J + groups, 4))
     scale = np.full((k, J + groups, 3), 1e-4)
@@ -126,7 +129,7 @@ def growth_animation(tree, start: float, end: float, seconds: float = 6.0, fps: 
             r = plan.radius * plan.thickness_at(age) * plan.profile(arc_final, cur)
             r = np.where(arc_final <= A[-1] + 1e-9, r, 0.0)
             s = np.maximum(r / np.maximum(final_r[ids], 1e-9), 1e-4)
-            trans[ki, ids] = pos @ W[:3, :3].T + W[:3, 3]
+            trans[ki, ids] = (pos @ W[:3, :3].T + W[:3, 3]) * zs
             scale[ki, ids] = np.stack([s, np.ones_like(s), s], 1)
             alive[ki, ids] = True
     # joints not yet grown wait, collapsed, at their nearest grown ancestor (parents first)

@@ -1,11 +1,29 @@
 """Tree geometry → a sylva :class:`~sylva.geometry.mesh.Mesh` (bark tubes and leaf blades).
 
 Bark: every :class:`~sylva.tree.stem.Stem` becomes rings stitched into a tube (one vectorised
-pass for the whole tree).  Leaves: each is a double-sided pointed blade of 6 vertices and 4
-triangles in its frame (``u`` across, main vein at ``u = 0.5``, ``v`` from base to tip, which
-is what the renderer's procedural ``leaf`` texture expects), tinted per leaf by the
-material's ``variation``.  Besides the mesh, the result keeps for each vertex the skeleton
-joint it moves with and, for leaves, the flutter displacement (used by wind and glTF).
+pass for the whole tree).  Leaves: each is a double-sided flat blade in its frame (``u``
+across, main vein at ``u = 0.5``, ``v`` from base to tip, which is what the renderer's
+procedural ``leaf`` texture expects), tinted per leaf by the material's ``variation``.
+
+The blade's outline is the Weber–Penn ``LeafShape`` (the paper leaves the shapes to the
+renderer; this set is ours, see :data:`LEAF_SHAPES`).  Every outline lies in the box
+``x ∈ [−w/2, w/2]``, ``y ∈ [0, 1]`` (``w = LeafScaleX``), touches the stalk at ``(0, 0)``
+and is mirror-symmetric about ``x = 0``:
+
+===  ==========  ==============================================================  ==========
+ #   name        outline                                                          area/box
+===  ==========  ==============================================================  ==========
+ 0   blade       the default pointed blade (6 vertices, 4 triangles)              0.63
+ 1   ellipse     the ellipse inscribed in the box (``oval``)                      π/4
+ 2   disc        a circle of diameter 1 (``round``; ignores ``LeafScaleX``)       π/4
+ 3   triangle    base edge across the stalk, apex at the tip                      1/2
+ 4   palm        five pointed lobes fanned from the stalk (a palmate leaf)        ≈ 0.33
+ 5   square      the whole box                                                    1
+ 6   hexagon     corners at y = 0, 1/4, 3/4, 1 (Blender Sapling's ``hex``)        3/4
+===  ==========  ==============================================================  ==========
+
+Besides the mesh, the result keeps for each vertex the skeleton joint it moves with and,
+for leaves, the flutter displacement (used by wind and glTF).
 
 Examples
 --------
@@ -26,7 +44,80 @@ from .geometry_turtle import TreeGeometry
 from .materials import MaterialDatabase
 from .stem import stems_to_arrays
 
-__all__ = ["TreeMesh", "build_tree_mesh", "leaf_blade"]
+__all__ = ["LEAF_SHAPES", "TreeMesh", "build_tree_mesh", "leaf_blade", "leaf_outline",
+           "leaf_shape_index"]
+
+LEAF_SHAPES = ("blade", "ellipse", "disc", "triangle", "palm", "square", "hexagon")
+"""The ``LeafShape`` values by number (a name, or one of the aliases below, also works)."""
+
+_ALIASES = {"default": 0, "pointed": 0, "oval": 1, "round": 2, "circle": 2, "hex": 6}
+
+
+def leaf_shape_index(shape) -> int:
+    """The number of a ``LeafShape`` given as a number or a name.
+
+    Examples
+    --------
+    >>> leaf_shape_index("oval"), leaf_shape_index(3), leaf_shape_index("Palm")
+    (1, 3, 4)
+    """
+    if isinstance(shape, str):
+        key = shape.strip().lower()
+        if key.lstrip("-").isdigit():
+            shape = int(key)
+        elif key in LEAF_SHAPES:
+            return LEAF_SHAPES.index(key)
+        elif key in _ALIASES:
+            return _ALIASES[key]
+        else:
+            raise ValueError(f"unknown LeafShape {shape!r}: expected 0…{len(LEAF_SHAPES) - 1} "
+                             f"or one of {', '.join(LEAF_SHAPES)}")
+    if isinstance(shape, float) and not shape.is_integer():
+        raise ValueError(f"LeafShape must be a whole number or a name, got {shape}")
+    i = int(shape)
+    if not 0 <= i < len(LEAF_SHAPES):
+        raise ValueError(f"LeafShape {i} out of range: expected 0…{len(LEAF_SHAPES) - 1} "
+                         f"({', '.join(LEAF_SHAPES)})")
+    return i
+
+
+def leaf_outline(shape=0, width: float = 1.0) -> np.ndarray:
+    """The closed outline of a leaf shape: float[n, 2], counter-clockwise from the stalk
+    point ``(0, 0)`` (not repeated at the end)."""
+    k = leaf_shape_index(shape)
+    w = float(width)
+    if k == 0:
+        v, _, _ = leaf_blade(w)
+        return v[[0, 2, 4, 5, 3, 1], :2]
+    if k in (1, 2):
+        ww = w if k == 1 else 1.0
+        a = -0.5 * np.pi + np.linspace(0.0, 2.0 * np.pi, 48, endpoint=False)
+        return np.column_stack([0.5 * ww * np.cos(a), 0.5 + 0.5 * np.sin(a)])
+    if k == 3:
+        return np.array([[0, 0], [0.5 * w, 0], [0, 1.0], [-0.5 * w, 0]])
+    if k == 4:
+        # five pointed leaflets fanned over ±75° from the blade axis (tips at radius 1,
+        # notches between them at 0.35), listed right to left, then fit to the box
+        tips = np.radians(np.linspace(75.0, -75.0, 5))
+        ang, rad = [tips[0] + 0.12], [0.3]
+        for j, t in enumerate(tips):
+            ang += [t + 0.09, t, t - 0.09]
+            rad += [0.8, 1.0, 0.8]
+            if j < len(tips) - 1:
+                ang.append(0.5 * (t + tips[j + 1]))
+                rad.append(0.35)
+        ang.append(tips[-1] - 0.12)
+        rad.append(0.3)
+        ang, rad = np.array(ang), np.array(rad)
+        pts = np.concatenate([[[0.0, 0.0]], np.column_stack([rad * np.sin(ang),
+                                                             rad * np.cos(ang)])])
+        pts[:, 0] *= w / (2.0 * np.abs(pts[:, 0]).max())
+        pts[:, 1] /= pts[:, 1].max()
+        return pts
+    if k == 5:
+        return np.array([[0, 0], [0.5 * w, 0], [0.5 * w, 1.0], [-0.5 * w, 1.0], [-0.5 * w, 0]])
+    return np.array([[0, 0], [0.5 * w, 0.25], [0.5 * w, 0.75], [0, 1.0], [-0.5 * w, 0.75],
+                     [-0.5 * w, 0.25]])
 
 
 @dataclass
@@ -54,19 +145,29 @@ class TreeMesh:
     n_bark_vertices: int
 
 
-def leaf_blade(width: float = 0.5) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The unit leaf: vertices float[6, 3] (x across, y along, z normal), uvs float[6, 2],
-    triangles int[4, 3] (counter-clockwise seen from +z)."""
+def leaf_blade(width: float = 0.5, shape=0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The unit leaf of a ``LeafShape``: vertices float[n, 3] (x across, y along, z normal),
+    uvs float[n, 2], triangles int[m, 3] (counter-clockwise seen from +z).  Shape 0 is the
+    pointed blade of 6 vertices and 4 triangles; the others are their outline fanned from
+    the stalk point (every outline is star-shaped from it)."""
     w = width
-    v = np.array([[0, 0, 0], [-0.5 * w, 0.3, 0], [0.5 * w, 0.3, 0],
-                  [-0.42 * w, 0.68, 0], [0.42 * w, 0.68, 0], [0, 1.0, 0]], np.float64)
-    uv = np.column_stack([0.5 + v[:, 0] / max(w, 1e-9) * 0.98, v[:, 1]])
-    tri = np.array([[0, 2, 1], [1, 2, 4], [1, 4, 3], [3, 4, 5]])
+    if leaf_shape_index(shape) == 0:
+        v = np.array([[0, 0, 0], [-0.5 * w, 0.3, 0], [0.5 * w, 0.3, 0],
+                      [-0.42 * w, 0.68, 0], [0.42 * w, 0.68, 0], [0, 1.0, 0]], np.float64)
+        tri = np.array([[0, 2, 1], [1, 2, 4], [1, 4, 3], [3, 4, 5]])
+    else:
+        o = leaf_outline(shape, w)
+        v = np.column_stack([o, np.zeros(len(o))])
+        j = np.arange(1, len(o) - 1)
+        tri = np.column_stack([np.zeros_like(j), j, j + 1])
+    uw = max(w, 1.0) if leaf_shape_index(shape) == 2 else w
+    uv = np.column_stack([0.5 + v[:, 0] / max(uw, 1e-9) * 0.98, v[:, 1]])
     return v, uv, tri
 
 
 def build_tree_mesh(geo: TreeGeometry, materials: MaterialDatabase | None = None, *,
-                    seed: int = 0, leaves: bool = True, flutter: float = 0.25) -> TreeMesh:
+                    seed: int = 0, leaves: bool = True, flutter: float = 0.25,
+                    leaf_shape=0) -> TreeMesh:
     """Mesh a :class:`TreeGeometry`.
 
     Parameters
@@ -81,6 +182,8 @@ def build_tree_mesh(geo: TreeGeometry, materials: MaterialDatabase | None = None
         Include the leaves.
     flutter : float
         Leaf-tip displacement at full flutter, relative to the blade length.
+    leaf_shape : int or str
+        The ``LeafShape`` of every leaf (see :data:`LEAF_SHAPES`).
     """
     db = materials or MaterialDatabase.default()
     v, n, uv, tri, vj, tri_stem = stems_to_arrays(geo.stems)
@@ -111,32 +214,35 @@ def build_tree_mesh(geo: TreeGeometry, materials: MaterialDatabase | None = None
         size = geo.leaf_size[live]
         fr = geo.leaf_frame[live]
         pos = geo.leaf_pos[live]
-        bv, buv, btri = leaf_blade(1.0)
+        bv, buv, btri = leaf_blade(1.0, leaf_shape)
+        nv = len(bv)
+        if leaf_shape_index(leaf_shape) == 2:  # a disc is round whatever LeafScaleX says
+            width = np.ones_like(width)
         local = bv[None, :, :] * np.stack([width * size, size, size], 1)[:, None, :]
         wv = pos[:, None, :] + np.einsum("kij,kvj->kvi", fr, local)
         # normals: the blade's +z, bent a little outward along the blade for softer shading
         nz = fr[:, :, 2]
-        wn = np.repeat(nz[:, None, :], 6, axis=1)
+        wn = np.repeat(nz[:, None, :], nv, axis=1)
         q = len(live)
         base = nb
-        idx = (btri[None, :, :] + (base + 6 * np.arange(q))[:, None, None]).reshape(-1, 3)
+        idx = (btri[None, :, :] + (base + nv * np.arange(q))[:, None, None]).reshape(-1, 3)
         names = [geo.leaf_material[i] for i in live]
         mid = np.array([mat_id(nm, "leaf") for nm in names])
         var = np.array([specs[nm].variation for nm in names])
         tint = 1.0 + var[:, None] * rng.uniform(-1.0, 1.0, (q, 3)) * np.array([0.6, 1.0, 0.5])
         tint = np.clip(tint * (1.0 + var[:, None] * rng.uniform(-1, 1, (q, 1))), 0.3, 1.6)
-        cols = np.concatenate([np.repeat(tint[:, None, :], 6, axis=1),
-                               np.ones((q, 6, 1))], axis=2).reshape(-1, 4)
+        cols = np.concatenate([np.repeat(tint[:, None, :], nv, axis=1),
+                               np.ones((q, nv, 1))], axis=2).reshape(-1, 4)
         verts.append(wv.reshape(-1, 3))
         norms.append(wn.reshape(-1, 3))
         uvs.append(np.tile(buv, (q, 1)))
         tris.append(idx)
-        mids_all.append(np.repeat(mid, 4))
+        mids_all.append(np.repeat(mid, len(btri)))
         colors_v.append(cols)
-        joint.append(np.repeat(geo.leaf_joint[live], 6))
-        leaf_of.append(np.repeat(live, 6))
+        joint.append(np.repeat(geo.leaf_joint[live], nv))
+        leaf_of.append(np.repeat(live, nv))
         # flutter: the blade bends about its base, tips move along the normal
-        along = np.tile(bv[:, 1], q).reshape(q, 6)
+        along = np.tile(bv[:, 1], q).reshape(q, nv)
         flut.append((nz[:, None, :] * (along * size[:, None] * flutter)[:, :, None]).reshape(-1, 3))
     mesh = Mesh(
         np.concatenate(verts), np.concatenate(tris), normals=np.concatenate(norms),

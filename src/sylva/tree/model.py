@@ -20,9 +20,10 @@ from .components import TraversalStats, traverse
 from .events import Simulation, TimeFunction
 from .geometry_turtle import TreeGeometry, TreeTurtle
 from .materials import MaterialDatabase
+from .meshing import leaf_shape_index
 from .parameters import ParameterManager
 from .species import load_species
-from .weber_penn import Branch, make_trunk
+from .weber_penn import Branch, envelope, make_trunk
 
 __all__ = ["Tree"]
 
@@ -82,6 +83,15 @@ class Tree:
             g.float("PrunePowerLow", default=0.5).value,
             g.float("PrunePowerHigh", default=0.5).value,
         )
+        self.prune_ratio = float(np.clip(g.float("PruneRatio", default=0.0).value, 0.0, 1.0))
+        self.scale_tree = g.float("Scale", default=10.0).fixed
+        self.base_size = g.float("BaseSize", default=0.0).value
+        zscale = g.float("ZScale", default=1.0).fixed  # ZScale ± ZScaleV, drawn per seed
+        if not zscale > 0:
+            raise ValueError(f"ZScale must be > 0, got {zscale} (seed {self.seed})")
+        self.zscale = float(zscale)
+        shape = g.resolve("LeafShape")
+        self.leaf_shape = leaf_shape_index(0 if shape is None else shape.value)
         self.growth = TimeFunction(g.text("GrowthCurve", default="cubic"))
         self.thickening = TimeFunction(g.text("ThickenCurve", default="sqrt"))
         self.reset()
@@ -111,17 +121,30 @@ class Tree:
     def branches(self) -> list[Branch]:
         return [c for c in self.root.walk() if isinstance(c, Branch)]
 
+    def inside_envelope(self, points) -> np.ndarray:
+        """``bool[n]``: which plant-frame ``points`` (float[n, 3], +Y up, before ``ZScale``)
+        lie inside the pruning envelope: ``√(x² + z²) / scale_tree < PruneWidth ·
+        ShapeRatio(8, (scale_tree − y) / (scale_tree · (1 − BaseSize)))``."""
+        p = np.asarray(points, np.float64).reshape(-1, 3)
+        st = max(self.scale_tree, 1e-9)
+        ratio = (st - p[:, 1]) / (st * max(1.0 - self.base_size, 1e-9))
+        return np.hypot(p[:, 0], p[:, 2]) / st < envelope(ratio, self.prune)
+
     def geometry(self, stats: TraversalStats | None = None) -> TreeGeometry:
-        """Traverse the graph (seed 002 §5.7) into stems, leaves and joints."""
-        turtle = TreeTurtle(self.bark_material)
+        """Traverse the graph (seed 002 §5.7) into stems, leaves and joints (``ZScale``
+        applied)."""
+        turtle = (TreeTurtle(self.bark_material) if self.zscale == 1.0
+                  else _ZScaledTurtle(self.zscale, self.bark_material))
         traverse(self.root, turtle, stats)
         return turtle.finish()
 
     def mesh(self, **options):
         """The :class:`~sylva.tree.meshing.TreeMesh` of the tree now (options go to
-        :func:`~sylva.tree.meshing.build_tree_mesh`)."""
+        :func:`~sylva.tree.meshing.build_tree_mesh`; the leaf shape is the species'
+        ``LeafShape`` unless ``leaf_shape`` is given)."""
         from .meshing import build_tree_mesh
 
+        options.setdefault("leaf_shape", self.leaf_shape)
         return build_tree_mesh(self.geometry(), self.materials, seed=self.seed, **options)
 
     def scene(self, **options):
@@ -162,3 +185,56 @@ class Tree:
             "leaves": int(np.count_nonzero(geo.leaf_size > 0)),
             "events": len(self.simulation.delivered),
         }
+
+
+def _upright(frames: np.ndarray, zscale: float) -> np.ndarray:
+    """Frames (columns x, tangent, z) after scaling plant ``y`` by ``zscale``, kept
+    orthonormal: the tangent follows the scaled curve, x is re-orthogonalised to it."""
+    S = np.array([1.0, zscale, 1.0])
+    t = frames[:, :, 1] * S
+    t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-12)
+    x = frames[:, :, 0] * S
+    x -= np.sum(x * t, axis=1, keepdims=True) * t
+    nx = np.linalg.norm(x, axis=1, keepdims=True)
+    bad = nx[:, 0] < 1e-9  # x was parallel to the scaled tangent: use the old z instead
+    if np.any(bad):
+        alt = np.cross(t[bad], frames[bad, :, 2])
+        x[bad] = alt
+        nx[bad] = np.linalg.norm(alt, axis=1, keepdims=True)
+    x /= np.maximum(nx, 1e-12)
+    return np.stack([x, t, np.cross(x, t)], axis=2)
+
+
+class _ZScaledTurtle(TreeTurtle):
+    """A :class:`TreeTurtle` that scales plant ``y`` (up) by ``ZScale``: positions move,
+    stem rings stay round (radii are kept) and leaf blades keep their size."""
+
+    def __init__(self, zscale: float, default_material: str = "bark") -> None:
+        super().__init__(default_material)
+        self.zscale = float(zscale)
+
+    def _to_plant(self, positions, frames):
+        m = self.matrix
+        p = np.asarray(positions, np.float64).reshape(-1, 3)
+        f = np.asarray(frames, np.float64).reshape(-1, 3, 3)
+        wp = p @ m[:3, :3].T + m[:3, 3]
+        wp[:, 1] *= self.zscale
+        return wp, _upright(np.einsum("ij,njk->nik", m[:3, :3], f), self.zscale)
+
+    def stem_points(self, positions, frames, radii, *, parent_joint: int = -1,
+                    skip_first: bool = False) -> np.ndarray:
+        wp, wf = self._to_plant(positions, frames)
+        keep, self.matrix = self.matrix, np.eye(4)
+        try:
+            return super().stem_points(wp, wf, radii, parent_joint=parent_joint,
+                                       skip_first=skip_first)
+        finally:
+            self.matrix = keep
+
+    def leaves(self, positions, frames, sizes, width: float, material: str, joints) -> int:
+        wp, wf = self._to_plant(positions, frames)
+        keep, self.matrix = self.matrix, np.eye(4)
+        try:
+            return super().leaves(wp, wf, sizes, width, material, joints)
+        finally:
+            self.matrix = keep

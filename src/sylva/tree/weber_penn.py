@@ -1,12 +1,13 @@
 """A Weber–Penn tree (Weber & Penn 1995, seed 002 Appendix B) grown by events in time.
 
 The parameters keep the paper's names: global ``Shape``, ``BaseSize``, ``Scale`` (± ``ScaleV``),
-``Levels``, ``Ratio``, ``RatioPower``, ``Lobes``, ``LobeDepth``, ``Flare``, ``Scale0``
-(the paper's ``0Scale``), ``BaseSplits`` (``0BaseSplits``), ``Leaves``, ``LeafScale``,
-``LeafScaleX``, ``AttractionUp``, ``PruneWidth``/``PruneWidthPeak``/``PrunePowerLow``/
-``PrunePowerHigh`` (shape 8); per level ``Length``, ``Taper``, ``SegSplits``, ``SplitAngle``,
-``CurveRes``, ``Curve``, ``CurveBack``, ``CurveV`` (written as the deviation of ``Curve``),
-``DownAngle``, ``Rotate``, ``Branches``.  A paper ``XV`` is the deviation of ``X``.
+``ZScale`` (± ``ZScaleV``), ``Levels``, ``Ratio``, ``RatioPower``, ``Lobes``, ``LobeDepth``,
+``Flare``, ``Scale0`` (the paper's ``0Scale``), ``BaseSplits`` (``0BaseSplits``), ``Leaves``,
+``LeafShape``, ``LeafScale``, ``LeafScaleX``, ``AttractionUp``, ``PruneRatio``,
+``PruneWidth``, ``PruneWidthPeak``, ``PrunePowerLow``, ``PrunePowerHigh``; per level
+``Length``, ``Taper``, ``SegSplits``, ``SplitAngle``, ``CurveRes``, ``Curve``, ``CurveBack``,
+``CurveV`` (written as the deviation of ``Curve``), ``DownAngle``, ``Rotate``, ``Branches``.
+A paper ``XV`` is the deviation of ``X``.
 
 Growth in time is our design (the thesis's §4.2.5 is not in the seed):
 
@@ -25,11 +26,41 @@ Growth in time is our design (the thesis's §4.2.5 is not in the seed):
 ``LeafMaterial`` are our additions, and so is ``GroundClearance`` (m, default 0.15): a stem
 whose next segment would dip below it turns level, so hanging whips trail above the ground.
 
-Simplifications, stated: ``Taper`` above 1 (the paper's periodic taper) is read as 1;
-``ZScale``, ``PruneRatio`` (pruning against an envelope) and ``LeafShape`` are not used (the
-leaf blade is one pointed shape with the width ``LeafScaleX``); the attraction-up rule is a
-rotation toward (or, negative, away from) the vertical by ``AttractionUp · sin(declination) /
-(2 · CurveRes)`` per segment, applied from level 2 as in the paper.
+The paper's stem features, and the choices we made where it is silent:
+
+* **Taper** (``nTaper`` 0…3) is the paper's radius formula (:func:`stem_profile`): 0–1 a
+  cone, 1–2 a cone ending in a sphere (2: a hemisphere of the stem's radius), 2–3 a periodic
+  taper, nodes one stem diameter apart counted from the tip and pinched by ``nTaper − 2`` of
+  the radius.  Radii are computed with the *mature* base radius and scaled by the thickening
+  factor, so a young stem has the same, slimmer, profile; its rounded end follows the current
+  tip while the periodic nodes stay where the mature stem has them.  Extra rings are added
+  on a round end and, six per node, along a periodic stem; a stem with more than 32 nodes
+  (longer than 64 radii: twigs, usually) is drawn with ``Taper`` 2 instead (its nodes would
+  be too fine to see and too many to mesh).  Values up to 1 behave exactly as before.
+* **ZScale** ± ``ZScaleV`` (its fixed random value, drawn per seed) scales plant ``y``
+  (up) of everything the tree draws (joints, stems, leaves) when the geometry is made; stem
+  rings stay round and leaf blades keep their size, frames are kept orthonormal (tangents
+  follow the scaled curve).  Growth, pruning and ground clearance work before the scale.
+  :meth:`Branch.world_matrix` stays unscaled.
+* **Pruning** (``PruneRatio`` > 0): when a bud breaks, the child stem (level ≥ 1) is grown
+  in full in advance, its split clones included, and tested point by point against the
+  envelope ``√(x² + z²) / scale_tree < PruneWidth · ShapeRatio(8, (scale_tree − y) /
+  (scale_tree · (1 − BaseSize)))`` (``scale_tree`` is ``Scale`` ± ``ScaleV``, the trunk at the
+  origin).  While some point is outside, the stem is regrown shorter from the same random
+  draws: it keeps the segments before the first that leaves (at least half its length, and
+  it loses at least 1/15 of the original each time, as in the paper's reimplementations);
+  a stem that cannot fit is dropped.  The stem's length is then ``PruneRatio · pruned +
+  (1 − PruneRatio) · unpruned``.  The decision is made once, from the mature geometry, so a
+  pruned stem is simply a shorter stem in the plan and the tree at time T does not depend
+  on how it got there.  Only the stem's own axis points are tested (not its radius, children
+  or leaves); the trunk is not pruned.
+* **LeafShape** (a number or a name, see :data:`sylva.tree.meshing.LEAF_SHAPES`): 0 the
+  pointed blade, 1 ellipse, 2 disc, 3 triangle, 4 palm, 5 square, 6 hexagon.  The paper
+  leaves the shapes to the renderer; this set is ours.
+
+Still simplified: the attraction-up rule is a rotation toward (or, negative, away from) the
+vertical by ``AttractionUp · sin(declination) / (2 · CurveRes)`` per segment, applied from
+level 2 as in the paper.
 """
 
 from __future__ import annotations
@@ -40,9 +71,11 @@ import numpy as np
 
 from .components import Component
 
-__all__ = ["Branch", "StemPlan", "make_trunk", "shape_ratio"]
+__all__ = ["Branch", "StemPlan", "envelope", "make_trunk", "shape_ratio", "stem_profile"]
 
 _SIDES = (14, 9, 6, 4, 3)
+_MAX_NODES = 32  # a periodic taper with more nodes per stem is drawn as Taper 2
+_NODE_RINGS = 6  # rings per node of a periodic taper
 
 
 def shape_ratio(shape: int, ratio: float, prune: tuple[float, float, float, float] | None = None):
@@ -71,13 +104,31 @@ def shape_ratio(shape: int, ratio: float, prune: tuple[float, float, float, floa
     if shape == 7:
         return 0.5 + 0.5 * r / 0.7 if r <= 0.7 else 0.5 + 0.5 * (1.0 - r) / 0.3
     if shape == 8:
-        width, peak, low, high = prune or (0.5, 0.5, 0.5, 0.5)
-        peak = min(max(peak, 1e-6), 1 - 1e-6)
-        # ratio is measured from the top (Appendix B); the envelope is widest at 1 - peak
-        if r < 1.0 - peak:
-            return width * (r / (1.0 - peak)) ** high
-        return width * ((1.0 - r) / peak) ** low
+        return float(envelope(r, prune))
     raise ValueError(f"unknown Weber–Penn shape {shape}: expected 0…8")
+
+
+def envelope(ratio, prune: tuple[float, float, float, float] | None = None):
+    """The pruning envelope ``PruneWidth · ShapeRatio(8, ratio)`` (vectorised).
+
+    ``ratio`` is measured from the top of the envelope (0) down to its base (1); the envelope
+    is widest (``PruneWidth``) at ``ratio = 1 − PruneWidthPeak``, follows
+    ``(ratio / (1 − PruneWidthPeak))^PrunePowerHigh`` above and
+    ``((1 − ratio) / PruneWidthPeak)^PrunePowerLow`` below, and is 0 outside ``[0, 1]``.
+
+    Examples
+    --------
+    >>> float(envelope(0.5, (0.5, 0.5, 0.5, 0.5))), float(envelope(1.2))
+    (0.5, 0.0)
+    """
+    width, peak, low, high = prune or (0.5, 0.5, 0.5, 0.5)
+    peak = min(max(peak, 1e-6), 1 - 1e-6)
+    r = np.asarray(ratio, np.float64)
+    c = np.clip(r, 0.0, 1.0)
+    upper = (c / (1.0 - peak)) ** high
+    lower = ((1.0 - c) / peak) ** low
+    out = width * np.where(c < 1.0 - peak, upper, lower)
+    return np.where((r >= 0.0) & (r <= 1.0), out, 0.0)
 
 
 def _rx(a: float) -> np.ndarray:
@@ -122,6 +173,54 @@ def _axis_angle(axis: np.ndarray, a: float) -> np.ndarray:
     ])
 
 
+def stem_profile(s, length: float, radius: float, taper: float,
+                 mature_length: float | None = None) -> np.ndarray:
+    """Weber & Penn's stem radius (section 4.3 of the paper) relative to ``radius``.
+
+    ``s`` are arc lengths from the base of a stem ``length`` long with base radius
+    ``radius``; ``Z = s / length``::
+
+        unit_taper = taper (0 ≤ taper < 1), 2 − taper (1 ≤ taper < 2), 0 (2 ≤ taper ≤ 3)
+        taper_z = radius · (1 − unit_taper · Z)
+        Z2 = (1 − Z) · length                      (distance to the tip)
+        depth = 1 if taper < 2 or Z2 < taper_z else taper − 2
+        Z3 = Z2 if taper < 2 else |Z2 − 2 · taper_z · int(Z2 / (2 · taper_z) + 0.5)|
+        r = taper_z                                           if taper < 2 and Z3 ≥ taper_z
+        r = (1 − depth) · taper_z + depth · √(taper_z² − (Z3 − taper_z)²)   otherwise
+
+    so 0–1 is a cone (1 tapers to a point), 1–2 a cone ending in a sphere (2: a hemisphere
+    of the stem's radius), 2–3 a periodic taper: nodes every stem diameter, pinched by
+    ``taper − 2`` of the radius.  ``mature_length`` (≥ ``length``, a stem still growing)
+    places the periodic nodes from the mature tip, so they do not move as the stem grows;
+    the end within ``taper_z`` of the current tip is the full hemisphere.
+
+    Examples
+    --------
+    >>> [round(float(x), 3) for x in stem_profile([0.0, 0.5, 1.0], 1.0, 0.1, 1.0)]
+    [1.0, 0.5, 0.0]
+    >>> round(float(stem_profile(0.95, 1.0, 0.1, 2.0)), 6), float(stem_profile(1.0, 1.0, 0.1, 2.0))
+    (0.866025, 0.0)
+    """
+    s = np.asarray(s, np.float64)
+    L = max(float(length), 1e-12)
+    R = max(float(radius), 1e-12)
+    nt = min(max(float(taper), 0.0), 3.0)
+    Z = np.clip(s / L, 0.0, 1.0)
+    unit = nt if nt < 1.0 else (2.0 - nt if nt < 2.0 else 0.0)
+    tz = R * (1.0 - unit * Z)
+    if nt < 1.0:
+        return tz / R
+    z2 = (1.0 - Z) * L
+    tip = np.sqrt(np.maximum(tz * tz - (z2 - tz) ** 2, 0.0))  # depth 1, Z3 = Z2
+    if nt < 2.0:
+        return np.where(z2 < tz, tip, tz) / R
+    depth = nt - 2.0
+    zm = np.maximum(float(mature_length if mature_length is not None else L) - s, 0.0)
+    z3 = np.abs(zm - 2.0 * tz * np.floor(zm / (2.0 * tz) + 0.5))
+    node = (1.0 - depth) * tz + depth * np.sqrt(np.maximum(tz * tz - (z3 - tz) ** 2, 0.0))
+    return np.where(z2 < tz, tip, node) / R
+
+
 class StemPlan:
     """The mature dimensions and the growth clock of one stem (shared by its components).
 
@@ -163,7 +262,11 @@ class StemPlan:
             pm.float("ThickenTime", level=lv, default=2.5 * self.grow_time).value, 1e-3
         )
         self.bud_delay = max(pm.float("BudDelay", level=lv, default=0.3).value, 0.0)
-        self.taper = float(np.clip(pm.float("Taper", level=lv, default=1.0).value, 0.0, 1.0))
+        self.taper = float(np.clip(pm.float("Taper", level=lv, default=1.0).value, 0.0, 3.0))
+        # the periodic taper is drawn where its nodes (one per stem diameter) can be seen
+        self.taper_drawn = self.taper
+        if self.taper > 2.0 and self.length / (2.0 * self.radius) > _MAX_NODES:
+            self.taper_drawn = 2.0
         self.curve_res = max(1, pm.int("CurveRes", level=lv, default=3))
         self.sides = max(3, pm.int("Sides", level=lv, default=_SIDES[min(lv, 4)]))
         self.growth = tree.growth
@@ -200,13 +303,47 @@ class StemPlan:
         return 0.08 + 0.92 * float(self.thickening((t - self.birth) / self.thicken_time))
 
     def profile(self, s: np.ndarray, current: float) -> np.ndarray:
-        """Relative radius at arc lengths ``s`` of a stem ``current`` long (taper + flare)."""
-        z = np.minimum(np.maximum(s / max(current, 1e-9), 0.0), 1.0)
-        r = 1.0 - self.taper * z
+        """Relative radius at arc lengths ``s`` of a stem ``current`` long (taper + flare).
+
+        The paper's radius formula (see :func:`stem_profile`) with the mature base radius;
+        the ends (the cone's point, the spherical end) follow the current tip, the periodic
+        nodes of a ``Taper`` in (2, 3] stay where the mature stem has them.
+        """
+        s = np.asarray(s, np.float64)
+        current = max(float(current), 1e-9)
+        z = np.minimum(np.maximum(s / current, 0.0), 1.0)
+        if self.taper <= 1.0:
+            r = 1.0 - self.taper * z
+        else:
+            r = stem_profile(s, current, self.radius, self.taper_drawn,
+                             mature_length=self.length)
         if self.flare:
             y = np.maximum(0.0, 1.0 - 8.0 * z)
             r = r * (self.flare * (100.0**y - 1.0) / 100.0 + 1.0)
-        return np.maximum(r, 0.02 * (1 - z) + 0.004)
+        if self.taper <= 1.0:
+            return np.maximum(r, 0.02 * (1 - z) + 0.004)
+        return r
+
+    def ring_arcs(self, a0: float, a1: float, current: float) -> np.ndarray:
+        """Extra arc lengths in ``(a0, a1)`` where a ``Taper`` above 1 needs rings (the
+        spherical end near the current tip, a few rings per node of the periodic taper)."""
+        if self.taper <= 1.0 or a1 <= a0:
+            return np.zeros(0)
+        r = self.radius
+        out = []
+        unit = 2.0 - self.taper if self.taper < 2.0 else 0.0
+        cap = r * (1.0 - unit)  # taper_z at the tip: the spherical end is this long
+        if cap > 0:
+            th = np.linspace(0.0, 0.5 * np.pi, 7)[1:-1]
+            out.append(current - cap * (1.0 - np.cos(th)))
+            out.append(current - cap * np.array([1.0, 1.5]))
+        if self.taper_drawn > 2.0:  # node-aligned: minima at mature-tip distances 2r·k
+            step = 2.0 * r / _NODE_RINGS
+            j = np.arange(math.floor((self.length - a1) / step),
+                          math.ceil((self.length - a0) / step) + 1)
+            out.append(self.length - j * step)
+        a = np.concatenate(out) if out else np.zeros(0)
+        return np.unique(a[(a > a0 + 1e-9) & (a < a1 - 1e-9)])
 
 
 class Branch(Component):
@@ -292,6 +429,8 @@ class Branch(Component):
         self.leaf_arc, self.leaf_frame, self.leaf_size = self._plan_leaves(rng)
         self.leaf_birth = np.asarray(plan.time_at_length(self.leaf_arc)) + tree.leaf_delay
         self._joints: np.ndarray | None = None
+        self._seg_joints: np.ndarray | None = None
+        self._mature_rows = np.zeros(0, np.int64)
         self._skip_first = False
         # lazy-update state
         self.current_length = 0.0
@@ -463,6 +602,27 @@ class Branch(Component):
         length = max(length, 0.0)
         if length < 1e-3:
             return
+        world = self.world_matrix() @ slot.matrix
+        state = rng.bit_generator.state
+
+        def plan_of(length: float) -> StemPlan:
+            rng.bit_generator.state = state  # the same draws for every trial length
+            return self._child_plan(lv, length, s, lmax, r_here, t, rng)
+
+        if tree.prune_ratio > 0.0:
+            pruned = _pruned_length(plan_of, length, key, world)
+            length = tree.prune_ratio * pruned + (1.0 - tree.prune_ratio) * length
+            if length < 1e-3:
+                return
+        child = Branch(plan_of(length), 0, np.eye(3), key, parent_world=world)
+        self.attach(child, slot)
+        child.schedule_own(sim)
+
+    def _child_plan(self, lv: int, length: float, s: float, lmax: float, r_here: float,
+                    t: float, rng) -> StemPlan:
+        """The plan of a child ``length`` long at arc length ``s`` (born at ``t``)."""
+        plan, tree = self.plan, self.plan.tree
+        pm = tree.params
         radius = plan.radius * (length / plan.length) ** tree.ratio_power
         radius = min(radius, 0.95 * r_here)
         branches = pm.float("Branches", level=lv + 1, default=0.0).value
@@ -477,23 +637,24 @@ class Branch(Component):
             n_leaves = tree.leaves * shape_ratio(4, s / plan.length) * tree.leaf_density
             if tree.leaf_arrangement == "fan":
                 n_leaves = tree.leaves * tree.leaf_density
-        child_plan = StemPlan(tree, lv, length, radius, t, rng, offset=s,
-                              parent_length=plan.length, n_children=n_children,
-                              n_leaves=n_leaves)
-        child = Branch(child_plan, 0, np.eye(3), key,
-                       parent_world=self.world_matrix() @ slot.matrix)
-        self.attach(child, slot)
-        child.schedule_own(sim)
+        return StemPlan(tree, lv, length, radius, t, rng, offset=s, parent_length=plan.length,
+                        n_children=n_children, n_leaves=n_leaves)
 
     def _spawn_continuations(self, t: float, sim) -> None:
-        plan, tree = self.plan, self.plan.tree
-        pm = tree.params
-        if self.k1 >= plan.curve_res:
+        if self.k1 >= self.plan.curve_res:
             return
+        for cont in self._continuations(t, self.world_matrix() @ self.primary.matrix):
+            self.attach(cont, self.primary)
+            cont.schedule_own(sim)
+
+    def _continuations(self, t: float, world: np.ndarray) -> list[Branch]:
+        """The runs that continue this one after its split (detached; ``world`` is the
+        primary slot's frame in plant coordinates)."""
+        plan = self.plan
         n = self.n_split
-        angle = pm.float("SplitAngle", level=plan.level, default=20.0)
+        angle = plan.tree.params.float("SplitAngle", level=plan.level, default=20.0)
         base_phi = self.rng.uniform(0, 2 * math.pi)
-        world = self.world_matrix() @ self.primary.matrix
+        out = []
         for c in range(n + 1):
             if n == 0:
                 frame = np.eye(3)
@@ -501,11 +662,10 @@ class Branch(Component):
                 a = math.radians(abs(angle.sample(self.rng))) * (0.5 if c == 0 else 1.0)
                 phi = base_phi + 2 * math.pi * c / (n + 1)
                 frame = _ry(phi) @ _rx(a) @ _ry(-phi)
-            cont = Branch(plan, self.k1, frame, (*self.key, 2, c), clone=c,
-                          split_error=self.split_error, birth=t, parent_world=world,
-                          share=self.share / (n + 1))
-            self.attach(cont, self.primary)
-            cont.schedule_own(sim)
+            out.append(Branch(plan, self.k1, frame, (*self.key, 2, c), clone=c,
+                              split_error=self.split_error, birth=t, parent_world=world,
+                              share=self.share / (n + 1)))
+        return out
 
     # -- lazy update -----------------------------------------------------------------------
     def update_attributes(self, t: float) -> None:
@@ -539,15 +699,32 @@ class Branch(Component):
             A.append(self.arc0 + vis)
             idx.append(i + 1)
         A = np.array(A)
+        P, F, idx = np.array(P), np.array(F), np.array(idx)
+        self._mature_rows = np.arange(len(A))
+        extra = plan.ring_arcs(self.arc0, self.arc0 + vis, max(self.current_length, 1e-9))
+        if len(extra):  # not where a mature point already is
+            near = np.abs(extra[:, None] - A[None, :]).min(1) <= 1e-6 * seg
+            extra = extra[~near]
+        if len(extra):  # rings for the spherical end or the periodic taper (Taper > 1)
+            i, pe, fe = self._where_many(extra)
+            A = np.concatenate([A, extra])
+            order = np.argsort(A, kind="stable")
+            A = A[order]
+            P = np.concatenate([P, pe])[order]
+            F = np.concatenate([F, fe])[order]
+            idx = np.concatenate([idx, i + 1])[order]
+            rows = np.empty(len(order), np.int64)
+            rows[order] = np.arange(len(order))
+            self._mature_rows = rows[:len(self._mature_rows)]
         r = plan.radius * self.current_thickness * plan.profile(A, max(self.current_length,
                                                                       1e-9))
-        return np.array(P), np.array(F), r, A, np.array(idx)
+        return P, F, r, A, idx
 
     # -- geometry ----------------------------------------------------------------------------
     def generate(self, turtle) -> None:
         plan, tree = self.plan, self.plan.tree
         if self.visible_length() <= 0.0:
-            self._joints = None
+            self._joints = self._seg_joints = None
             return
         P, F, R, A, _ = self.grown_points()
         parent = self.parent
@@ -559,7 +736,8 @@ class Branch(Component):
             else:
                 s = self.plan.offset
                 i, _, _ = parent._where(s)
-                parent_joint = int(parent._joints[min(i, len(parent._joints) - 1)])
+                sj = parent._seg_joints
+                parent_joint = int(sj[min(i, len(sj) - 1)])
         if not continues:
             material = tree.bark_material
             turtle.new_stem(sides=plan.sides, material=material, lobes=plan.lobes,
@@ -568,6 +746,7 @@ class Branch(Component):
         self._skip_first = continues and parent_joint >= 0
         self._joints = turtle.stem_points(P, F, R, parent_joint=parent_joint,
                                           skip_first=self._skip_first)
+        self._seg_joints = self._joints[self._mature_rows]
         # leaves out by now
         if len(self.leaf_arc):
             t = self._t
@@ -576,9 +755,48 @@ class Branch(Component):
                 age = (t - self.leaf_birth[out]) / max(tree.leaf_unfold, 1e-6)
                 size = self.leaf_size[out] * np.clip(age, 0.0, 1.0) ** 0.7
                 i, pos, _ = self._where_many(self.leaf_arc[out])
-                jn = self._joints[np.minimum(i, len(self._joints) - 1)]
+                jn = self._seg_joints[np.minimum(i, len(self._seg_joints) - 1)]
                 turtle.leaves(pos, self.leaf_frame[out], size, tree.leaf_width,
                               tree.leaf_material, jn)
+
+
+def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray) -> float | None:
+    """``None`` when every point of the mature stem (its split clones included) lies inside
+    the tree's pruning envelope, else the arc length the stem keeps: the start of the first
+    segment that leaves it (the smallest over the clones)."""
+    tree = plan.tree
+    first = Branch(plan, 0, np.eye(3), key, parent_world=world)
+    stack = [(first, world)]
+    keep = None
+    seg = plan.seg_length
+    while stack:
+        b, w = stack.pop()
+        pts = b.points @ w[:3, :3].T + w[:3, 3]
+        out = ~tree.inside_envelope(pts)
+        if np.any(out):
+            k = int(np.argmax(out))
+            arc = b.arc0 + max(k - 1, 0) * seg
+            keep = arc if keep is None else min(keep, arc)
+            continue  # a clone after the exit cannot keep more than this
+        if b.k1 < plan.curve_res and (keep is None or b.arc1 < keep):
+            nxt = w @ b.primary.matrix
+            for c in b._continuations(plan.time_at_length(b.arc1), nxt):
+                stack.append((c, nxt))
+    return keep
+
+
+def _pruned_length(plan_of, length: float, key: tuple, world: np.ndarray) -> float:
+    """Weber & Penn's pruning: shorten the stem until it fits in the envelope (0 if it
+    cannot).  Each trial keeps at most the segments inside, at least half the length, and
+    loses at least 1/15 of the original length (the scheme of the paper's reimplementations,
+    e.g. Arbaro); every trial regrows the stem from the same random draws."""
+    L = length
+    while L >= 1e-3:
+        keep = _envelope_exit(plan_of(L), key, world)
+        if keep is None:
+            return L
+        L = min(max(keep, 0.5 * L), L - length / 15.0)
+    return 0.0
 
 
 def make_trunk(tree, rng: np.random.Generator) -> Branch:
