@@ -37,7 +37,7 @@ def add_common(p: argparse.ArgumentParser) -> None:
     p.add_argument("-n", "--steps", type=int, default=None,
                    help="derivation steps (default: the file's own count, else 0)")
     p.add_argument("--seed", type=int, default=None, help="seed of the random choices")
-    p.add_argument("--dialect", choices=["lsys", "classic", "engine"], default=None,
+    p.add_argument("--dialect", choices=["lsys", "classic", "engine", "cpfg"], default=None,
                    help="force the language of FILE (default: detected)")
     p.add_argument("--limit", type=int, default=DEFAULT_MODULE_LIMIT,
                    help=f"stop before a word passes this many modules "

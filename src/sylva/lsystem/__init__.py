@@ -1,4 +1,4 @@
-"""L-systems: the common program, its three languages, the compact word and the engine.
+"""L-systems: the common program, its four languages, the compact word and the engine.
 
 >>> from sylva.lsystem import derive, loads
 >>> str(derive(loads("axiom = a\\na -> ab\\nb -> a"), 4))

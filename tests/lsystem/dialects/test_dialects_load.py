@@ -64,7 +64,8 @@ def test_dialect_can_be_forced_and_has_aliases():
         loads(BUSH_WITH_LEAVES, dialect="lsys")
     with pytest.raises(ValueError, match="unknown dialect 'logo'"):
         loads("axiom = F", dialect="logo")
-    assert sorted(DIALECTS) == ["classic", "engine", "lsys"]
+    assert sorted(DIALECTS) == ["classic", "cpfg", "engine", "lsys"]
+    assert loads("Axiom: F\nF --> FF", dialect="lstudio").dialect == "cpfg"
 
 
 @pytest.mark.parametrize("encoding", ["utf-8", "utf-8-sig", "utf-16", "cp1250"])

@@ -1,4 +1,4 @@
-"""The three L-system languages, read into the common :class:`~sylva.lsystem.ast.Program`.
+"""The four L-system languages, read into the common :class:`~sylva.lsystem.ast.Program`.
 
 * ``"lsys"`` — the LSysVis language of seed 001 (``.lsys``): ``axiom = F``, ``F -> F[+F]F``;
   see :mod:`~sylva.lsystem.dialects.lsysvis`.
@@ -6,6 +6,9 @@
   ``rule: A -> FA``; see :mod:`~sylva.lsystem.dialects.classic`.
 * ``"engine"`` — the voxel engine of seed 004, several systems per file: ``45.0 45.0 0.8``,
   ``^uA``, ``A > +uE``; see :mod:`~sylva.lsystem.dialects.engine`.
+* ``"cpfg"`` — L-Studio's and ABOP's language (seed 003 §5.10): ``Lsystem: 1``,
+  ``Axiom: F(1)``, ``F(x) --> F(x*2) : 0.4``, ``homomorphism``; see
+  :mod:`~sylva.lsystem.dialects.cpfg`.
 
 :func:`load` reads a file or a text, :func:`detect` picks the dialect, :func:`dumps` writes any
 program as ``.lsys`` text that reads back to an equal program.
@@ -37,7 +40,7 @@ from types import SimpleNamespace
 
 from ...errors import LSystemSemanticError, LSystemSyntaxError
 from ..ast import Program
-from . import classic, engine, lsysvis
+from . import classic, cpfg, engine, lsysvis
 from ._writer import format_expr, format_program, format_rule, format_word
 from .lsysvis import parse_expr, parse_rule, parse_word
 
@@ -73,21 +76,30 @@ DIALECTS = {
     "engine": SimpleNamespace(
         name="engine", parse=engine.parse, parse_all=engine.parse_all, format=engine.format
     ),
+    "cpfg": SimpleNamespace(
+        name="cpfg", parse=cpfg.parse, parse_all=_single(cpfg.parse), format=format_program
+    ),
 }
-_ALIASES = {"lsysvis": "lsys", "seed000": "classic", "seed001": "lsys", "seed004": "engine"}
+_ALIASES = {
+    "lsysvis": "lsys", "seed000": "classic", "seed001": "lsys", "seed004": "engine",
+    "lstudio": "cpfg", "l-studio": "cpfg",
+}  # fmt: skip
 
 _CLASSIC_LINE = re.compile(
     r"\s*(iteration|angle|reduction|radius|thickness|axiom|rule)\s*:", re.IGNORECASE
 )
-_PATHLIKE_TEXT = re.compile(r"[^\n=<>]*\.(lsys|ls|txt)\Z", re.IGNORECASE)
+_PATHLIKE_TEXT = re.compile(r"[^\n=<>]*\.(lsys|ls|txt|l)\Z", re.IGNORECASE)
+_CPFG_LINE = re.compile(r"\s*(lsystem\s*:|derivation\s+length\s*:|endlsystem\b)", re.IGNORECASE)
 
 
 def detect(text: str, filename: str | os.PathLike | None = None) -> str:
-    """The dialect of a text: ``"lsys"``, ``"classic"`` or ``"engine"``.
+    """The dialect of a text: ``"lsys"``, ``"classic"``, ``"engine"`` or ``"cpfg"``.
 
-    A ``.lsys`` file is ``lsys``.  Otherwise the content decides: three numbers on the first
-    line that is not blank or a comment make ``engine``; a ``keyword:`` line of seed 000
-    (``iteration:``, ``axiom:``, ``rule:`` …) makes ``classic``; anything else is ``lsys``.
+    A ``.lsys`` file is ``lsys`` and a ``.l`` file ``cpfg``.  Otherwise the content decides:
+    three numbers on the first line that is not blank or a comment make ``engine``; an
+    ``Lsystem:``, ``derivation length:`` or ``endlsystem`` line makes ``cpfg``; a
+    ``keyword:`` line of seed 000 (``iteration:``, ``axiom:``, ``rule:`` …) makes
+    ``classic``; anything else is ``lsys``.
 
     Examples
     --------
@@ -95,11 +107,15 @@ def detect(text: str, filename: str | os.PathLike | None = None) -> str:
     'engine'
     >>> detect("iteration: 2\\naxiom: F")
     'classic'
+    >>> detect("Lsystem: 1\\nAxiom: F\\nF --> FF\\nendlsystem")
+    'cpfg'
     >>> detect("axiom = F")
     'lsys'
     """
     if filename is not None and Path(filename).suffix.lower() == ".lsys":
         return "lsys"
+    if filename is not None and Path(filename).suffix.lower() == ".l":
+        return "cpfg"
     lines = text.removeprefix("\ufeff").splitlines()
     for line in lines:
         s = line.strip()
@@ -108,6 +124,8 @@ def detect(text: str, filename: str | os.PathLike | None = None) -> str:
         if engine.HEADER.match(s):
             return "engine"
         break
+    if any(_CPFG_LINE.match(line) for line in lines):
+        return "cpfg"
     if any(_CLASSIC_LINE.match(line) for line in lines):
         return "classic"
     return "lsys"
@@ -193,7 +211,7 @@ def load_all(source, *, filename: str | None = None, dialect: str | None = None)
         A path to an existing file, or the text itself.
     filename : str, optional
         The name used in error messages (defaults to the path).
-    dialect : {"lsys", "classic", "engine"}, optional
+    dialect : {"lsys", "classic", "engine", "cpfg"}, optional
         Force a dialect instead of detecting it (see :func:`detect`).
 
     Returns
@@ -219,7 +237,7 @@ def load(
         A path to an existing file, or the text itself.
     filename : str, optional
         The name used in error messages (defaults to the path).
-    dialect : {"lsys", "classic", "engine"}, optional
+    dialect : {"lsys", "classic", "engine", "cpfg"}, optional
         Force a dialect instead of detecting it (by extension, then by content; see
         :func:`detect`).
     index : int, optional

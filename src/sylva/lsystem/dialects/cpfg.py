@@ -1,0 +1,171 @@
+"""The cpfg language of L-Studio and ABOP (seed 003 §5.10): ``Lsystem: … endlsystem``.
+
+::
+
+    #define N 2.2
+    Lsystem: 1
+    derivation length: 7
+    seed: 2454
+    Axiom: F(1)
+    F(x) --> X(x*N) [+F(1)] F[-F(1)] F[+F(1)] !F(1) : 0.4
+    F(x) --> X(x) [-F(1)+F(1)] !F(1) : 0.6
+    homomorphism
+    X(x) --> ;F(x)
+    endlsystem
+
+Read: ``/* … */`` and ``//`` comments; ``#define NAME value`` (a constant); ``Lsystem:``
+(the name); ``derivation length:``; ``seed:``; ``Axiom:``; ``ignore:`` and ``consider:``;
+productions ``[lc <] pred [> rc] [: condition] --> successor [: probability]`` (a condition
+``*`` means none; probabilities are weights); ``homomorphism`` (the productions after it are
+render rules, drawn but not derived: sylva's ``->>``); ``maximum depth:`` (read and not
+needed: render rules apply once); ``endlsystem`` (the rest of the file is ignored).  Inside
+expressions ``^`` is cpfg's power (sylva's ``**``).  The turtle is ABOP's (``turtle =
+abop``).  Not supported, with an error that says so: ``decomposition``, ``#include``.
+
+The reader turns each line into one line of sylva's ``.lsys`` language and parses that, so
+errors keep the file's line numbers (and columns left of ``-->``).
+
+Examples
+--------
+>>> p = parse("Lsystem: tree\\nderivation length: 2\\nAxiom: A\\nA --> F[+A]A : 0.5\\n"
+...           "A --> F[-A]A : 0.5\\nendlsystem\\n")
+>>> p.dialect, p.name, p.steps, p.turtle, len(p.rules)
+('cpfg', 'tree', 2, 'abop', 2)
+"""
+
+from __future__ import annotations
+
+import re
+
+from ...errors import LSystemSyntaxError
+from ..ast import Program
+from . import lsysvis
+
+__all__ = ["parse"]
+
+_KEY = re.compile(r"\s*(lsystem|derivation\s+length|seed|axiom|ignore|consider|maximum\s+depth)"
+                  r"\s*:(.*)\Z", re.IGNORECASE)  # fmt: skip
+_DEFINE = re.compile(r"\s*#\s*define\s+([A-Za-z_]\w*)\s+(.+?)\s*\Z")
+_SECTION = re.compile(r"\s*(homomorphism|decomposition|endlsystem)\b(.*)\Z", re.IGNORECASE)
+
+
+def _strip_comments(text: str) -> str:
+    """``/* … */`` and ``//`` comments blanked out, line breaks kept (so are columns)."""
+    out = []
+    i, n = 0, len(text)
+    while i < n:
+        if text.startswith("/*", i):
+            j = text.find("*/", i + 2)
+            j = n if j < 0 else j + 2
+            out.append(re.sub(r"[^\n]", " ", text[i:j]))
+            i = j
+        elif text.startswith("//", i):
+            j = text.find("\n", i)
+            j = n if j < 0 else j
+            out.append(" " * (j - i))
+            i = j
+        else:
+            out.append(text[i])
+            i += 1
+    return "".join(out)
+
+
+def _power(expr: str) -> str:
+    """cpfg's ``^`` (power) as ``**``."""
+    return expr.replace("^", "**")
+
+
+def _in_parens_power(word: str) -> str:
+    """``^`` inside parentheses is a power; outside it is the pitch-up module."""
+    out, depth = [], 0
+    for ch in word:
+        depth += (ch == "(") - (ch == ")")
+        out.append("**" if ch == "^" and depth > 0 else ch)
+    return "".join(out)
+
+
+def _split_probability(rhs: str) -> tuple[str, str | None]:
+    """The successor and the probability after its last ``:`` outside parentheses."""
+    depth = 0
+    for k in range(len(rhs) - 1, -1, -1):
+        ch = rhs[k]
+        depth += (ch == ")") - (ch == "(")
+        if ch == ":" and depth == 0:
+            return rhs[:k], rhs[k + 1 :].strip()
+    return rhs, None
+
+
+def _production(line: str, render: bool, where) -> str:
+    lhs, rhs = line.split("-->", 1)
+    cond_at = lhs.find(":")
+    if cond_at >= 0:
+        cond = lhs[cond_at + 1 :].strip()
+        lhs = lhs[:cond_at] + (f": {_power(cond)}" if cond and cond != "*" else "")
+    succ, prob = _split_probability(rhs)
+    if render and prob is not None:
+        raise where("a homomorphism production takes no probability")
+    arrow = "->>" if render else (f"->({_power(prob)})" if prob else "->")
+    return f"{lhs.rstrip()} {arrow} {_in_parens_power(succ.strip())}"
+
+
+def parse(text: str, filename: str | None = None) -> Program:
+    """Read a cpfg L-system (see the module notes); errors name the file, line and column."""
+    lines = _strip_comments(text.removeprefix("\ufeff")).split("\n")
+    out: list[str] = []
+    name: str | None = None
+    render = False
+    ended = False
+    for number, raw in enumerate(lines, start=1):
+
+        def where(message: str, column: int = 1, _n=number, _raw=raw) -> LSystemSyntaxError:
+            return LSystemSyntaxError(message, filename=filename, line=_n, column=column,
+                                      source_line=_raw)  # fmt: skip
+
+        line = raw.rstrip()
+        if ended or not line.strip():
+            out.append("")
+            continue
+        if m := _DEFINE.match(line):
+            out.append(f"{m.group(1)} = {_power(m.group(2))}")
+            continue
+        if line.lstrip().startswith("#"):
+            word = line.split()[0]
+            raise where(f"{word} is not supported; expected #define NAME value",
+                        line.index("#") + 1)  # fmt: skip
+        if m := _SECTION.match(line):
+            key = m.group(1).lower()
+            if key == "decomposition":
+                raise where(
+                    "cpfg decomposition rules are not supported; expected "
+                    "productions, homomorphism or endlsystem",
+                    line.index(m.group(1)) + 1,
+                )
+            render = render or key == "homomorphism"
+            ended = key == "endlsystem"
+            out.append("")
+            continue
+        if m := _KEY.match(line):
+            key = " ".join(m.group(1).lower().split())
+            value = m.group(2).strip()
+            if key == "lsystem":
+                name = value or None
+                out.append("")
+            elif key == "derivation length":
+                out.append(f"steps = {value}")
+            elif key == "maximum depth":
+                out.append("")
+            else:
+                out.append(f"{key} = {_in_parens_power(value)}")
+            continue
+        if "-->" in line:
+            out.append(_production(line, render, where))
+            continue
+        raise where(
+            "expected a production 'pred --> successor', a 'keyword: value' line, "
+            "#define, homomorphism or endlsystem",
+            len(line) - len(line.lstrip()) + 1,
+        )
+    program = lsysvis.parse("\n".join(out), filename)
+    settings = dict(program.settings)
+    settings.setdefault("turtle", "abop")
+    return program.replace(settings=settings, dialect="cpfg", name=name or program.name)
