@@ -67,6 +67,8 @@ def test_detection():
     "text, line, column, words",
     [
         ("/* one\ntwo */\nLsystem: 1\nAxiom: F\nF --> F[+F\nendlsystem", 5, None, "']'"),
+        ("Lsystem: 1\nAxiom: F\nF(x) --> F(x*)[+F : 0.5\n", 3, 14, "expression"),
+        ("Lsystem: 1\nAxiom: F\nF(x) : y > 1 --> F(x)\n", 3, 8, "unknown variable 'y'"),
         ("Lsystem: 1\nAxiom: F\ndecomposition\nF --> FF\n", 3, 1, "decomposition"),
         ("#include <lpfgall.h>\nLsystem: 1\n", 1, 1, "#include"),
         ("Lsystem: 1\nAxiom: F\nF -> FF\n", 3, 1, "production"),
@@ -81,3 +83,4 @@ def test_errors_name_the_line(text, line, column, words):
     if column is not None:
         assert err.column == column
     assert words in str(err)
+    assert err.source_line == text.split("\n")[line - 1]  # the user's line, not a translation

@@ -23,7 +23,8 @@ expressions ``^`` is cpfg's power (sylva's ``**``).  The turtle is ABOP's (``tur
 abop``).  Not supported, with an error that says so: ``decomposition``, ``#include``.
 
 The reader turns each line into one line of sylva's ``.lsys`` language and parses that, so
-errors keep the file's line numbers (and columns left of ``-->``).
+errors name the file's lines and columns (a column right of a ``^`` that became ``**`` may
+be off by one per power).
 
 Examples
 --------
@@ -95,23 +96,46 @@ def _split_probability(rhs: str) -> tuple[str, str | None]:
     return rhs, None
 
 
-def _production(line: str, render: bool, where) -> str:
-    lhs, rhs = line.split("-->", 1)
+def _production(line: str, render: bool, where) -> tuple[str, list[tuple[int, int]]]:
+    """The ``.lsys`` rule of a production line, and where its parts came from: pairs of
+    (column in the rule, column in the line), both 0-based, one per part."""
+    at = line.index("-->")
+    lhs, rhs = line[:at], line[at + 3 :]
     cond_at = lhs.find(":")
     if cond_at >= 0:
         cond = lhs[cond_at + 1 :].strip()
         lhs = lhs[:cond_at] + (f": {_power(cond)}" if cond and cond != "*" else "")
     succ, prob = _split_probability(rhs)
     if render and prob is not None:
-        raise where("a homomorphism production takes no probability")
+        raise where("a homomorphism production takes no probability", line.rindex(":") + 1)
+    head = lhs.rstrip()
     arrow = "->>" if render else (f"->({_power(prob)})" if prob else "->")
-    return f"{lhs.rstrip()} {arrow} {_in_parens_power(succ.strip())}"
+    parts = [(0, 0)]
+    if prob:
+        parts.append((len(head) + 4, line.rindex(prob)))
+    succ_at = at + 3 + len(succ) - len(succ.lstrip())
+    parts.append((len(head) + len(arrow) + 2, succ_at))
+    return f"{head} {arrow} {_in_parens_power(succ.strip())}", sorted(parts)
+
+
+def _relocate(err: LSystemSyntaxError, lines: list[str], parts: dict) -> LSystemSyntaxError:
+    """``err``, raised on a translated line, pointed at the cpfg line it came from."""
+    if err.line is None or not 1 <= err.line <= len(lines):
+        return err
+    column = err.column
+    if column is not None and err.line in parts:
+        here, there = max((p for p in parts[err.line] if p[0] <= column - 1), default=(0, 0))
+        column = column - here + there
+    return type(err)(err.message, filename=err.filename, line=err.line, column=column,
+                     source_line=lines[err.line - 1].rstrip())  # fmt: skip
 
 
 def parse(text: str, filename: str | None = None) -> Program:
     """Read a cpfg L-system (see the module notes); errors name the file, line and column."""
+    original = text.removeprefix("\ufeff").split("\n")
     lines = _strip_comments(text.removeprefix("\ufeff")).split("\n")
     out: list[str] = []
+    parts: dict[int, list[tuple[int, int]]] = {}
     name: str | None = None
     render = False
     ended = False
@@ -158,14 +182,18 @@ def parse(text: str, filename: str | None = None) -> Program:
                 out.append(f"{key} = {_in_parens_power(value)}")
             continue
         if "-->" in line:
-            out.append(_production(line, render, where))
+            rule, parts[number] = _production(line, render, where)
+            out.append(rule)
             continue
         raise where(
             "expected a production 'pred --> successor', a 'keyword: value' line, "
             "#define, homomorphism or endlsystem",
             len(line) - len(line.lstrip()) + 1,
         )
-    program = lsysvis.parse("\n".join(out), filename)
+    try:
+        program = lsysvis.parse("\n".join(out), filename)
+    except LSystemSyntaxError as err:  # semantic errors too: the subclass is kept
+        raise _relocate(err, original, parts) from None
     settings = dict(program.settings)
     settings.setdefault("turtle", "abop")
     return program.replace(settings=settings, dialect="cpfg", name=name or program.name)
