@@ -128,3 +128,52 @@ def test_long_random_word_matches_serial(monkeypatch):
     par, ser, walked = _both(monkeypatch, interpret, text, dialect="abop", rot=33, thick=0.2)
     assert walked >= 2 and par.n_segments > 200
     _same(par, ser)
+
+
+def _brackets(text: str) -> tuple[int, dict[int, int], bool]:
+    """Deepest bracket, partner of each [, and whether every ] has a [ (a ] with no [ before
+    it is ignored, as the turtle ignores it)."""
+    stack, partner, deepest, balanced = [], {}, 0, True
+    for i, ch in enumerate(text):
+        if ch == "[":
+            stack.append(i)
+            deepest = max(deepest, len(stack))
+        elif ch == "]":
+            if stack:
+                partner[stack.pop()] = i
+            else:
+                balanced = False
+    return deepest, partner, balanced and not stack
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.lists(st.sampled_from(_SYMS), min_size=1, max_size=120), st.integers(1, 5))
+def test_scan_in_ranges_counts_like_one_pass(syms, parts):
+    text = "".join(syms)
+    w = ModuleString.from_text(text)
+    ops, _ = compile_table(TABLES["abop"], w.alphabet.names)
+    n = len(w)
+    bounds = [n * k // parts for k in range(parts + 1)]
+    counts, sel = K.scan_merge(
+        [K.scan_range(w.ids, ops, bounds[k], bounds[k + 1], 2, 8) for k in range(parts)]
+    )
+    whole, _ = K.scan_word(w.ids, ops, 2, 8)
+    for k in (0, 1, 2, 3, 5):  # draws, leaves, polygon room, polygons, serial-only
+        assert counts[k] == whole[k]
+    assert counts[0] == text.count("F") + text.count("G")
+    assert counts[1] == text.count("~")
+    deepest, partner, balanced = _brackets(text)
+    assert counts[4] >= deepest  # never less than the turtle's stack needs
+    if balanced:
+        assert counts[4] == deepest
+    end = -1
+    for a, b, ns0, nl0, ns1, nl1 in sel.tolist():
+        # a bracket pair of 2…8 modules, inside one range, after the previous pair
+        assert partner.get(a) == b and 2 <= b - a + 1 <= 8 and a > end
+        assert any(lo <= a and b < hi for lo, hi in zip(bounds, bounds[1:]))
+        # the F/G and leaf ordinals around it, counted over the whole word
+        inner = text[a : b + 1]
+        assert ns0 == text[:a].count("F") + text[:a].count("G")
+        assert ns1 == ns0 + inner.count("F") + inner.count("G")
+        assert nl0 == text[:a].count("~") and nl1 == nl0 + inner.count("~")
+        end = b

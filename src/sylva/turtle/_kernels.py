@@ -137,6 +137,14 @@ def _rotate(st, a, b, c, s):  # pragma: no cover - compiled
         st[b + k] = -x * s + y * c
 
 
+@njit(cache=True, inline="always")
+def _copy_state(src, dst):  # pragma: no cover - compiled
+    # an explicit loop of constant length: numba's slice assignment ``dst[:] = src`` made
+    # every push and pop cost ~60 ns, a third of the whole walk of a bracketed plant
+    for k in range(NS):
+        dst[k] = src[k]
+
+
 @njit(cache=True)
 def _normalize_frame(st):  # pragma: no cover - compiled
     # Gram-Schmidt keeps H, L, U orthonormal over millions of rotations
@@ -223,32 +231,35 @@ NK = 12
 PUSH_CAP = 1 << 16  # brackets deeper than this are never split off (the walk still works)
 
 
-@njit(cache=True)
-def scan_word(ids, ops, s_min, s_max):  # pragma: no cover - compiled
-    """One pass over the word: capacities, and the subtrees the turtle may walk in parallel.
+@njit(cache=True, nogil=True)
+def scan_range(ids, ops, lo, hi, s_min, s_max):  # pragma: no cover - compiled
+    """One pass over modules ``lo`` … ``hi - 1``: counts, bracket depths, and the subtrees
+    the turtle may walk in parallel.
 
-    A subtree is a bracket pair ``[ … ]`` of ``s_min`` to ``s_max`` modules that lies in no
-    other chosen pair; for each the pass records its first and last index and the segment and
-    leaf ordinals at its start and after its end.  Returns ``(counts, sel)``: ``counts`` =
-    (F/G draws, leaves, polygon-vertex room, polygons, deepest bracket, serial-only
-    commands) and ``sel`` an ``int64[k, 6]`` of (start, end, draws before, leaves before,
-    draws after, leaves after).
+    A subtree is a bracket pair ``[ … ]`` of ``s_min`` to ``s_max`` modules, wholly in the
+    range, that lies in no other chosen pair of the range.  Returns ``(stats, sel)``:
+    ``stats`` = (F/G draws, leaves, polygon-vertex room, polygons, serial-only commands,
+    net depth change, lowest depth, highest depth), depths relative to the range's start
+    and unclamped; ``sel`` an ``int64[k, 6]`` of (start, end, draws before, leaves before,
+    draws after, leaves after), the ordinals counted from the range's start.  Ranges scanned
+    apart (on threads) combine with :func:`scan_merge`.
     """
-    n = ids.shape[0]
     n_draw = 0
     n_leaf = 0
     n_pv = 0
     n_poly = 0
     serial = 0
-    d = 0
-    max_d = 0
+    d = 0  # depth relative to lo, unclamped: a ] may close a [ before the range
+    lowest = 0
+    highest = 0
+    ld = 0  # open brackets of the range itself
     b_pos = np.empty(PUSH_CAP, np.int64)
     b_ns = np.empty(PUSH_CAP, np.int64)
     b_nl = np.empty(PUSH_CAP, np.int64)
-    cap = n // max(s_min, 1) + 2
+    cap = (hi - lo) // max(s_min, 1) + 2
     sel = np.empty((cap, 6), np.int64)
     nc = 0
-    for i in range(n):
+    for i in range(lo, hi):
         op = ops[ids[i]]
         if op == T.DRAW or op == T.DRAW_NOREC:
             n_draw += 1
@@ -261,30 +272,71 @@ def scan_word(ids, ops, s_min, s_max):  # pragma: no cover - compiled
         if op == T.LEAF or op == T.SURFACE:
             n_leaf += 1
         if op == T.PUSH:
-            if d < PUSH_CAP:
-                b_pos[d] = i
-                b_ns[d] = n_draw
-                b_nl[d] = n_leaf
+            if ld < PUSH_CAP:
+                b_pos[ld] = i
+                b_ns[ld] = n_draw
+                b_nl[ld] = n_leaf
+            ld += 1
             d += 1
-            if d > max_d:
-                max_d = d
-        elif op == T.POP and d > 0:
+            if d > highest:
+                highest = d
+        elif op == T.POP:
             d -= 1
-            if d < PUSH_CAP:
-                a = b_pos[d]
-                size = i - a + 1
-                if size >= s_min and size <= s_max:
-                    while nc > 0 and sel[nc - 1, 0] > a:  # pairs inside this one
-                        nc -= 1
-                    sel[nc, 0] = a
-                    sel[nc, 1] = i
-                    sel[nc, 2] = b_ns[d]
-                    sel[nc, 3] = b_nl[d]
-                    sel[nc, 4] = n_draw
-                    sel[nc, 5] = n_leaf
-                    nc += 1
-    counts = np.array([n_draw, n_leaf, n_pv, n_poly, max_d, serial], np.int64)
-    return counts, sel[:nc].copy()
+            if d < lowest:
+                lowest = d
+            if ld > 0:
+                ld -= 1
+                if ld < PUSH_CAP:
+                    a = b_pos[ld]
+                    size = i - a + 1
+                    if size >= s_min and size <= s_max:
+                        while nc > 0 and sel[nc - 1, 0] > a:  # pairs inside this one
+                            nc -= 1
+                        sel[nc, 0] = a
+                        sel[nc, 1] = i
+                        sel[nc, 2] = b_ns[ld]
+                        sel[nc, 3] = b_nl[ld]
+                        sel[nc, 4] = n_draw
+                        sel[nc, 5] = n_leaf
+                        nc += 1
+    stats = np.array([n_draw, n_leaf, n_pv, n_poly, serial, d, lowest, highest], np.int64)
+    return stats, sel[:nc].copy()
+
+
+def scan_merge(parts):
+    """``(counts, sel)`` of a word from the :func:`scan_range` results of its consecutive
+    ranges: ``counts`` = (F/G draws, leaves, polygon-vertex room, polygons, deepest bracket,
+    serial-only commands).
+
+    A ``]`` with no ``[`` before it is ignored, as the turtle ignores it: a range entered
+    at depth D ends at ``max(D, -lowest) + net`` and reaches at most
+    ``max(D, -lowest) + highest`` (exact for balanced words, an upper bound otherwise: the
+    depth sizes the turtle's stack).
+    """
+    total = np.zeros(5, np.int64)
+    depth = 0
+    deepest = 0
+    sels = []
+    for stats, sel in parts:
+        if sel.shape[0]:
+            sel = sel.copy()
+            sel[:, 2] += total[0]
+            sel[:, 4] += total[0]
+            sel[:, 3] += total[1]
+            sel[:, 5] += total[1]
+            sels.append(sel)
+        total += stats[:5]
+        entry = max(depth, -int(stats[6]))
+        deepest = max(deepest, entry + int(stats[7]))
+        depth = entry + int(stats[5])
+    counts = np.array([total[0], total[1], total[2], total[3], deepest, total[4]], np.int64)
+    sel = np.concatenate(sels) if sels else np.zeros((0, 6), np.int64)
+    return counts, sel
+
+
+def scan_word(ids, ops, s_min, s_max):
+    """:func:`scan_range` over the whole word, in one piece (see :func:`scan_merge`)."""
+    return scan_merge([scan_range(ids, ops, 0, ids.shape[0], s_min, s_max)])
 
 
 @njit(cache=True, nogil=True)
@@ -379,7 +431,9 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                     bx = st[S_H] * sg
                     by = st[S_H + 1] * sg
                     bz = st[S_H + 2] * sg
-                    if p >= 0:  # the parent's direction and reference travel in the state
+                    if p >= 0 and bx == st[S_DIR] and by == st[S_DIR + 1] and bz == st[S_DIR + 2]:
+                        r0x, r0y, r0z = st[S_REF], st[S_REF + 1], st[S_REF + 2]  # straight on
+                    elif p >= 0:  # the parent's direction and reference travel in the state
                         r0x, r0y, r0z = _transport(
                             st[S_REF], st[S_REF + 1], st[S_REF + 2],
                             st[S_DIR], st[S_DIR + 1], st[S_DIR + 2], bx, by, bz,
@@ -436,20 +490,20 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
             _level(st)
         elif op == T.PUSH:
             if k_sel < nsel and sel[k_sel, 0] == i:  # a subtree for a parallel walker
-                slot_state[k_sel, :] = st
+                _copy_state(st, slot_state[k_sel])
                 slot_depth[k_sel] = depth
                 ns = sel[k_sel, 4]
                 nl = sel[k_sel, 5]
                 i = sel[k_sel, 1] + 1
                 k_sel += 1
                 continue
-            stack[depth - base, :] = st
+            _copy_state(st, stack[depth - base])
             depth += 1
             st[S_OPEN] = i
         elif op == T.POP:
             if depth > base:
                 depth -= 1
-                st[:] = stack[depth - base, :]
+                _copy_state(stack[depth - base], st)
         elif op == T.CUT:
             if depth == 0:
                 break
@@ -465,7 +519,7 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                         tr_frame[jj, 2, k] = st[S_U + k]
             i = j
             depth -= 1
-            st[:] = stack[depth - base, :]
+            _copy_state(stack[depth - base], st)
         elif op == T.POLY_BEGIN:
             pid = nopened
             nopened += 1

@@ -257,7 +257,7 @@ def _run(word, program, dialect, seed, overrides, trace_on):
     parallel = threads > 1 and n >= PARALLEL_MIN and cfg[K.C_ENGINE] == 0.0
     # subtrees of 1/64 to 1/16 of a thread's share, so that the threads can be kept even
     s_max = max(n // (16 * threads), 1) if parallel else -1
-    counts, sel = K.scan_word(word.ids, ops, max(s_max // 64, SUBTREE_MIN), s_max)
+    counts, sel = _scan(word.ids, ops, max(s_max // 64, SUBTREE_MIN), s_max, threads, parallel)
     if counts[5] > 0 or sel.shape[0] < 2:  # polygons or %: one serial walk
         sel = sel[:0]
     empty = np.zeros(0, np.int64)
@@ -268,6 +268,21 @@ def _run(word, program, dialect, seed, overrides, trace_on):
     if out[-1] > 0:  # blocks were counted, not written: run again with room for them
         out = _walk(args, out[-1], counts, sel, threads)
     return dialect, s, materials, vertex_colors, bg, out
+
+
+def _scan(ids, ops, s_min, s_max, threads, parallel):
+    """:func:`~sylva.turtle._kernels.scan_word`, on ``threads`` consecutive ranges at once
+    when ``parallel`` (a pair that spans two ranges is not offered; pairs inside it are)."""
+    if not parallel:
+        return K.scan_word(ids, ops, s_min, s_max)
+    n = ids.shape[0]
+    bounds = [n * k // threads for k in range(threads + 1)]
+
+    def part(k):
+        return K.scan_range(ids, ops, bounds[k], bounds[k + 1], s_min, s_max)
+
+    with ThreadPoolExecutor(threads, thread_name_prefix="sylva-turtle") as pool:
+        return K.scan_merge(list(pool.map(part, range(threads))))
 
 
 def _threads() -> int:
