@@ -53,19 +53,18 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
             if q < 0 or depth[s] < depth[q]:
                 cont[p] = s
     prev = np.empty(n, np.bool_)
-    dup = np.zeros(n, np.bool_)
+    dup = np.empty(n, np.bool_)
     v1 = np.empty(n)
     voff = np.empty(n + 1, np.int64)
     toff = np.empty(n + 1, np.int64)
-    voff[0] = 0
-    toff[0] = 0
     r = d + 1
-    for s in range(n):
+    for s in prange(n):  # each segment's own part: v1 holds its texture length for now
         p = parent[s]
         pv = p >= 0 and cont[p] == s
         prev[s] = pv
-        if pv:
-            dup[s] = material[s] != material[p] or (
+        dup[s] = pv and (
+            material[s] != material[p]
+            or (
                 split_colors
                 and (
                     color[s, 0] != color[p, 0]
@@ -73,8 +72,9 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
                     or color[s, 2] != color[p, 2]
                 )
             )
+        )
         rm = 0.5 * (radius[s, 0] + radius[s, 1])
-        v1[s] = (v1[p] if pv else 0.0) + lens[s] / (TWO_PI * max(rm, 1e-12))
+        v1[s] = lens[s] / (TWO_PI * max(rm, 1e-12))
         nv = r
         nt = 2 * d
         if not pv:
@@ -85,8 +85,15 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
         if cont[s] < 0:
             nv += 1
             nt += d
-        voff[s + 1] = voff[s] + nv
-        toff[s + 1] = toff[s] + nt
+        voff[s + 1] = nv
+        toff[s + 1] = nt
+    voff[0] = 0
+    toff[0] = 0
+    for s in range(n):  # parents come first: texture v runs on along each tube
+        if prev[s]:
+            v1[s] += v1[parent[s]]
+        voff[s + 1] += voff[s]
+        toff[s + 1] += toff[s]
     return cont, prev, dup, v1, voff, toff
 
 
