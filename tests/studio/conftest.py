@@ -25,8 +25,10 @@ class LiveServer:
         self.sock.bind(("127.0.0.1", 0))
         self.port = self.sock.getsockname()[1]
         self.url = f"http://127.0.0.1:{self.port}"
+        # keep-alive as long as the real server's: with 5 s, a client that waited longer on
+        # a loaded machine could send on a connection the server was closing
         config = uvicorn.Config(self.app, log_level="error", lifespan="on",
-                                timeout_keep_alive=5)
+                                timeout_keep_alive=30)
         self.server = uvicorn.Server(config)
         self.thread = threading.Thread(target=self.server.run,
                                        kwargs={"sockets": [self.sock]}, daemon=True)
