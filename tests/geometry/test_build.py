@@ -9,6 +9,7 @@ import pytest
 import trimesh
 
 from sylva.geometry import _kernels as K
+from sylva.geometry import build as B
 from sylva.geometry.build import (
     BuildError,
     build_blocks,
@@ -34,18 +35,7 @@ def as_trimesh(mesh):
 
 def tubes_of(g, detail):
     """The triangles of each tube (an axis followed through its continuations)."""
-    plan = K.tube_plan(
-        g.seg_start,
-        g.seg_end,
-        g.seg_radius,
-        g.seg_parent,
-        g.seg_depth,
-        g.seg_material,
-        g.seg_color,
-        np.cos(np.radians(140.0)),
-        False,
-        detail,
-    )
+    plan = B._tube_plan(g, g.seg_radius, 140.0, False, detail)
     cont, prev, toff = plan[0], plan[1], plan[5]
     for s in np.flatnonzero(~prev):
         tris = []

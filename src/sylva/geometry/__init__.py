@@ -5,7 +5,9 @@
 * :mod:`sylva.geometry.build` — :func:`~sylva.geometry.build.build_mesh` and friends
   (continuous tubes, prisms, cones, leaves, polygons, voxel blocks);
 * :mod:`sylva.geometry.exchange` — :func:`~sylva.geometry.exchange.write` and one module per
-  file format.
+  file format;
+* :mod:`sylva.geometry.buffers` — the pool that lends the memory of dropped turtle records
+  and meshes to the next build.
 
 Only the plain-data classes are imported here, so importing this package stays cheap; the
 builders (numba kernels) load when :mod:`sylva.geometry.build` is imported.

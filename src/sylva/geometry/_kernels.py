@@ -8,18 +8,22 @@ import numpy as np
 from numba import njit, prange, uint64
 
 TWO_PI = 2.0 * math.pi
+# LLVM may multiply by a reciprocal and fuse multiply-adds (~25 % off the tube fill); no
+# assumptions about NaN or infinity, which the kernels test for
+FAST = {"arcp", "contract", "nsz"}
 
 
 # --------------------------------------------------------------------------- tubes
-@njit(cache=True, parallel=True)
-def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, split_colors, d):
+@njit(cache=True, fastmath=FAST, parallel=True)
+def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, split_colors, d,
+              cont, prev, dup, v1, voff, toff):  # fmt: skip
     """Choose axis continuations and lay out vertices and triangles of continuous tubes.
 
     A segment continues its parent's tube when it is the parent's child of lowest bracket
     depth (first drawn on ties) and bends by less than ``acos(cos_limit)``.  A continuing
     segment of another material (or colour, with ``split_colors``) starts with its own copy
     of the parent's end ring, so the surface stays closed where the colour changes.
-    Returns
+    Writes, for ``n`` segments:
 
     cont : int64[n]      the continuing child (-1: the tube ends with a cap)
     prev : bool[n]       True when the segment continues its parent (no start cap)
@@ -28,8 +32,8 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
     voff, toff : int64[n+1]  first vertex / triangle of each segment
     """
     n = start.shape[0]
-    ok = np.empty(n, np.bool_)
-    lens = np.empty(n)
+    ok = prev  # until the continuations are chosen: may s continue its parent?
+    lens = v1  # until the texture lengths are summed: each segment's length
     for s in prange(n):
         ax = end[s, 0] - start[s, 0]
         ay = end[s, 1] - start[s, 1]
@@ -37,6 +41,7 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
         la = math.sqrt(ax * ax + ay * ay + az * az)
         lens[s] = la
         ok[s] = False
+        cont[s] = -1
         p = parent[s]
         if p < 0:
             continue
@@ -45,18 +50,12 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
         bz = end[p, 2] - start[p, 2]
         lb = math.sqrt(bx * bx + by * by + bz * bz)
         ok[s] = (ax * bx + ay * by + az * bz) / (la * lb) >= cos_limit
-    cont = np.full(n, -1, np.int64)
     for s in range(n):
         if ok[s]:
             p = parent[s]
             q = cont[p]
             if q < 0 or depth[s] < depth[q]:
                 cont[p] = s
-    prev = np.empty(n, np.bool_)
-    dup = np.empty(n, np.bool_)
-    v1 = np.empty(n)
-    voff = np.empty(n + 1, np.int64)
-    toff = np.empty(n + 1, np.int64)
     r = d + 1
     for s in prange(n):  # each segment's own part: v1 holds its texture length for now
         p = parent[s]
@@ -94,10 +93,9 @@ def tube_plan(start, end, radius, parent, depth, material, color, cos_limit, spl
             v1[s] += v1[parent[s]]
         voff[s + 1] += voff[s]
         toff[s + 1] += toff[s]
-    return cont, prev, dup, v1, voff, toff
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=FAST, inline="always")
 def _frame(s, start, end, radius, ref):
     """Segment ``s``: unit axis, ring reference r, b = axis × r, radii, taper slope."""
     ax = end[s, 0] - start[s, 0]
@@ -119,7 +117,7 @@ def _frame(s, start, end, radius, ref):
     return ax, ay, az, rx, ry, rz, bx, by, bz, r0, r1, slope
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=FAST, inline="always")
 def _end_basis(fr, s, q, start, end):
     """The end ring of segment ``s`` of frame ``fr`` (:func:`_frame`), mitred toward its
     continuation ``q`` when q >= 0.
@@ -162,7 +160,7 @@ def _end_basis(fr, s, q, start, end):
     )  # fmt: skip
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=FAST, inline="always")
 def _start_basis(fr, s, start):
     """The start ring of a tube's first segment (see :func:`_end_basis`)."""
     ax, ay, az, rx, ry, rz, bx, by, bz, r0, r1, slope = fr
@@ -175,7 +173,7 @@ def _start_basis(fr, s, start):
     )  # fmt: skip
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=FAST, inline="always")
 def _write_ring(e, bs, vv, cos_t, sin_t, u_t, r, V, N, UV):
     """Write ring vertices ``e`` … ``e + r - 1`` from the bases ``bs`` at texture v ``vv``."""
     (cx, cy, cz, px, py, pz, qx, qy, qz, arx, ary, arz, brx, bry, brz, g0x, g0y, g0z, alpha,
@@ -195,7 +193,7 @@ def _write_ring(e, bs, vv, cos_t, sin_t, u_t, r, V, N, UV):
         UV[e + j, 1] = vv
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=FAST)
 def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, prev, dup, v1,
                 voff, toff, cos_t, sin_t, u_t, d, want_colors, V, N, UV, C, I, M):  # fmt: skip
     """Tubes of segments ``lo`` … ``hi - 1`` (see :func:`tube_fill`).
@@ -311,7 +309,7 @@ def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, 
 TUBE_CHUNK = 1024  # segments per task of the parallel fill
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, fastmath=FAST, parallel=True)
 def tube_fill(start, end, radius, ref, color, material, parent, cont, prev, dup, v1, voff, toff,
               d, want_colors, V, N, UV, C, I, M):  # fmt: skip
     """Write the tube vertices (V, N, UV, C) and triangles (I, M) laid out by tube_plan.
@@ -334,7 +332,7 @@ def tube_fill(start, end, radius, ref, color, material, parent, cont, prev, dup,
                     want_colors, V, N, UV, C, I, M)  # fmt: skip
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=FAST)
 def leonardo(parent, radius, exponent):
     """Radii by Leonardo's rule: ``r(s)^e = Σ r(child)^e``; tips keep their end radius.
 
@@ -364,7 +362,7 @@ def leonardo(parent, radius, exponent):
 
 
 # --------------------------------------------------------------------------- prisms and cones
-@njit(cache=True)
+@njit(cache=True, fastmath=FAST)
 def prism_fill(start, end, radius, ref, color, material, d, want_colors, V, N, UV, C, I, M):
     """Seed 001: the mantle of a regular prism per segment, ``d`` flat faces (4 vertices and
     2 triangles each); ``d == 1`` is one rectangle in the (H, ref) plane, both sides."""
@@ -444,7 +442,7 @@ def prism_fill(start, end, radius, ref, color, material, d, want_colors, V, N, U
             t += 2
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=FAST)
 def cone_fill(start, end, radius, ref, color, material, d, h, want_colors, V, N, UV, C, I, M):
     """Seed 000: a frustum per segment whose bottom base is a hemisphere of the base radius
     (``h`` rings of latitude) and whose top is a flat disc.  Closed; no shared vertices."""

@@ -43,6 +43,7 @@ import numpy as np
 
 from ..errors import SylvaError
 from . import _kernels as K
+from .buffers import empty
 from .mesh import Material, Mesh, Scene
 from .records import Geometry
 
@@ -131,12 +132,7 @@ def build_branches(
         geometry.seg_material,
     )  # fmt: skip
     if mode == "tube":
-        cos_limit = math.cos(math.radians(max_bend))
-        plan = K.tube_plan(
-            geometry.seg_start, geometry.seg_end, radius, geometry.seg_parent,
-            geometry.seg_depth, geometry.seg_material, geometry.seg_color, cos_limit, want, d,
-        )  # fmt: skip
-        cont, prev, dup, v1, voff, toff = plan
+        cont, prev, dup, v1, voff, toff = _tube_plan(geometry, radius, max_bend, want, d)
         nv, nt = int(voff[-1]), int(toff[-1])
         mats = geometry.seg_material
         single = n > 0 and int(mats.min()) == int(mats.max())
@@ -167,14 +163,29 @@ def build_branches(
     )  # fmt: skip
 
 
+def _tube_plan(geometry: Geometry, radius: np.ndarray, max_bend: float, split_colors: bool, d: int):
+    """The layout of the continuous tubes of ``geometry``'s segments at ``d`` sides:
+    ``(cont, prev, dup, v1, voff, toff)``, see :func:`sylva.geometry._kernels.tube_plan`."""
+    n = geometry.n_segments
+    cont, prev, dup = empty(n, np.int64), empty(n, np.bool_), empty(n, np.bool_)
+    v1, voff, toff = empty(n, np.float64), empty(n + 1, np.int64), empty(n + 1, np.int64)
+    K.tube_plan(
+        geometry.seg_start, geometry.seg_end, radius, geometry.seg_parent, geometry.seg_depth,
+        geometry.seg_material, geometry.seg_color, math.cos(math.radians(max_bend)),
+        split_colors, d, cont, prev, dup, v1, voff, toff,
+    )  # fmt: skip
+    return cont, prev, dup, v1, voff, toff
+
+
 def _alloc(nv: int, nt: int, want_colors: bool, n_idx: int | None = None):
+    # from the buffer pool: a mesh built again (studio, animation) reuses touched pages
     return (
-        np.empty((nv, 3), np.float32),
-        np.empty((nv, 3), np.float32),
-        np.empty((nv, 2), np.float32),
-        np.empty((nv if want_colors else 0, 4), np.float32),
-        np.empty((nt if n_idx is None else n_idx, 3), np.uint32),
-        np.empty(nt, np.int32),
+        empty((nv, 3), np.float32),
+        empty((nv, 3), np.float32),
+        empty((nv, 2), np.float32),
+        empty((nv if want_colors else 0, 4), np.float32),
+        empty((nt if n_idx is None else n_idx, 3), np.uint32),
+        empty(nt, np.int32),
     )
 
 

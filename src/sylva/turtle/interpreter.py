@@ -35,6 +35,7 @@ import numba
 import numpy as np
 
 from ..errors import SylvaError
+from ..geometry.buffers import empty
 from ..geometry.mesh import Material
 from ..geometry.records import Geometry
 from ..lsystem.ast import Program
@@ -290,8 +291,9 @@ def _threads() -> int:
 
 
 def _walk(args, blk_cap, counts, sel, threads):
+    # the records come from the buffer pool: a word interpreted again reuses touched pages
     word, segs, leaves, polys, blocks, tr, cnt, slots, depths = K.walk_word(
-        *args, blk_cap, counts, sel
+        *args, blk_cap, counts, sel, K.segment_arrays(int(counts[0]), empty)
     )
     holes = int(cnt[K.K_HOLES])
     if sel.shape[0]:
