@@ -134,3 +134,26 @@ def test_turtle_and_mesh_in_reused_memory_equal_fresh_ones():
         np.testing.assert_array_equal(getattr(g2, name), getattr(g0, name))
     for name in ("vertices", "normals", "uvs", "indices"):
         np.testing.assert_array_equal(getattr(m2, name), getattr(m0, name))
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="needs fork")
+def test_a_forked_child_allocates_and_trims():
+    import os
+    import warnings
+
+    keep = buffers.empty(BIG, np.float32)
+    keep[:] = 1.0
+    with warnings.catch_warnings():  # Python >= 3.12 warns of fork() beside threads
+        warnings.simplefilter("ignore", DeprecationWarning)
+        pid = os.fork()
+    if pid == 0:  # the child: the pool works, its timer can be armed again
+        try:
+            a = buffers.empty(BIG, np.float32)
+            ok = a.ctypes.data != keep.ctypes.data and buffers._timer is not None
+            del a
+            buffers.release()
+            os._exit(0 if ok and buffers.held()[1] == 0 else 1)
+        except BaseException:
+            os._exit(2)
+    _, status = os.waitpid(pid, 0)
+    assert os.WEXITSTATUS(status) == 0

@@ -173,6 +173,18 @@ def _arm() -> None:
         _timer.start()
 
 
+def _after_fork() -> None:
+    """A forked child has no timer thread and may hold a copy of a taken lock: start clean
+    (its copies of the blocks stay in the pool; the next check trims them)."""
+    global _lock, _timer
+    _lock = threading.Lock()
+    _timer = None
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_after_fork)
+
+
 def _tick() -> None:
     global _timer
     with _lock:
