@@ -8,7 +8,7 @@ import numpy as np
 from numba import njit, prange, uint64
 
 TWO_PI = 2.0 * math.pi
-# LLVM may multiply by a reciprocal and fuse multiply-adds (~25 % off the tube fill); no
+# LLVM may multiply by a reciprocal and fuse multiply-adds (~20 % off the tube fill); no
 # assumptions about NaN or infinity, which the kernels test for
 FAST = {"arcp", "contract", "nsz"}
 

@@ -269,7 +269,8 @@ def scan_range(ids, ops, lo, hi, s_min, s_max):  # pragma: no cover - compiled
     sel = np.empty((cap, 6), np.int64)
     nc = 0
     # what each symbol counts toward, as bits: the loop adds them without branching and
-    # branches only on brackets (half the time of a chain of tests on the opcode)
+    # branches only on brackets (a few per cent faster than a chain of tests on the opcode;
+    # the brackets' bookkeeping is most of the scan's time)
     fl = np.empty(ops.shape[0], np.int64)
     for k in range(ops.shape[0]):
         op = ops[k]
@@ -792,7 +793,8 @@ def segment_arrays(n, empty=np.empty):
 @njit(cache=True)
 def walk_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace, blk_cap,
                    counts, sel, segs):  # fmt: skip  # pragma: no cover - compiled
-    """Allocate a word's outputs and walk it, up to the subtrees of ``sel``.
+    """Allocate a word's outputs (but its segments, passed in) and walk it, up to the
+    subtrees of ``sel``.
 
     See :func:`sylva.turtle.interpret` for the meaning of the outputs.  The interpreter
     walks the subtrees left (:func:`walk` on threads) and :func:`finish_word` cuts the
