@@ -157,3 +157,11 @@ def test_a_forked_child_allocates_and_trims():
             os._exit(2)
     _, status = os.waitpid(pid, 0)
     assert os.WEXITSTATUS(status) == 0
+
+
+def test_the_limit_from_the_environment(monkeypatch):
+    monkeypatch.setenv("SYLVA_BUFFER_POOL", "123456789")
+    assert buffers._default_limit() == 123456789
+    monkeypatch.setenv("SYLVA_BUFFER_POOL", "lots")
+    with pytest.warns(RuntimeWarning, match="number of bytes"):
+        assert 0 < buffers._default_limit() <= 2 << 30

@@ -38,6 +38,7 @@ import os
 import sys
 import threading
 import time
+import warnings
 
 import numpy as np
 
@@ -70,7 +71,11 @@ def _default_limit() -> int:
         try:
             return max(int(env), 0)
         except ValueError:
-            raise ValueError(f"SYLVA_BUFFER_POOL must be a number of bytes, got {env!r}") from None
+            warnings.warn(
+                f"SYLVA_BUFFER_POOL must be a number of bytes, got {env!r}: using the default",
+                RuntimeWarning,
+                stacklevel=2,
+            )
     try:
         total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
     except (ValueError, OSError, AttributeError):
