@@ -1,22 +1,24 @@
 """Turtle + tube mesh throughput on a bracketed 3D plant with about a million segments.
 
-Run: ``python benchmarks/mesh.py [--segments 1000000] [--detail 8] [--repeat 3]``
+Run: ``python benchmarks/mesh.py [--segments 1000000] [--detail 8] [--repeat 5]``
 
 Measures, after a warm-up that compiles the kernels:
 
 * ``turtle``: :func:`sylva.turtle.interpret` over the word's arrays;
 * ``mesh``: :func:`sylva.geometry.build.build_branches` (continuous tubes, parallel-transport
   frames, mitred shared rings, caps, normals, UVs);
-* segments per second for both together, best of ``--repeat``, in two cases: built after
-  the buffer pool was emptied (every page fresh from the kernel, which zeroes it), and built
-  again at once (the pages of the previous build reused, as when the studio re-derives, an
-  animation meshes frame after frame or a world grows plant after plant; see
-  :mod:`sylva.geometry.buffers`);
+* segments per second for both together, median and best of ``--repeat`` rounds, in two
+  cases: built after the buffer pool was emptied (every page fresh from the kernel, which
+  zeroes it), and built again at once (the pages of the previous build reused, as when the
+  studio re-derives, an animation meshes frame after frame or a world grows plant after
+  plant; see :mod:`sylva.geometry.buffers`);
 * ``peer``: the issue's reference, a straightforward vectorised NumPy tube builder
-  (:func:`numpy_tubes`), on the same turtle output, and the ratio to it;
-* ``floor``: allocating and writing, in parallel and without arithmetic, fresh arrays
-  as large as the mesh — on this VM fresh pages cost about twice the writes themselves,
-  so no builder that returns new arrays can beat it;
+  (:func:`numpy_tubes`), on the same turtle output, and the ratios to it (median to
+  median, best to best; the three alternate in every round, so all meet the same load);
+* ``floor``: allocating and writing, in parallel and without arithmetic, fresh arrays as
+  large as all that a build writes (the turtle's records, the tube plan, the mesh) — on
+  this VM fresh pages cost about twice the writes themselves, so no build on fresh pages
+  that returns new arrays can beat it;
 * peak memory per triangle: the growth of the process's peak resident set during one
   turtle + mesh run from an empty pool (Linux ``VmHWM`` after resetting it), divided by the
   triangle count; it includes the turtle's records and the finished mesh.
@@ -31,6 +33,7 @@ from __future__ import annotations
 import argparse
 import os
 import resource
+import statistics
 import sys
 import time
 
@@ -126,54 +129,63 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--segments", type=int, default=1_000_000)
     ap.add_argument("--detail", type=int, default=8)
-    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--no-memory", action="store_true")
     args = ap.parse_args(argv)
     word = plant_word(args.segments)
     run_once(plant_word(10), args.detail)  # compile
     g = interpret(word, dialect="abop", rot=28.0, thick=0.05, thick_factor=0.85)
-    first = best = None
-    times = []
+    fresh, again, peer = [], [], []
     for _ in range(args.repeat):  # the three alternate, so that all meet the same load
         buffers.release()
-        r = run_once(word, args.detail)  # every page fresh
-        if first is None or r[0] + r[1] < first[0] + first[1]:
-            first = r
-        r = run_once(word, args.detail)  # the pages of the build before
-        if best is None or r[0] + r[1] < best[0] + best[1]:
-            best = r
+        fresh.append(run_once(word, args.detail))  # every page fresh
+        again.append(run_once(word, args.detail))  # the pages of the build before
         t0 = time.perf_counter()
         numpy_tubes(g, args.detail)
-        times.append(time.perf_counter() - t0)
-    tt, tm, n, tris, ct, cm = best
-    tn = min(times)
+        peer.append(time.perf_counter() - t0)
+    n, tris = fresh[0][2], fresh[0][3]
     print(f"word: {len(word):,} modules; {n:,} segments; {tris:,} triangles at {args.detail} sides")
     print(f"threads: {os.cpu_count()} cpus (numba threads: {_numba_threads()})")
     print(f"load average: {os.getloadavg()[0]:.1f} (other processes share the cores)")
-    for title, (tt, tm, n, _, ct, cm) in (
-        (f"built on fresh pages (best of {args.repeat}):", first),
-        (f"built again, pooled pages (best of {args.repeat}):", best),
-    ):
-        tot = tt + tm
+    print(f"median and best of {args.repeat} rounds; M segments/s in brackets")
+    tn, bn = statistics.median(peer), min(peer)
+    for title, runs in (("built on fresh pages:", fresh), ("built again, pooled pages:", again)):
         print(title)
-        for name, t, c in (("turtle", tt, ct), ("mesh", tm, cm), ("total", tot, ct + cm)):
-            print(f"  {name + ':':7} {t * 1e3:8.1f} ms  ({n / t / 1e6:6.2f} M segments/s)  "
-                  f"cpu {c * 1e3:7.1f} ms")  # fmt: skip
-    tot = best[0] + best[1]
+        for name, k, c in (("turtle", (0,), (4,)), ("mesh", (1,), (5,)), ("total", (0, 1), (4, 5))):
+            wall = [sum(r[i] for i in k) for r in runs]
+            cpu = statistics.median([sum(r[i] for i in c) for r in runs])
+            med, low = statistics.median(wall), min(wall)
+            print(
+                f"  {name + ':':7} {med * 1e3:7.1f} ms ({n / med / 1e6:5.2f})  best "
+                f"{low * 1e3:7.1f} ms ({n / low / 1e6:5.2f})  cpu {cpu * 1e3:7.1f} ms"
+            )
     print(
-        f"peer:   {tn * 1e3:8.1f} ms  ({n / tn / 1e6:6.2f} M segments/s)  a straightforward "
-        f"vectorised NumPy tube builder, mesh only (best of {args.repeat})"
+        f"peer:    {tn * 1e3:7.1f} ms ({n / tn / 1e6:5.2f})  best {bn * 1e3:7.1f} ms "
+        f"({n / bn / 1e6:5.2f})  a straightforward vectorised NumPy tube builder, mesh only"
     )
+    ratio = {
+        key: (tn / statistics.median([r[0] + r[1] for r in runs]),
+              bn / min(r[0] + r[1] for r in runs))
+        for key, runs in (("fresh", fresh), ("again", again))
+    }  # fmt: skip
     print(
         f"target: 5 M segments/s where such a builder makes 0.87 M/s (issue 3), i.e. "
-        f"{5 / 0.87:.2f}x the peer; here turtle + mesh are {tn / (first[0] + first[1]):.2f}x "
-        f"the peer on fresh pages, {tn / tot:.2f}x built again"
+        f"{5 / 0.87:.2f}x the peer; turtle + mesh are {ratio['again'][0]:.2f}x the peer built "
+        f"again ({ratio['again'][1]:.2f}x best to best), {ratio['fresh'][0]:.2f}x on fresh pages "
+        f"({ratio['fresh'][1]:.2f}x)"
     )
-    floor = fresh_write_floor(tris, run_once.vertices)
+    written = {
+        "turtle records": sum(a.nbytes for a in _segment_arrays(g)),
+        "tube plan": n * 18 + 2 * (n + 1) * 8,  # cont, prev, dup, v1, voff, toff
+        "mesh": run_once.vertices * 32 + tris * 12,  # positions, normals, UVs; indices
+    }
+    floor = fresh_write_floor(sum(written.values()) // 4)
+    sizes = ", ".join(f"{k} {v / 2**20:.0f}" for k, v in written.items())
+    low = min(r[0] + r[1] for r in fresh)
     print(
-        f"floor:  {floor * 1e3:8.1f} ms  writing fresh arrays of the mesh's size in parallel "
-        f"(no arithmetic): turtle + mesh on fresh pages take "
-        f"{(first[0] + first[1]) / floor:.1f}x that"
+        f"floor:   {floor * 1e3:7.1f} ms  allocating and writing, in parallel and without "
+        f"arithmetic, fresh arrays as large as all a build writes (MiB: {sizes}); the best "
+        f"build on fresh pages takes {low / floor:.1f}x that"
     )
     del g
     if not args.no_memory:
@@ -183,9 +195,13 @@ def main(argv=None) -> int:
     return 0
 
 
-def fresh_write_floor(triangles: int, vertices: int) -> float:
-    """Seconds to allocate and write, on every numba thread, as many bytes as the mesh
-    (positions, normals and UVs of its vertices, indices of its triangles) — best of three."""
+def _segment_arrays(g) -> list[np.ndarray]:
+    return [g.seg_start, g.seg_end, g.seg_radius, g.seg_color, g.seg_material, g.seg_module,
+            g.seg_parent, g.seg_depth, g.seg_ref]  # fmt: skip
+
+
+def fresh_write_floor(words: int) -> float:
+    """Seconds to allocate and write ``words`` float32 on every numba thread — best of three."""
     import numba
 
     @numba.njit(parallel=True)
@@ -195,7 +211,6 @@ def fresh_write_floor(triangles: int, vertices: int) -> float:
             for i in range(c * n // 256, (c + 1) * n // 256):
                 a[i] = 1.0
 
-    words = int(vertices * 8 + triangles * 3)  # 8 float32 per vertex, 3 uint32 per triangle
     fill(np.empty(16, np.float32))
     best = float("inf")
     for _ in range(3):
