@@ -103,7 +103,11 @@ def run_once(word: ModuleString, detail: int) -> tuple[float, float, int, int, f
     c1, t1 = time.process_time(), time.perf_counter()
     m = build_branches(g, detail=detail)
     c2, t2 = time.process_time(), time.perf_counter()
-    run_once.vertices = m.n_vertices
+    run_once.mesh_bytes = sum(
+        a.nbytes
+        for a in (m.vertices, m.normals, m.uvs, m.colors, m.indices, m.material_ids)
+        if a is not None
+    )
     return t1 - t0, t2 - t1, g.n_segments, m.n_triangles, c1 - c0, c2 - c1
 
 
@@ -177,7 +181,7 @@ def main(argv=None) -> int:
     written = {
         "turtle records": sum(a.nbytes for a in _segment_arrays(g)),
         "tube plan": n * 18 + 2 * (n + 1) * 8,  # cont, prev, dup, v1, voff, toff
-        "mesh": run_once.vertices * 32 + tris * 12,  # positions, normals, UVs; indices
+        "mesh": run_once.mesh_bytes,
     }
     floor = fresh_write_floor(sum(written.values()) // 4)
     sizes = ", ".join(f"{k} {v / 2**20:.0f}" for k, v in written.items())
