@@ -139,10 +139,80 @@ def _rotate(st, a, b, c, s):  # pragma: no cover - compiled
 
 @njit(cache=True, inline="always")
 def _copy_state(src, dst):  # pragma: no cover - compiled
-    # an explicit loop of constant length: numba's slice assignment ``dst[:] = src`` made
-    # every push and pop cost ~60 ns, a third of the whole walk of a bracketed plant
-    for k in range(NS):
-        dst[k] = src[k]
+    # every element loaded before any is stored: src and dst may alias as far as LLVM
+    # knows, and only so can it copy with vector moves (numba's ``dst[:] = src`` made every
+    # push and pop cost ~60 ns, a third of the whole walk of a bracketed plant; an element
+    # loop is scalar).  Written out for NS = 33 (checked at import).
+    s0 = src[0]
+    s1 = src[1]
+    s2 = src[2]
+    s3 = src[3]
+    s4 = src[4]
+    s5 = src[5]
+    s6 = src[6]
+    s7 = src[7]
+    s8 = src[8]
+    s9 = src[9]
+    s10 = src[10]
+    s11 = src[11]
+    s12 = src[12]
+    s13 = src[13]
+    s14 = src[14]
+    s15 = src[15]
+    s16 = src[16]
+    s17 = src[17]
+    s18 = src[18]
+    s19 = src[19]
+    s20 = src[20]
+    s21 = src[21]
+    s22 = src[22]
+    s23 = src[23]
+    s24 = src[24]
+    s25 = src[25]
+    s26 = src[26]
+    s27 = src[27]
+    s28 = src[28]
+    s29 = src[29]
+    s30 = src[30]
+    s31 = src[31]
+    s32 = src[32]
+    dst[0] = s0
+    dst[1] = s1
+    dst[2] = s2
+    dst[3] = s3
+    dst[4] = s4
+    dst[5] = s5
+    dst[6] = s6
+    dst[7] = s7
+    dst[8] = s8
+    dst[9] = s9
+    dst[10] = s10
+    dst[11] = s11
+    dst[12] = s12
+    dst[13] = s13
+    dst[14] = s14
+    dst[15] = s15
+    dst[16] = s16
+    dst[17] = s17
+    dst[18] = s18
+    dst[19] = s19
+    dst[20] = s20
+    dst[21] = s21
+    dst[22] = s22
+    dst[23] = s23
+    dst[24] = s24
+    dst[25] = s25
+    dst[26] = s26
+    dst[27] = s27
+    dst[28] = s28
+    dst[29] = s29
+    dst[30] = s30
+    dst[31] = s31
+    dst[32] = s32
+
+
+if NS != 33:  # pragma: no cover - a layout change must update _copy_state
+    raise ImportError("_copy_state copies 33 state elements, the state has NS")
 
 
 @njit(cache=True)
@@ -444,7 +514,8 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                     seg_col[s, 0] = st[S_COL]
                     seg_col[s, 1] = st[S_COL + 1]
                     seg_col[s, 2] = st[S_COL + 2]
-                    seg_mat[s] = np.int32(np.int64(st[S_CIDX]) % npal)
+                    mi = np.int64(st[S_CIDX])  # >= 0; a division only past the palette
+                    seg_mat[s] = np.int32(mi if mi < npal else mi % npal)
                     seg_mod[s] = i
                     p = np.int64(st[S_LAST])
                     seg_par[s] = p
