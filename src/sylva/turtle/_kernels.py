@@ -514,8 +514,8 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                     seg_col[s, 0] = st[S_COL]
                     seg_col[s, 1] = st[S_COL + 1]
                     seg_col[s, 2] = st[S_COL + 2]
-                    mi = np.int64(st[S_CIDX])  # >= 0; a division only past the palette
-                    seg_mat[s] = np.int32(mi if mi < npal else mi % npal)
+                    mi = np.int64(st[S_CIDX])  # a division only outside the palette
+                    seg_mat[s] = np.int32(mi if mi >= 0 and mi < npal else mi % npal)
                     seg_mod[s] = i
                     p = np.int64(st[S_LAST])
                     seg_par[s] = p
