@@ -314,6 +314,13 @@ def _walk_subtrees(sel, slots, depths, rows, arrays, threads) -> int:
     none = np.zeros((0, 6), np.int64)
     no_slots = np.zeros((0, K.NS))
     no_depth = np.zeros(0, np.int64)
+    has_par, engine, trace = K.walk_flags(arrays[0], arrays[5])
+    if has_par or engine or trace:
+        flags: tuple = (has_par, engine, trace)
+        walk = K.walk
+    else:  # the common case, compiled without the flags' branches
+        flags = ()
+        walk = K.walk_plain
 
     def worker(_) -> int:
         stack = np.empty((rows, K.NS))
@@ -329,7 +336,8 @@ def _walk_subtrees(sel, slots, depths, rows, arrays, threads) -> int:
             cnt[K.K_NL] = sel[t, 3]
             d = int(depths[t])
             a, b = int(sel[t, 0]), int(sel[t, 1])
-            K.walk(a, b + 1, slots[t].copy(), stack, d, d, cnt, *arrays, none, no_slots, no_depth)
+            args = (a, b + 1, slots[t].copy(), stack, d, d, cnt, *arrays, none, no_slots)
+            walk(*args, no_depth, *flags)
             holes += int(cnt[K.K_HOLES])
 
     with ThreadPoolExecutor(threads, thread_name_prefix="sylva-turtle") as pool:
