@@ -837,7 +837,8 @@ def walk_plain(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, 
          slot_state, slot_depth, False, False, False)  # fmt: skip
 
 
-def walk_flags(word, tr):
+@njit(cache=True)
+def walk_flags(word, tr):  # pragma: no cover - compiled
     """``(has_par, engine, trace)`` of a word (:func:`walk`'s last arguments)."""
     return word[1].shape[0] > 0, word[6][C_ENGINE] != 0.0, tr[0].shape[0] > 0
 
@@ -965,14 +966,15 @@ def walk_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace, blk_
     k = sel.shape[0]
     slot_state = np.empty((k, NS))
     slot_depth = np.empty(k, np.int64)
-    has_par = offsets.shape[0] > 0
-    trace_on = tr[0].shape[0] > 0
-    i0 = n - n  # not a literal 0: one compiled walk serves this call and the threads' calls
+    has_par, engine, trace_on = walk_flags(word, tr)
+    # no literal 0 for the start, depth and base: numba would compile a walk of its own for
+    # them; so one compiled walk (and one walk_plain) serves this call and the threads' calls
+    z = n - n
     if not has_par and not engine and not trace_on:
-        walk_plain(i0, n, st, stack, 0, 0, cnt, word, segs, leaves, polys, blocks, tr, sel,
+        walk_plain(z, n, st, stack, z, z, cnt, word, segs, leaves, polys, blocks, tr, sel,
                    slot_state, slot_depth)  # fmt: skip
     else:
-        walk(i0, n, st, stack, 0, 0, cnt, word, segs, leaves, polys, blocks, tr, sel,
+        walk(z, n, st, stack, z, z, cnt, word, segs, leaves, polys, blocks, tr, sel,
              slot_state, slot_depth, has_par, engine, trace_on)  # fmt: skip
     return word, segs, leaves, polys, blocks, tr, cnt, slot_state, slot_depth
 
