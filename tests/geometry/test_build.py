@@ -59,6 +59,28 @@ def test_tubes_are_closed_consistently_wound_manifolds(word, rot):
     assert seen == m.n_triangles
 
 
+@pytest.mark.parametrize("d", [3, 5, 15, 16, 17, 40])
+def test_tubes_at_any_detail_are_round_closed_and_unit_normal(d):
+    # the fill writes rings 16 vertices and indices 16 at a time: sides below, at and
+    # above a block's width must all give round rings, unit normals and closed tubes
+    g = interpret("F[+(40)F&(30)F]F/(45)F", dialect="abop", thick=0.3)
+    m = build_branches(g, detail=d)
+    r = d + 1
+    ring = m.vertices[:r].astype(np.float64)  # the trunk's start ring
+    np.testing.assert_allclose(np.linalg.norm(ring[:, [0, 2]], axis=1), 0.15, rtol=1e-6)
+    np.testing.assert_allclose(ring[:, 1], 0.0, atol=1e-7)
+    np.testing.assert_allclose(ring[-1], ring[0], atol=1e-7)  # the seam closes
+    np.testing.assert_allclose(m.uvs[:r, 0], np.arange(r) / d, atol=1e-7)
+    np.testing.assert_allclose(np.linalg.norm(m.normals, axis=1), 1.0, atol=1e-6)
+    assert m.indices.max() == m.n_vertices - 1
+    seen = 0
+    for tris in tubes_of(g, d):
+        body = trimesh.Trimesh(m.vertices.astype(np.float64), m.indices[tris], process=True)
+        assert body.is_watertight and body.is_winding_consistent and body.volume > 0
+        seen += len(tris)
+    assert seen == m.n_triangles
+
+
 def test_tube_counts_share_rings_along_axes():
     g = interpret("FFF[+F]F", dialect="abop", rot=30)
     d = 7

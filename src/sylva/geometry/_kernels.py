@@ -7,6 +7,8 @@ import math
 import numpy as np
 from numba import njit, prange, uint64
 
+from ._simd import index_patterns, ring_table, write_indices, write_ring
+
 TWO_PI = 2.0 * math.pi
 # LLVM may multiply by a reciprocal and fuse multiply-adds (~20 % off the tube fill); no
 # assumptions about NaN or infinity, which the kernels test for
@@ -173,40 +175,23 @@ def _start_basis(fr, s, start):
     )  # fmt: skip
 
 
-@njit(cache=True, fastmath=FAST, inline="always")
-def _write_ring(e, bs, vv, cos_t, sin_t, u_t, r, V, N, UV):
-    """Write ring vertices ``e`` … ``e + r - 1`` from the bases ``bs`` at texture v ``vv``."""
-    (cx, cy, cz, px, py, pz, qx, qy, qz, arx, ary, arz, brx, bry, brz, g0x, g0y, g0z, alpha,
-     beta) = bs  # fmt: skip
-    for j in range(r):
-        c = cos_t[j]
-        sn = sin_t[j]
-        w = c * alpha + sn * beta
-        k = 1.0 / math.sqrt(1.0 - w * w)
-        V[e + j, 0] = cx + c * px + sn * qx
-        V[e + j, 1] = cy + c * py + sn * qy
-        V[e + j, 2] = cz + c * pz + sn * qz
-        N[e + j, 0] = (g0x + c * arx + sn * brx) * k
-        N[e + j, 1] = (g0y + c * ary + sn * bry) * k
-        N[e + j, 2] = (g0z + c * arz + sn * brz) * k
-        UV[e + j, 0] = u_t[j]
-        UV[e + j, 1] = vv
-
-
 @njit(cache=True, fastmath=FAST)
 def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, prev, dup, v1,
-                voff, toff, cos_t, sin_t, u_t, d, want_colors, V, N, UV, C, I, M):  # fmt: skip
+                voff, toff, table, p_mantle, p_start, p_end, d, want_colors, V, N, UV, C, I,
+                M):  # fmt: skip
     """Tubes of segments ``lo`` … ``hi - 1`` (see :func:`tube_fill`).
 
-    Every ring comes from bases set once per ring (:func:`_end_basis`), so the loop over
-    the sides is a few multiply-adds; a segment that changes colour on its tube copies its
-    parent's end ring from the same bases, so the copy lies exactly on the original."""
+    Every ring comes from bases set once per ring (:func:`_end_basis`) and is written as a
+    vector block (:func:`~sylva.geometry._simd.write_ring`); a segment that changes colour
+    on its tube copies its parent's end ring from the same bases, so the copy lies exactly
+    on the original."""
     want_m = M.shape[0] > 0
-    # unsigned vertex and triangle numbers spare numba's negative-index checks (-30 %)
+    # unsigned vertex and triangle numbers spare numba's negative-index checks
     r = uint64(d + 1)
     du = uint64(d)
     one = uint64(1)
     two = uint64(2)
+    nr = d + 1
     for s in range(lo, hi):
         v = uint64(voff[s])
         t = uint64(toff[s])
@@ -217,8 +202,7 @@ def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, 
             vs = v1[p]
             if dup[s]:  # own copy of the parent's end ring (another colour or material)
                 frp = _frame(p, start, end, radius, ref)
-                _write_ring(v, _end_basis(frp, p, s, start, end), vs, cos_t, sin_t, u_t, r, V,
-                            N, UV)  # fmt: skip
+                write_ring(v, _end_basis(frp, p, s, start, end), vs, nr, table, V, N, UV)
                 a0 = v
                 e = v + r
             else:
@@ -231,7 +215,7 @@ def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, 
         else:  # ------------------------------------------------ start ring + cap
             vs = 0.0
             bs = _start_basis(fr, s, start)
-            _write_ring(v, bs, vs, cos_t, sin_t, u_t, r, V, N, UV)
+            write_ring(v, bs, vs, nr, table, V, N, UV)
             a0 = v
             e = v + r + one
             center = v + r
@@ -243,10 +227,7 @@ def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, 
             N[center, 2] = -fr[2]
             UV[center, 0] = 0.5
             UV[center, 1] = vs
-            for j in range(du):
-                I[t + j, 0] = center
-                I[t + j, 1] = a0 + j + one
-                I[t + j, 2] = a0 + j
+            write_indices(t, 3 * d, a0, a0, p_start, I)
             if want_m:
                 for j in range(du):
                     M[t + j] = mat
@@ -255,28 +236,8 @@ def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, 
         q = cont[s]
         bs = _end_basis(fr, s, q, start, end)
         ve = v1[s]
-        (cx, cy, cz, px, py, pz, qx, qy, qz, arx, ary, arz, brx, bry, brz, g0x, g0y, g0z, alpha,
-         beta) = bs  # fmt: skip
-        for j in range(r):  # _write_ring written out: this, the hot loop, runs 40 % faster
-            c = cos_t[j]
-            sn = sin_t[j]
-            w = c * alpha + sn * beta
-            k = 1.0 / math.sqrt(1.0 - w * w)
-            V[e + j, 0] = cx + c * px + sn * qx
-            V[e + j, 1] = cy + c * py + sn * qy
-            V[e + j, 2] = cz + c * pz + sn * qz
-            N[e + j, 0] = (g0x + c * arx + sn * brx) * k
-            N[e + j, 1] = (g0y + c * ary + sn * bry) * k
-            N[e + j, 2] = (g0z + c * arz + sn * brz) * k
-            UV[e + j, 0] = u_t[j]
-            UV[e + j, 1] = ve
-        for j in range(du):
-            I[t + two * j, 0] = a0 + j
-            I[t + two * j, 1] = a0 + j + one
-            I[t + two * j, 2] = e + j + one
-            I[t + two * j + one, 0] = a0 + j
-            I[t + two * j + one, 1] = e + j + one
-            I[t + two * j + one, 2] = e + j
+        write_ring(e, bs, ve, nr, table, V, N, UV)
+        write_indices(t, 6 * d, a0, e, p_mantle, I)
         if want_m:
             for j in range(two * du):
                 M[t + j] = mat
@@ -291,10 +252,7 @@ def _tube_range(lo, hi, start, end, radius, ref, color, material, parent, cont, 
             N[center, 2] = fr[2]
             UV[center, 0] = 0.5
             UV[center, 1] = ve
-            for j in range(du):
-                I[t + j, 0] = center
-                I[t + j, 1] = e + j
-                I[t + j, 2] = e + j + one
+            write_indices(t, 3 * d, e, e, p_end, I)
             if want_m:
                 for j in range(du):
                     M[t + j] = mat
@@ -314,22 +272,17 @@ def tube_fill(start, end, radius, ref, color, material, parent, cont, prev, dup,
               d, want_colors, V, N, UV, C, I, M):  # fmt: skip
     """Write the tube vertices (V, N, UV, C) and triangles (I, M) laid out by tube_plan.
 
-    ``M`` may be empty (one material: no per-triangle ids are written)."""
+    ``M`` may be empty (one material: no per-triangle ids are written).  Positions and
+    normals are computed in float32, the mesh's type (within an ulp or two of rounding
+    float64 results)."""
     n = start.shape[0]
-    cos_t = np.empty(d + 1)
-    sin_t = np.empty(d + 1)
-    u_t = np.empty(d + 1)
-    for j in range(d + 1):
-        cos_t[j] = math.cos(TWO_PI * j / d)
-        sin_t[j] = math.sin(TWO_PI * j / d)
-        u_t[j] = j / d
-    cos_t[d] = 1.0
-    sin_t[d] = 0.0
+    table = ring_table(d)
+    p_mantle, p_start, p_end = index_patterns(d)
     chunks = (n + TUBE_CHUNK - 1) // TUBE_CHUNK
     for c in prange(chunks):
         _tube_range(c * TUBE_CHUNK, min(n, (c + 1) * TUBE_CHUNK), start, end, radius, ref, color,
-                    material, parent, cont, prev, dup, v1, voff, toff, cos_t, sin_t, u_t, d,
-                    want_colors, V, N, UV, C, I, M)  # fmt: skip
+                    material, parent, cont, prev, dup, v1, voff, toff, table, p_mantle, p_start,
+                    p_end, d, want_colors, V, N, UV, C, I, M)  # fmt: skip
 
 
 @njit(cache=True, fastmath=FAST)
