@@ -1,12 +1,12 @@
 """Vector code for the tube fill: whole rings and runs of triangle indices at once.
 
-Written as scalar numba loops, a ring costs per vertex eight float64 → float32 conversions and
-eight scalar stores, and LLVM does not vectorise it (the stores interleave x, y, z).  Here a
-block of up to :data:`LANES` ring vertices is computed in float32 vector registers, its
-coordinates interleaved by shuffles and written with masked stores (with AVX-512, eight
-for the positions, normals and texture coordinates of 16 vertices), so a ring of 9
-vertices is one block.  Index
-runs (a tube's mantle, its caps) are ``base + offset`` from per-``d`` patterns, 16 at once.
+Written as scalar numba loops, a ring costs per vertex eight float64 → float32 conversions
+and eight scalar stores, and LLVM does not vectorise it (the stores interleave x, y, z).
+Here a block of up to :data:`LANES` ring vertices is computed in float32 vector registers,
+its coordinates interleaved by shuffles and written with masked stores (with AVX-512, eight
+for the positions, normals and texture coordinates of 16 vertices), so a ring of 9 vertices
+is one block.  Index runs (a tube's mantle, its caps) are ``base + offset`` from per-``d``
+patterns, 16 at once.
 
 The intrinsics below emit LLVM vector IR through numba's :func:`~numba.extending.intrinsic`;
 LLVM lowers it for the CPU it compiles on (AVX-512 masked stores, AVX2 masked moves, or
@@ -83,6 +83,8 @@ def ring_block(typingctx, v_addr, n_addr, uv_addr, lanes, bases, tv, table):
     ``k_j = 1/sqrt(1 - (cos_j·alpha + sin_j·beta)²)``; its texture coordinates are
     ``(u_j, tv)``.  ``table`` is the address of the block's float32[3, LANES] rows of
     cos_j, sin_j and u_j (:func:`ring_table`)."""
+    if not (isinstance(bases, types.UniTuple) and bases.count == 20):
+        return None  # a typing error: the bases are 20 floats
     sig = types.void(
         types.uintp, types.uintp, types.uintp, types.int64, bases, types.float64, types.uintp
     )
