@@ -210,7 +210,8 @@ def index_patterns(d):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def write_ring(e, bases, tv, r, table, V, N, UV):  # pragma: no cover - compiled
-    """Ring vertices ``e`` … ``e + r - 1`` of the float32 arrays V, N (n×3) and UV (n×2)."""
+    """Ring vertices ``e`` … ``e + r - 1`` of the C-contiguous float32 arrays V, N (n×3) and
+    UV (n×2): the blocks write through raw addresses, rows of 12 and 8 bytes."""
     for k in range(table.shape[0]):
         j = e + uint64(k * LANES)
         ring_block(
@@ -222,7 +223,8 @@ def write_ring(e, bases, tv, r, table, V, N, UV):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def write_indices(t, n, a, e, pattern, I):  # pragma: no cover - compiled
-    """``n`` indices from triangle ``t`` of the uint32 array I (m×3), from ``pattern``."""
+    """``n`` indices from triangle ``t`` of the C-contiguous uint32 array I (m×3), from
+    ``pattern``."""
     for k in range(pattern.shape[0]):
         index_block(
             I.ctypes.data + (t * uint64(3) + uint64(k * LANES)) * uint64(4),
