@@ -45,6 +45,8 @@ def add_camera(p: argparse.ArgumentParser, size: str = "1280x960") -> None:
     p.add_argument("--bg", default=None,
                    help="background colour (name, #rrggbb); default the file's bg or white")
     p.add_argument("--transparent", action="store_true", help="transparent background (PNG)")
+    p.add_argument("--sky", action="store_true",
+                   help="a sky gradient behind 3D views, the ground fading into its haze")
     p.add_argument("--no-shadows", action="store_true", help="no shadow mapping")
     p.add_argument("--no-ground", action="store_true", help="no ground plane")
     p.add_argument("--msaa", type=int, default=4, help="samples per pixel (default 4)")
@@ -62,6 +64,8 @@ def render_options(args, plant) -> dict:
     bg = args.bg if args.bg is not None else plant.background
     opts = dict(bg=bg, transparent=args.transparent, shadows=not args.no_shadows,
                 msaa=args.msaa)
+    if getattr(args, "sky", False):
+        opts["sky"] = True
     if args.no_ground:
         opts["ground"] = False
     return opts

@@ -44,8 +44,12 @@ def _render_example(ex, out: Path, size: tuple[int, int]) -> dict:
     if mode == "2d":
         plant = plant.with_min_radius(plant.line_radius(2.0, size))
     t1 = time.perf_counter()
-    cam = Camera.auto(plant.scene.bounds(), mode, aspect=size[0] / size[1])
-    img = render(plant.scene, size=size, camera=cam, bg=plant.background)
+    # 3D plants stand under a sky unless their file sets a background colour of its own;
+    # the camera is then lowered a little (pitch 12 instead of 20) to show some of the sky
+    sky = mode != "2d" and plant.program.settings.get("bg") is None
+    pitch = 12.0 if sky else None
+    cam = Camera.auto(plant.scene.bounds(), mode, pitch=pitch, aspect=size[0] / size[1])
+    img = render(plant.scene, size=size, camera=cam, bg=plant.background, sky=sky)
     png = out / f"{ex.name}.png"
     save_image(img, png)
     t2 = time.perf_counter()
@@ -63,13 +67,13 @@ def _animations(out: Path) -> list[dict]:
     made = []
     t = time.perf_counter()
     bush = grow("abop-1.25-bush", 5)
-    frames = turntable_frames(bush.scene, 24, (400, 400), "perspective", pitch=20)
+    frames = turntable_frames(bush.scene, 24, (400, 400), "perspective", pitch=20, sky=True)
     write_animation(frames, out / "turntable-bush.gif", fps=12, progress=True)
     made.append(dict(file="turntable-bush.gif", title="ABOP Fig. 1.25 bush, turntable",
                      seconds=time.perf_counter() - t))
     t = time.perf_counter()
     scenes = list(growth_scenes("abop-2.8-ternary-tree", 6, substeps=4))
-    frames = growth_frames(scenes, (400, 400), "perspective", pitch=10)
+    frames = growth_frames(scenes, (400, 400), "perspective", pitch=10, sky=True)
     write_animation(frames, out / "growth-ternary-tree.gif", fps=12, progress=True)
     made.append(dict(file="growth-ternary-tree.gif",
                      title="ABOP Fig. 2.8 ternary tree growing (smooth: 4 frames a step)",

@@ -22,7 +22,7 @@ from sylva.render.camera import MODES, Camera
 from sylva.render.context import RenderError, context_info, create_context, get_context
 from sylva.render.lights import ATTENUATION, PointLight, Sun, attenuation, default_lights
 from sylva.render.offscreen import Renderer, parse_color, render, render_array, save_image
-from sylva.render.scene import GpuScene, Ground
+from sylva.render.scene import GpuScene, Ground, Sky
 
 __all__ = [
     "ATTENUATION",
@@ -34,6 +34,7 @@ __all__ = [
     "PointLight",
     "RenderError",
     "Renderer",
+    "Sky",
     "Sun",
     "attenuation",
     "context_info",

@@ -27,7 +27,7 @@ from tqdm import tqdm
 from sylva.geometry.mesh import Mesh, Scene
 from sylva.render.camera import Camera
 from sylva.render.offscreen import Renderer, parse_color
-from sylva.render.scene import GpuScene, Ground
+from sylva.render.scene import GROUND_SCALE, SKY_GROUND_SCALE, GpuScene, Ground, Sky
 
 __all__ = [
     "Frames",
@@ -47,8 +47,8 @@ def _union_bounds(scenes: Sequence) -> np.ndarray:
     return np.stack([b[:, 0].min(axis=0), b[:, 1].max(axis=0)])
 
 
-def _fixed_ground(ground, bounds) -> Ground | bool:
-    """A ground plane that does not move from frame to frame."""
+def _fixed_ground(ground, bounds, scale: float = GROUND_SCALE) -> Ground | bool:
+    """A ground plane that does not move from frame to frame (default side: ``scale`` × extent)."""
     if ground is False:
         return False
     g = Ground() if ground in (None, True) else ground
@@ -56,7 +56,7 @@ def _fixed_ground(ground, bounds) -> Ground | bool:
     ext = mesh_bounds[1] - mesh_bounds[0]
     return Ground(
         height=float(mesh_bounds[0, 1]) if g.height is None else g.height,
-        size=4.0 * max(float(ext.max()), 1e-3) if g.size is None else g.size,
+        size=scale * max(float(ext.max()), 1e-3) if g.size is None else g.size,
         center=(
             (
                 0.5 * (mesh_bounds[0, 0] + mesh_bounds[1, 0]),
@@ -158,7 +158,10 @@ def growth_frames(
     ground = options.pop("ground", None)
     if ground is None:
         ground = camera.mode != "2d"
-    options["ground"] = _fixed_ground(ground, bounds)
+    sky = options.get("sky")
+    fades = sky is True or isinstance(sky, Sky) and sky.ground_fade
+    fades = fades and camera.mode != "2d" and not options.get("transparent")
+    options["ground"] = _fixed_ground(ground, bounds, SKY_GROUND_SCALE if fades else GROUND_SCALE)
     count = (len(scenes) - 1) * substeps + 1
     return Frames(
         lambda: render_frames(_in_between(scenes, substeps), size, camera, **options), count

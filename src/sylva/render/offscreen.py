@@ -2,7 +2,8 @@
 
 :func:`render` draws a :class:`~sylva.geometry.mesh.Scene` (or a single Mesh) headless with
 Phong lighting, a shadow-casting sun, point lights, procedural plant textures, MSAA, a ground
-plane and a plain or transparent background, and returns a :class:`PIL.Image.Image`.  Images
+plane and a plain, transparent or sky (:class:`~sylva.render.scene.Sky`) background, and
+returns a :class:`PIL.Image.Image`.  Images
 larger than the framebuffer limit (or than ``tile_size``) are rendered in tiles through
 off-centre frustums and stitched, which gives the same pixels as one large render.
 
@@ -20,6 +21,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 import threading
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,10 +35,23 @@ from sylva.render._programs import compile_program
 from sylva.render.camera import Camera, tile_matrix
 from sylva.render.context import RenderError, get_context, max_render_size
 from sylva.render.lights import MAX_POINT_LIGHTS, PointLight, Sun, default_lights
-from sylva.render.scene import TEX_IMAGE, TEXTURE_KINDS, GpuScene, Ground, material_shading
+from sylva.render.scene import (
+    GROUND_SCALE,
+    SKY_GROUND_SCALE,
+    TEX_IMAGE,
+    TEXTURE_KINDS,
+    GpuScene,
+    Ground,
+    Sky,
+    material_shading,
+)
 from sylva.render.shadows import ShadowMap
 
 __all__ = ["DEFAULT_TILE", "Renderer", "parse_color", "render", "render_array", "save_image"]
+
+#: Where a sky's ground fade starts, as a fraction of the ground's half side (it ends at the
+#: edge, which is then exactly the horizon colour).
+FADE_START = 0.5
 
 #: Default tile side: big enough for 1080p in one piece, small enough for 4× MSAA on a CPU.
 DEFAULT_TILE = 2048
@@ -106,6 +121,10 @@ class _Frame:
     lit: bool
     textures: bool
     noise_scale: float
+    aspect: float = 1.0
+    sky: Sky | None = None
+    ground: GpuScene | None = None  # the ground plane, when the sky fades it
+    fade: tuple[float, float, float, float] | None = None  # centre x, z; fade start, end
 
 
 class Renderer:
@@ -134,6 +153,8 @@ class Renderer:
         self._white = self.ctx.texture((1, 1), 4, bytes([255, 255, 255, 255]))
         self._images: dict[tuple, tuple[moderngl.Texture, moderngl.Texture]] = {}
         self._targets: dict[tuple[int, int, int], tuple] = {}
+        self._sky_program: moderngl.Program | None = None
+        self._sky_vao: moderngl.VertexArray | None = None
 
     def program_for(self, defines) -> moderngl.Program:
         """The Phong shader variant with these ``#define`` names (compiled once, then cached).
@@ -227,6 +248,10 @@ class Renderer:
                 spec.release()
         self._images.clear()
         self._white.release()
+        if self._sky_program is not None:
+            self._sky_vao.release()
+            self._sky_program.release()
+            self._sky_program = self._sky_vao = None
         for prog in self._programs.values():
             prog.release()
         self._programs.clear()
@@ -249,6 +274,7 @@ class Renderer:
         lit: bool = True,
         tile_size: int | None = None,
         shadow_size: int = 2048,
+        sky: Sky | bool | None = None,
     ) -> np.ndarray:
         """Render to a ``uint8[h, w, 3]`` array (``[h, w, 4]`` when ``transparent``).
 
@@ -273,6 +299,7 @@ class Renderer:
                 lit,
                 tile_size,
                 shadow_size,
+                sky,
             )
         finally:
             if owned:
@@ -294,20 +321,26 @@ class Renderer:
         lit,
         tile_size,
         shadow_size,
+        sky=None,
     ) -> np.ndarray:
         aspect = w / h
+        sky = _sky(sky)
         if camera is None or isinstance(camera, str):
             camera = Camera.auto(gpu.bounds, camera or "perspective", aspect=aspect)
         elif not isinstance(camera, Camera):
             raise TypeError(f"camera must be a Camera or a mode name, got {camera!r}")
         if ground is None:
             ground = camera.mode != "2d"
+        if transparent or camera.mode == "2d":
+            sky = None  # a transparent background wins; a 2D view has no horizon
         if ground is True:
             ground = Ground()
         ground_gpu = None
-        draw_bounds = gpu.bounds
+        draw_bounds = shadow_bounds = gpu.bounds
+        fading = sky is not None and sky.ground_fade
         if isinstance(ground, Ground):
-            ground_mesh = ground.mesh(gpu.bounds)
+            scale = SKY_GROUND_SCALE if fading else GROUND_SCALE
+            ground_mesh = ground.mesh(gpu.bounds, scale)
             ground_gpu = GpuScene(self.ctx, ground_mesh, self.depth_program)
             draw_bounds = np.stack(
                 [
@@ -315,6 +348,9 @@ class Renderer:
                     np.maximum(gpu.bounds[1], ground_gpu.bounds[1]),
                 ]
             )
+            shadow_bounds = draw_bounds
+            if sky is not None:
+                shadow_bounds = _near_ground(gpu.bounds, ground_gpu.bounds)
         elif ground is not False:
             raise TypeError(f"ground must be a Ground or a bool, got {ground!r}")
         try:
@@ -323,9 +359,15 @@ class Renderer:
             view_proj = camera.projection_matrix(aspect, near, far) @ camera.view_matrix()
             shadow = None
             if lit and shadows and sun is not None and sun.shadows and not gpu.empty:
-                shadow = self._shadow(gpu, sun, draw_bounds, shadow_size)
+                shadow = self._shadow(gpu, sun, shadow_bounds, shadow_size)
             extent = max(float(np.max(gpu.bounds[1] - gpu.bounds[0])), 1e-6)
             frame = _Frame(view_proj, camera, sun, points, shadow, lit, textures, 20.0 / extent)
+            frame.aspect, frame.sky = aspect, sky
+            if fading and ground_gpu is not None:
+                gb = ground_gpu.bounds
+                half = 0.5 * float(max(gb[1, 0] - gb[0, 0], gb[1, 2] - gb[0, 2]))
+                cx, cz = 0.5 * (gb[0, 0] + gb[1, 0]), 0.5 * (gb[0, 2] + gb[1, 2])
+                frame.ground, frame.fade = ground_gpu, (cx, cz, FADE_START * half, half)
             clear = (0.0, 0.0, 0.0, 0.0) if transparent else (*parse_color(bg), 1.0)
             samples = 0 if msaa <= 1 else min(int(msaa), self.max_samples)
             if samples == 1:
@@ -378,6 +420,8 @@ class Renderer:
                 fbo.use()
                 fbo.viewport = (0, 0, cw, ch)
                 fbo.clear(*clear, depth=1.0, viewport=(0, 0, cw, ch))
+                if frame.sky is not None:
+                    self._draw_sky(frame, tile)
                 self._draw(frame, gpus, tile @ frame.view_proj)
                 src = fbo
                 if resolve is not None:
@@ -388,6 +432,19 @@ class Renderer:
                 # GL rows run bottom-up: flip each tile into its place
                 out[h - y0 - ch : h - y0, x0 : x0 + cw] = pixels[::-1]
         return _unpremultiply(out) if transparent else out
+
+    def _draw_sky(self, frame: _Frame, tile: np.ndarray) -> None:
+        """Fill the tile with the sky gradient (no depth: the scene is drawn over it)."""
+        if self._sky_program is None:
+            self._sky_program = compile_program(self.ctx, "sky.vert.glsl", "sky.frag.glsl")
+            self._sky_vao = self.ctx.vertex_array(self._sky_program, [])
+        prog, sky = self._sky_program, frame.sky
+        prog["u_sky_rays"].write(_mat(_sky_rays(frame.camera, frame.aspect, tile)))
+        prog["u_zenith"].value = sky.zenith
+        prog["u_horizon"].value = sky.horizon
+        prog["u_sky_exponent"].value = sky.exponent
+        self.ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND | moderngl.CULL_FACE)
+        self._sky_vao.render(moderngl.TRIANGLES, vertices=3)
 
     def _draw(self, frame: _Frame, gpus, view_proj: np.ndarray) -> None:
         self.ctx.enable(moderngl.DEPTH_TEST)
@@ -416,6 +473,10 @@ class Renderer:
         _set(prog, "u_view_dir", cam.basis()[2])
         _set(prog, "u_ortho", cam.orthographic)
         _set(prog, "u_noise_scale", frame.noise_scale)
+        if frame.fade is not None:
+            _set(prog, "u_fade_center", frame.fade[:2])
+            _set(prog, "u_fade_range", frame.fade[2:])
+            _set(prog, "u_horizon", frame.sky.horizon)
         sun = frame.sun
         if sun is not None:
             _set(prog, "u_sun_dir", sun.direction)
@@ -491,7 +552,54 @@ def _variant(gpu: GpuScene, shade: dict, frame: _Frame) -> tuple[str, ...]:
                 names.append("SHADOWS")
         if frame.points:
             names.append("POINTS")
+    if frame.fade is not None and gpu is frame.ground:
+        names.append("GROUND_FADE")
     return tuple(names)
+
+
+def _sky(sky) -> Sky | None:
+    """The ``sky`` argument as a :class:`Sky` or None (off)."""
+    if sky is None or sky is False:
+        return None
+    if sky is True:
+        return Sky()
+    if isinstance(sky, Sky):
+        return sky
+    raise TypeError(f"sky must be a Sky, True or False/None, got {sky!r}")
+
+
+def _near_ground(scene_bounds: np.ndarray, ground_bounds: np.ndarray) -> np.ndarray:
+    """The scene plus the part of the ground that a ground of default size would cover.
+
+    The shadow map is fitted to this, not to a large faded ground, so that the shadows keep
+    the depth precision they have without a sky.
+    """
+    b = np.asarray(scene_bounds, np.float64)
+    g = np.asarray(ground_bounds, np.float64).copy()
+    half = 0.5 * GROUND_SCALE * max(float(np.max(b[1] - b[0])), 1e-3)
+    mid = 0.5 * (b[0] + b[1])
+    for axis in (0, 2):
+        g[0, axis] = min(max(g[0, axis], mid[axis] - half), mid[axis] + half)
+        g[1, axis] = max(min(g[1, axis], mid[axis] + half), mid[axis] - half)
+    return np.stack([np.minimum(b[0], g[0]), np.maximum(b[1], g[1])])
+
+
+def _sky_rays(camera: Camera, aspect: float, tile: np.ndarray | None = None) -> np.ndarray:
+    """The ``float64[3, 3]`` matrix from a pixel's ``(x_ndc, y_ndc, 1)`` to its world ray.
+
+    ``tile`` is the off-centre frustum matrix of :func:`~sylva.render.camera.tile_matrix`
+    (its NDC are mapped back to the whole image's first).  It is the inverse of the camera's
+    rotation and projection without the clip planes, so it stays precise whatever they are;
+    orthographic cameras get the rays of a perspective camera with their ``fov``.
+    """
+    t = math.tan(math.radians(camera.fov) / 2)
+    eye = np.diag([t * aspect, t, -1.0])
+    untile = np.eye(3)
+    if tile is not None:
+        untile[0, 0], untile[0, 2] = 1.0 / tile[0, 0], -tile[0, 3] / tile[0, 0]
+        untile[1, 1], untile[1, 2] = 1.0 / tile[1, 1], -tile[1, 3] / tile[1, 1]
+    basis = np.stack(camera.basis(), axis=1)  # columns: right, up, backward
+    return basis @ eye @ untile
 
 
 def _tile(x0: int, y0: int, cw: int, ch: int, w: int, h: int) -> np.ndarray:
@@ -532,6 +640,7 @@ def render(
     lit: bool = True,
     tile_size: int | None = None,
     shadow_size: int = 2048,
+    sky: Sky | bool | None = None,
 ) -> Image.Image:
     """Render a scene offscreen.
 
@@ -549,6 +658,7 @@ def render(
         An empty list renders black unless ``lit`` is false.
     bg : str or colour triple
         Background colour (sRGB), e.g. ``"white"``, ``"#87ceeb"``, ``(0.1, 0.1, 0.1)``.
+        Unused behind a sky.
     transparent : bool
         Return RGBA with a transparent background instead of ``bg``.
     ground : Ground or bool, optional
@@ -565,6 +675,11 @@ def render(
         Largest tile side (default :data:`DEFAULT_TILE`, capped at the GL limit).
     shadow_size : int
         Shadow-map resolution.
+    sky : Sky or bool, optional
+        A sky gradient behind 3D views instead of ``bg`` (``True``: the default
+        :class:`~sylva.render.scene.Sky`, whose ground fade also grows a default ground to
+        10 × the scene so that it vanishes in the haze).  Off by default, in ``"2d"`` and
+        when ``transparent``.
 
     Returns
     -------
@@ -585,6 +700,7 @@ def render(
         lit=lit,
         tile_size=tile_size,
         shadow_size=shadow_size,
+        sky=sky,
     )
     return Image.fromarray(arr, "RGBA" if transparent else "RGB")
 

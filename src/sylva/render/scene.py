@@ -1,4 +1,4 @@
-"""Scenes on the GPU: meshes uploaded once, drawn per material, plus the ground plane.
+"""Scenes on the GPU: meshes uploaded once, drawn per material, plus the ground plane and sky.
 
 A :class:`GpuScene` holds one merged copy of a :class:`~sylva.geometry.mesh.Scene` in vertex and
 index buffers, with its triangles sorted by material so that each material is one draw call.
@@ -24,11 +24,24 @@ import numpy as np
 
 from sylva.geometry.mesh import Material, Mesh, Scene
 
-__all__ = ["TEXTURE_KINDS", "GpuScene", "Ground", "MaterialRange", "material_shading"]
+__all__ = [
+    "GROUND_SCALE",
+    "SKY_GROUND_SCALE",
+    "TEXTURE_KINDS",
+    "GpuScene",
+    "Ground",
+    "MaterialRange",
+    "Sky",
+    "material_shading",
+]
 
 #: Procedural textures the shader knows, by ``Material.texture`` name.
 TEXTURE_KINDS = {"bark": 2, "leaf": 3, "grass": 4}
 TEX_NONE, TEX_IMAGE = 0, 1
+#: Default ground side, in units of the scene's largest extent.
+GROUND_SCALE = 4.0
+#: Default ground side under a sky that fades the ground into the horizon.
+SKY_GROUND_SCALE = 10.0
 _IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tga", ".tif", ".tiff", ".webp", ".gif")
 
 
@@ -75,7 +88,8 @@ class Ground:
     height : float, optional
         Its Y; default the lowest Y of the scene.
     size : float, optional
-        Its side; default 4 × the larger of the scene's width, depth and height.
+        Its side; default 4 × the larger of the scene's width, depth and height (10 × under
+        a :class:`Sky` with ``ground_fade``, so that the faded ground reaches the haze).
     center : tuple of 2 float, optional
         Its (x, z) centre; default the centre of the scene's footprint.
     material : Material
@@ -91,11 +105,14 @@ class Ground:
         )
     )
 
-    def mesh(self, bounds) -> Mesh:
-        """The plane as a two-triangle :class:`Mesh` for a scene with ``bounds`` ``(2, 3)``."""
+    def mesh(self, bounds, scale: float = GROUND_SCALE) -> Mesh:
+        """The plane as a two-triangle :class:`Mesh` for a scene with ``bounds`` ``(2, 3)``.
+
+        ``scale`` times the scene's largest extent is the side when ``size`` is not set.
+        """
         b = np.asarray(bounds, np.float64)
         ext = b[1] - b[0]
-        size = self.size if self.size is not None else 4.0 * max(float(ext.max()), 1e-3)
+        size = self.size if self.size is not None else scale * max(float(ext.max()), 1e-3)
         y = float(b[0, 1]) if self.height is None else float(self.height)
         if self.center is None:
             cx, cz = 0.5 * (b[0, 0] + b[1, 0]), 0.5 * (b[0, 2] + b[1, 2])
@@ -109,6 +126,66 @@ class Ground:
         idx = np.array([[0, 2, 1], [0, 3, 2]], np.uint32)  # counter-clockwise seen from +Y
         n = np.tile(np.array([[0.0, 1.0, 0.0]], np.float32), (4, 1))
         return Mesh(v, idx, normals=n, uvs=uv, materials=[self.material], name="ground")
+
+
+@dataclass
+class Sky:
+    """A clear-day sky behind 3D views: a vertical gradient from the horizon to the zenith.
+
+    Each background pixel takes its colour from the elevation of the ray through it: the
+    ``horizon`` colour at and below the horizon, blending to the ``zenith`` colour straight
+    up by the power curve ``1 - (1 - sin(elevation)) ** exponent``.  Orthographic cameras,
+    whose rays are all parallel, use the rays of a perspective camera with their ``fov`` for
+    the gradient.
+
+    Parameters
+    ----------
+    zenith : tuple of 3 float
+        sRGB colour straight up (components in [0, 1]).
+    horizon : tuple of 3 float
+        sRGB colour of the haze at and below the horizon.
+    ground_fade : bool
+        Fade the ground plane into the ``horizon`` colour with distance from its centre
+        (from 25 % to 50 % of its side), so that its square edge vanishes in the haze; a
+        ground of default size then grows to 10 × the scene's extent.
+    exponent : float
+        Shape of the gradient (> 0; the larger, the sooner the blue comes in above the
+        horizon; 1 blends linearly in ``sin(elevation)``).
+
+    Examples
+    --------
+    >>> Sky().zenith
+    (0.33, 0.55, 0.85)
+    >>> Sky(horizon=(1.0, 0.9, 0.8), ground_fade=False).ground_fade
+    False
+    """
+
+    zenith: tuple[float, float, float] = (0.33, 0.55, 0.85)
+    horizon: tuple[float, float, float] = (0.80, 0.87, 0.94)
+    ground_fade: bool = True
+    exponent: float = 3.0
+
+    def __post_init__(self) -> None:
+        for name in ("zenith", "horizon"):
+            value = getattr(self, name)
+            try:
+                rgb = tuple(float(c) for c in value)
+            except (TypeError, ValueError) as exc:
+                raise TypeError(f"Sky.{name} must be 3 numbers, got {value!r}") from exc
+            if len(rgb) != 3 or not all(0.0 <= c <= 1.0 for c in rgb):
+                raise ValueError(f"Sky.{name} must be 3 numbers in [0, 1], got {value!r}")
+            setattr(self, name, rgb)
+        if not float(self.exponent) > 0:
+            raise ValueError(f"Sky.exponent must be > 0, got {self.exponent!r}")
+        self.exponent = float(self.exponent)
+        self.ground_fade = bool(self.ground_fade)
+
+    def color(self, direction) -> np.ndarray:
+        """The sRGB colour ``float64[..., 3]`` seen along world ``direction`` ``(..., 3)``."""
+        d = np.asarray(direction, np.float64)
+        s = np.clip(d[..., 1] / np.linalg.norm(d, axis=-1), 0.0, 1.0)
+        t = (1.0 - (1.0 - s) ** self.exponent)[..., None]
+        return (1.0 - t) * np.asarray(self.horizon) + t * np.asarray(self.zenith)
 
 
 @dataclass(frozen=True)

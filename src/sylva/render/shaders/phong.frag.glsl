@@ -7,7 +7,8 @@
 //   TEXTURE_KIND n       0 none, 1 image, 2 bark, 3 leaf, 4 grass;
 //   LIT                  Phong lighting (else the unlit albedo);
 //   SUN, SHADOWS         a directional sun, and its shadow map;
-//   POINTS               point lights (u_n_points of them).
+//   POINTS               point lights (u_n_points of them);
+//   GROUND_FADE          blend into the sky's horizon colour with distance from u_fade_center.
 
 #include "noise.glsl"
 #include "textures.glsl"
@@ -54,6 +55,12 @@ uniform vec3 u_point_diffuse[MAX_POINT_LIGHTS];
 uniform vec3 u_point_ambient[MAX_POINT_LIGHTS];
 uniform vec3 u_point_specular[MAX_POINT_LIGHTS];
 uniform vec3 u_point_atten[MAX_POINT_LIGHTS];
+
+#ifdef GROUND_FADE
+uniform vec2 u_fade_center;      // world (x, z)
+uniform vec2 u_fade_range;       // horizontal distances where the fade starts and ends
+uniform vec3 u_horizon;          // sRGB
+#endif
 
 out vec4 f_color;
 
@@ -145,5 +152,9 @@ void main() {
 #endif
 #endif
     color = pow(clamp(color, 0.0, 1.0), vec3(1.0 / 2.2));
+#ifdef GROUND_FADE
+    float fade = smoothstep(u_fade_range.x, u_fade_range.y, length(v_world.xz - u_fade_center));
+    color = mix(color, u_horizon, fade);
+#endif
     f_color = vec4(color, base.a);
 }
