@@ -8,28 +8,15 @@ from sylva.cli import main
 
 def _render(tmp_path, name, *extra):
     out = tmp_path / name
-    args = [
-        "render",
-        "abop-1.25-bush",
-        "-n",
-        "2",
-        "-o",
-        str(out),
-        "--size",
-        "96x64",
-        "--msaa",
-        "0",
-        "--pitch",
-        "0",
-        *extra,
-    ]
+    args = ["render", "abop-1.25-bush", "-n", "2", "-o", str(out), "--size", "96x64",
+            "--msaa", "0", "--pitch", "0", *extra]  # fmt: skip
     assert main(args) == 0
-    return np.asarray(Image.open(out).convert("RGB")).astype(int)
+    return Image.open(out)
 
 
 def test_render_sky_flag(tmp_path):
-    plain = _render(tmp_path, "plain.png")
-    sky = _render(tmp_path, "sky.png", "--sky")
+    plain = np.asarray(_render(tmp_path, "plain.png").convert("RGB")).astype(int)
+    sky = np.asarray(_render(tmp_path, "sky.png", "--sky").convert("RGB")).astype(int)
     assert plain.shape == sky.shape == (64, 96, 3)
     assert tuple(plain[0, 0]) == (255, 255, 255)
     r, g, b = sky[0, 0]
@@ -39,25 +26,5 @@ def test_render_sky_flag(tmp_path):
 
 
 def test_render_sky_flag_is_off_in_transparent_images(tmp_path):
-    out = tmp_path / "t.png"
-    assert (
-        main(
-            [
-                "render",
-                "abop-1.25-bush",
-                "-n",
-                "2",
-                "-o",
-                str(out),
-                "--size",
-                "48x32",
-                "--msaa",
-                "0",
-                "--sky",
-                "--transparent",
-            ]
-        )
-        == 0
-    )
-    img = Image.open(out)
+    img = _render(tmp_path, "t.png", "--sky", "--transparent")
     assert img.mode == "RGBA" and img.getpixel((0, 0))[3] == 0
