@@ -4,12 +4,19 @@ One feature point per unit cell (a jittered grid), placed by a 32-bit integer ha
 cell coordinates and the seed, so the texture is identical on every machine.  The search
 starts with the 3^d neighbourhood and widens ring by ring until the k-th distance is
 provably final (no unexamined cell can hold a closer point), so F1, F2 and F3 are exact.
+
+:func:`worley_poisson` is Worley's own point process (Worley 1996): each cell holds a
+Poisson-distributed number of feature points (mean ``density``, at most
+:data:`POISSON_MAX_POINTS`), each uniform in the cell, so the points form a Poisson process
+with no grid regularity.  Cells can be empty, so its search widens up to
+:data:`POISSON_MAX_RING` rings.
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit, uint64
 
 MASK = 0xFFFFFFFF
@@ -17,6 +24,13 @@ INV32 = 1.0 / 4294967296.0
 
 EUCLIDEAN, MANHATTAN, CHEBYSHEV, EUCLIDEAN_SQ = 0, 1, 2, 3
 MAX_RING = 4
+# Poisson process (worley_poisson): points per cell at most (P(N > 32) < 1e-10 for a
+# density up to 8) and the widest search ring (exact with overwhelming probability for a
+# density of at least 0.01: the disc of radius 64 then holds about 100 points on average)
+POISSON_MAX_POINTS = 32
+POISSON_MAX_RING = 64
+_COUNT_SALT = 0x5851F42D  # the hashed uniform that draws a cell's point count
+_POINT_SALT = 0x9E3779B9  # point i of a cell hashes (i + 1) * _POINT_SALT
 
 
 @njit(cache=True, inline="always")
@@ -112,6 +126,150 @@ def worley(ndim, x, y, z, w, px, py, pz, pw, metric, jitter, seed, needk):
             break
         r += 1
     return f1, f2, f3, hash32(best ^ 0x2545F491) * INV32
+
+
+@njit(cache=True, inline="always")
+def _cell_hash(hs, ndim, ix, iy, iz, iw, px, py, pz, pw):
+    """The hash of cell ``(ix, iy[, iz[, iw]])`` (wrapped by the periods) as in :func:`worley`."""
+    h = hash32(hs ^ (_pmod(ix, px) & MASK))
+    h = hash32(h ^ (_pmod(iy, py) & MASK))
+    if ndim >= 3:
+        h = hash32(h ^ (_pmod(iz, pz) & MASK))
+    if ndim >= 4:
+        h = hash32(h ^ (_pmod(iw, pw) & MASK))
+    return h
+
+
+@njit(cache=True, inline="always")
+def poisson_count(h, density):
+    """The number of feature points of the cell with hash ``h``: Poisson(``density``) by the
+    inverse CDF against a hashed uniform (terms computed on the fly), capped at
+    :data:`POISSON_MAX_POINTS`."""
+    u = hash32(h ^ _COUNT_SALT) * INV32
+    p = math.exp(-density)
+    cdf = p
+    n = 0
+    while u >= cdf and n < POISSON_MAX_POINTS:
+        n += 1
+        p *= density / n
+        cdf += p
+    return n
+
+
+@njit(cache=True, inline="always")
+def _point_hash(h, i):
+    return hash32(h ^ (((i + 1) * _POINT_SALT) & MASK))
+
+
+@njit(cache=True)
+def worley_poisson(ndim, x, y, z, w, px, py, pz, pw, metric, density, seed, needk):
+    """:func:`worley` for a Poisson process of ``density`` points per unit cell.
+
+    Cell ``c`` holds :func:`poisson_count` points; point ``i`` is at ``c + u`` with ``u``
+    uniform in [0, 1)^d from the hash of the point (the cell hash, wrapped by the periods,
+    and ``i``), so a periodic point set repeats exactly.  The search widens ring by ring
+    until the k-th distance is provably final or :data:`POISSON_MAX_RING` is reached.  With
+    a period on every axis the tile may hold no point at all; the distances are then
+    infinite (the search stops once the window holds a whole tile).
+    Returns ``(f1, f2, f3, cell_id)``; ``cell_id`` is a hash of the nearest point in [0, 1).
+    """
+    cx = math.floor(x)
+    cy = math.floor(y)
+    cz = math.floor(z) if ndim >= 3 else 0.0
+    cw = math.floor(w) if ndim >= 4 else 0.0
+    icx = int(cx)
+    icy = int(cy)
+    icz = int(cz)
+    icw = int(cw)
+    f1 = math.inf
+    f2 = math.inf
+    f3 = math.inf
+    best = 0
+    hs = hash32(seed)
+    # the largest period when every axis has one (a tile can hold no point at all)
+    maxp = max(px, py) if min(px, py) > 0 else POISSON_MAX_RING * 4
+    if ndim >= 3:
+        maxp = max(maxp, pz) if pz > 0 else POISSON_MAX_RING * 4
+    if ndim >= 4:
+        maxp = max(maxp, pw) if pw > 0 else POISSON_MAX_RING * 4
+    r = 1
+    while True:
+        rz = r if ndim >= 3 else 0
+        rw = r if ndim >= 4 else 0
+        for dw in range(-rw, rw + 1):
+            for dz in range(-rz, rz + 1):
+                for dy in range(-r, r + 1):
+                    for dx in range(-r, r + 1):
+                        if r > 1 and max(max(abs(dx), abs(dy)), max(abs(dz), abs(dw))) < r:
+                            continue
+                        ix = icx + dx
+                        iy = icy + dy
+                        iz = icz + dz
+                        iw = icw + dw
+                        h = _cell_hash(hs, ndim, ix, iy, iz, iw, px, py, pz, pw)
+                        for i in range(poisson_count(h, density)):
+                            hp = _point_hash(h, i)
+                            ddx = ix + hash32(hp ^ 0x68E31DA4) * INV32 - x
+                            ddy = iy + hash32(hp ^ 0xB5297A4D) * INV32 - y
+                            ddz = 0.0
+                            ddw = 0.0
+                            if ndim >= 3:
+                                ddz = iz + hash32(hp ^ 0x1B56C4E9) * INV32 - z
+                            if ndim >= 4:
+                                ddw = iw + hash32(hp ^ 0x7F4A7C15) * INV32 - w
+                            if metric == MANHATTAN:
+                                d = abs(ddx) + abs(ddy) + abs(ddz) + abs(ddw)
+                            elif metric == CHEBYSHEV:
+                                d = max(max(abs(ddx), abs(ddy)), max(abs(ddz), abs(ddw)))
+                            else:
+                                d = ddx * ddx + ddy * ddy + ddz * ddz + ddw * ddw
+                                if metric == EUCLIDEAN:
+                                    d = math.sqrt(d)
+                            if d < f1:
+                                f3 = f2
+                                f2 = f1
+                                f1 = d
+                                best = hp
+                            elif d < f2:
+                                f3 = f2
+                                f2 = d
+                            elif d < f3:
+                                f3 = d
+        gap = min(x - cx + r, r + 1 - (x - cx))
+        gap = min(gap, min(y - cy + r, r + 1 - (y - cy)))
+        if ndim >= 3:
+            gap = min(gap, min(z - cz + r, r + 1 - (z - cz)))
+        if ndim >= 4:
+            gap = min(gap, min(w - cw + r, r + 1 - (w - cw)))
+        if metric == EUCLIDEAN_SQ:
+            gap = gap * gap
+        fk = f1 if needk <= 1 else (f2 if needk == 2 else f3)
+        if fk <= gap or r >= POISSON_MAX_RING:
+            break
+        if f1 == math.inf and 2 * r + 1 >= maxp:
+            break  # every axis periodic and the searched window holds a whole empty tile
+        r += 1
+    return f1, f2, f3, hash32(best ^ 0x2545F491) * INV32
+
+
+@njit(cache=True)
+def poisson_cell_points(ndim, ix, iy, iz, iw, px, py, pz, pw, density, seed):
+    """The feature points of one cell of :func:`worley_poisson` (for tests and debugging):
+    ``(points, hashes)``, ``points`` of shape (n, ndim) and the points' hashes."""
+    h = _cell_hash(hash32(seed), ndim, ix, iy, iz, iw, px, py, pz, pw)
+    n = poisson_count(h, density)
+    pts = np.empty((n, ndim))
+    hashes = np.empty(n, np.int64)
+    for i in range(n):
+        hp = _point_hash(h, i)
+        hashes[i] = hp
+        pts[i, 0] = ix + hash32(hp ^ 0x68E31DA4) * INV32
+        pts[i, 1] = iy + hash32(hp ^ 0xB5297A4D) * INV32
+        if ndim >= 3:
+            pts[i, 2] = iz + hash32(hp ^ 0x1B56C4E9) * INV32
+        if ndim >= 4:
+            pts[i, 3] = iw + hash32(hp ^ 0x7F4A7C15) * INV32
+    return pts, hashes
 
 
 # Worley combinations (``wpar[1]``)
@@ -383,3 +541,17 @@ def worley_row(
             nb[i] = combine(combo, r1, r2, r3, cid, c1, c2, c3)
         else:
             nb[i] = combine(combo, f1[i], f2[i], f3[i], f1[i], c1, c2, c3)
+
+
+@njit(cache=True)
+def worley_poisson_row(
+    ndim, xs, fx, ox, y, z, px, py, pz, metric, density, seed, combo, c1, c2, c3, nb
+):
+    """:func:`worley_row` for the Poisson process of :func:`worley_poisson`: output
+    ``combo`` at ``x = xs[i] * fx + ox`` into ``nb[:nx]``, one full search per sample."""
+    needk = NEEDK[combo]
+    for i in range(xs.shape[0]):
+        r1, r2, r3, cid = worley_poisson(
+            ndim, xs[i] * fx + ox, y, z, 0.0, px, py, pz, 0, metric, density, seed, needk
+        )
+        nb[i] = combine(combo, r1, r2, r3, cid, c1, c2, c3)

@@ -566,14 +566,17 @@ def simplex_grid(ndim, mode, xs, ys, zs, out32, out64, freqs, amps, offs, perm, 
 @njit(cache=True, parallel=True)
 def worley_grid(ndim, mode, xs, ys, zs, out32, out64, freqs, amps, offs, pers, wpar, norm, gain):
     """Fill ``out32`` or ``out64`` (see :func:`_shape`; shape (nz, ny, nx)) with 2D or 3D
-    Worley noise, row by row with :func:`._cellkernels.worley_row`; ``wpar`` = (metric,
-    output, jitter, seed, c1, c2, c3) as for :func:`._sampling.noise_at`."""
+    Worley noise, row by row with :func:`._cellkernels.worley_row` (or
+    :func:`._cellkernels.worley_poisson_row` when the density ``wpar[7]`` is positive);
+    ``wpar`` = (metric, output, jitter, seed, c1, c2, c3, density) as for
+    :func:`._sampling.noise_at`."""
     nz, ny, nx = _shape(out32, out64)
     nrows = ny * nz
     metric = int(wpar[0])
     combo = int(wpar[1])
     jitter = wpar[2]
     seed = int(wpar[3])
+    density = wpar[7]
     for c in prange((nrows + ROWS - 1) // ROWS):
         acc = np.empty(nx)
         weight = np.empty(nx)
@@ -592,6 +595,28 @@ def worley_grid(ndim, mode, xs, ys, zs, out32, out64, freqs, amps, offs, pers, w
             acc[:] = 0.0
             weight[:] = 1.0
             for o in range(freqs.shape[0]):
+                if density > 0.0:
+                    ck.worley_poisson_row(
+                        ndim,
+                        xs,
+                        freqs[o, 0],
+                        offs[o, 0],
+                        ys[j] * freqs[o, 1] + offs[o, 1],
+                        zs[m] * freqs[o, 2] + offs[o, 2],
+                        int(pers[o, 0]),
+                        int(pers[o, 1]),
+                        int(pers[o, 2]),
+                        metric,
+                        density,
+                        seed,
+                        combo,
+                        wpar[4],
+                        wpar[5],
+                        wpar[6],
+                        nb,
+                    )
+                    _combine_block(mode, acc, weight, 0, nx, nb, amps[o], gain)
+                    continue
                 ck.worley_row(
                     ndim,
                     xs,

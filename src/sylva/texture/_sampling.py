@@ -9,7 +9,7 @@ import numpy as np
 from numba import njit, prange
 
 from . import _kernels as k
-from ._cellkernels import NEEDK, combine, worley
+from ._cellkernels import NEEDK, combine, worley, worley_poisson
 
 # a direction for time in the 4D torus embedding of tileable simplex (unit length)
 _TD = (0.3872983346207417, -0.5477225575051661, 0.4472135954999579, 0.5916079783099616)
@@ -43,9 +43,14 @@ def noise_at(kind, ndim, x, y, z, w, px, py, pz, pw, interp, perm, perm12, vals,
             return k.value3(x, y, z, px, py, pz, interp, perm, vals)
         return k.value4(x, y, z, w, px, py, pz, pw, interp, perm, vals)
     combo = int(wpar[1])
-    f1, f2, f3, cid = worley(
-        ndim, x, y, z, w, px, py, pz, pw, int(wpar[0]), wpar[2], int(wpar[3]), NEEDK[combo]
-    )
+    if wpar[7] > 0.0:  # a Poisson process of wpar[7] points per cell
+        f1, f2, f3, cid = worley_poisson(
+            ndim, x, y, z, w, px, py, pz, pw, int(wpar[0]), wpar[7], int(wpar[3]), NEEDK[combo]
+        )
+    else:
+        f1, f2, f3, cid = worley(
+            ndim, x, y, z, w, px, py, pz, pw, int(wpar[0]), wpar[2], int(wpar[3]), NEEDK[combo]
+        )
     return combine(combo, f1, f2, f3, cid, wpar[4], wpar[5], wpar[6])
 
 

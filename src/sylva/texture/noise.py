@@ -25,7 +25,8 @@ with Stefan Gustavson's ``SimplexNoise.java`` (2012).  The random tables that ha
 reference (value-noise lattice values, classic Perlin gradients) then come from
 ``numpy.random.default_rng(0)``.  An integer seed draws the permutation and the tables
 from ``numpy.random.default_rng(seed)``; Worley feature points come from an integer hash
-of the cell and the seed.  The same seed gives the same texture on every machine.
+of the cell and the seed (one jittered point per cell, or with ``density=`` Worley's Poisson
+process).  The same seed gives the same texture on every machine.
 
 Output dtype is float32 for arrays unless ``dtype=np.float64`` is asked for; the noise
 itself is always computed in float64.
@@ -36,6 +37,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import math
+import numbers
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -262,6 +264,27 @@ def _octave_params(octaves, persistence, lacunarity):
     return int(octaves), float(persistence), float(lacunarity)
 
 
+# Worley's Poisson density: <= 8 keeps the cap of 32 points per cell negligible (P < 1e-10),
+# >= 0.01 keeps the search within 64 rings exact (see _cellkernels.POISSON_MAX_*)
+DENSITY_RANGE = (0.01, 8.0)
+
+
+def _check_density(density) -> float:
+    """``density`` as a float (0.0 for None: the jittered grid), or a :class:`NoiseError`."""
+    if density is None:
+        return 0.0
+    if isinstance(density, bool) or not isinstance(density, numbers.Real):
+        raise NoiseError(f"density must be a number (points per cell) or None, got {density!r}")
+    lam = float(density)
+    lo, hi = DENSITY_RANGE
+    if not math.isfinite(lam) or not lo <= lam <= hi:
+        raise NoiseError(
+            f"density must be a finite number in [{lo}, {hi}] (mean feature points per"
+            f" cell), got {density!r}"
+        )
+    return lam
+
+
 @dataclass(frozen=True)
 class _Setup:
     kind: int
@@ -278,17 +301,20 @@ def _setup(
     metric="euclidean",
     jitter=1.0,
     coefficients=(1.0, 0.0, 0.0),
+    density=None,
 ) -> _Setup:
     kname = str(kind).lower()
     kid = _lookup(KINDS, kname, "noise kind")
     interp = _lookup(INTERPOLATIONS, interpolation or _DEFAULT_INTERP[kname], "interpolation")
     if not 0.0 <= float(jitter) <= 1.0:
         raise NoiseError(f"jitter must lie in [0, 1], got {jitter!r}")
+    lam = _check_density(density)
     c = tuple(float(v) for v in coefficients)
     if len(c) != 3:
         raise NoiseError("coefficients must be three numbers (for F1, F2, F3)")
     seed = _check_seed(seed)
     wseed = 0 if seed is None else seed & 0xFFFFFFFF
+    # wpar = (metric, output, jitter, seed, c1, c2, c3, density); density 0: jittered grid
     wpar = np.array(
         [
             _lookup(METRICS, metric, "metric"),
@@ -296,6 +322,7 @@ def _setup(
             float(jitter),
             wseed,
             *c,
+            lam,
         ],
         dtype=np.float64,
     )
@@ -508,11 +535,15 @@ def worley(
     coefficients=(1.0, 0.0, 0.0),
     period=None,
     dtype=None,
+    density=None,
 ):
     """Worley cellular noise (1996): distances to the nearest feature points.
 
-    One feature point per unit cell at ``cell + 0.5 + jitter * (u - 0.5)`` with ``u``
-    uniform from a hash of the cell and the seed; ``jitter=0`` gives a regular grid.
+    By default one feature point per unit cell at ``cell + 0.5 + jitter * (u - 0.5)`` with
+    ``u`` uniform from a hash of the cell and the seed ("jittered grid"); ``jitter=0``
+    gives a regular grid.  With a ``density`` the feature points are Worley's original
+    Poisson process instead: each cell holds a Poisson-distributed number of points with
+    mean ``density``, each uniform in the cell, so the pattern has no grid regularity.
 
     Parameters
     ----------
@@ -524,10 +555,22 @@ def worley(
         nearest cell's id in [0, 1), for flat-coloured mosaics) or ``linear``.
     metric : {"euclidean", "manhattan", "chebyshev", "euclidean2"}
     jitter : float in [0, 1]
+        Displacement of the one point per cell from the cell centre (ignored when a
+        ``density`` is given).
     coefficients : (c1, c2, c3)
         Weights for ``output="linear"``.
     period : int or sequence of int, optional
         Integer period per axis (seamless tiling).
+    density : float, optional
+        Mean number of feature points per unit cell of a Poisson point process, in
+        :data:`DENSITY_RANGE` ([0.01, 8]); ``None`` (the default) is the jittered grid with
+        exactly one point per cell.  A cell's point count is drawn from Poisson(density)
+        by a hash of the cell and the seed, capped at 32 points per cell; ``jitter`` is
+        ignored.  Cells can be empty, so the search for F1..F3 widens as far as needed (up
+        to 64 cells, exact in the whole density range); the points repeat with ``period``
+        (a tile of ``m`` cells is empty with probability ``exp(-density * m)``: F1..F3 are
+        then infinite).  ``output="cell"`` gives an id of the nearest point.  Slower than
+        the jittered grid (a full search per sample).
 
     Examples
     --------
@@ -548,13 +591,25 @@ def worley(
         metric=metric,
         jitter=jitter,
         coefficients=coefficients,
+        density=density,
     )
 
 
 def worley_features(
-    x, y, z=None, w=None, *, seed=None, metric="euclidean", jitter=1.0, period=None, dtype=None
+    x,
+    y,
+    z=None,
+    w=None,
+    *,
+    seed=None,
+    metric="euclidean",
+    jitter=1.0,
+    period=None,
+    dtype=None,
+    density=None,
 ):
-    """F1, F2, F3 and the cell id at once, as a tuple of four arrays (see :func:`worley`).
+    """F1, F2, F3 and the cell id at once, as a tuple of four arrays (see :func:`worley`;
+    ``density`` gives the Poisson point process, ``jitter`` is then ignored).
 
     Examples
     --------
@@ -574,6 +629,7 @@ def worley_features(
             jitter=jitter,
             period=period,
             dtype=dtype,
+            density=density,
         )
         for o in ("f1", "f2", "f3", "cell")
     )
@@ -604,8 +660,9 @@ _FRACTAL_DOC = """
     normalize : bool
         Divide by the sum of the amplitudes, keeping fBm in [-1, 1] (turbulence and ridged
         in [0, 1]).
-    output, metric, jitter : str, str, float
-        Worley options when ``kind="worley"``.
+    output, metric, jitter, density : str, str, float, float or None
+        Worley options when ``kind="worley"`` (see :func:`worley`; a ``density`` gives
+        Worley's Poisson point process and ``jitter`` is then ignored).
     dtype : float32 (default) or float64
 """
 
@@ -629,8 +686,9 @@ def fbm(
     metric="euclidean",
     jitter=1.0,
     dtype=None,
+    density=None,
 ):
-    setup = _setup(kind, seed, interpolation, output, metric, jitter)
+    setup = _setup(kind, seed, interpolation, output, metric, jitter, density=density)
     return _run_points(
         setup,
         _k.FBM,
@@ -682,8 +740,9 @@ def turbulence(
     metric="euclidean",
     jitter=1.0,
     dtype=None,
+    density=None,
 ):
-    setup = _setup(kind, seed, interpolation, output, metric, jitter)
+    setup = _setup(kind, seed, interpolation, output, metric, jitter, density=density)
     return _run_points(
         setup,
         _k.TURBULENCE,
@@ -735,8 +794,9 @@ def ridged(
     metric="euclidean",
     jitter=1.0,
     dtype=None,
+    density=None,
 ):
-    setup = _setup(kind, seed, interpolation, output, metric, jitter)
+    setup = _setup(kind, seed, interpolation, output, metric, jitter, density=density)
     return _run_points(
         setup,
         _k.RIDGED,
@@ -862,6 +922,7 @@ def noise_grid(
     metric="euclidean",
     jitter=1.0,
     dtype=None,
+    density=None,
 ):
     """Noise (or a fractal sum of octaves) sampled on a regular grid.
 
@@ -896,7 +957,8 @@ def noise_grid(
         Domain-warp amount in lattice cells (0: none); the warp field is fBm of the same
         kind and octave settings with other seeds.
     normalize : bool
-    output, metric, jitter : Worley options.
+    output, metric, jitter, density : Worley options (see :func:`worley`; a ``density``
+        gives Worley's Poisson point process, ``jitter`` is then ignored).
     dtype : float32 (default) or float64
 
     Returns
@@ -918,7 +980,7 @@ def noise_grid(
     if ndim > 4:
         raise NoiseError("a 4D grid cannot take time as well (noise goes up to 4D)")
     mode = _lookup(FRACTALS, fractal, "fractal")
-    setup = _setup(kind, seed, interpolation, output, metric, jitter)
+    setup = _setup(kind, seed, interpolation, output, metric, jitter, density=density)
     octaves, persistence, lacunarity = _octave_params(octaves, persistence, lacunarity)
     if np.ndim(scale) == 0:
         scales = None
@@ -987,6 +1049,7 @@ def noise_grid(
                     output,
                     metric,
                     jitter,
+                    density=density,
                 )
                 wt = wseed.tables
                 d = _s.run_points(

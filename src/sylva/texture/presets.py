@@ -8,7 +8,8 @@ tools offered (seed 003 §7: NF, LSE, UFR, MYS).  :data:`PRESETS` holds named re
 
 Common keys: ``kind``, ``size`` (``[W, H]`` or ``"WxH"``), ``seed``, ``colormap``,
 ``tileable``; noise keys ``scale``, ``octaves``, ``persistence``, ``lacunarity``,
-``fractal``, ``interpolation``, ``warp``, ``output``/``metric``/``jitter`` (Worley),
+``fractal``, ``interpolation``, ``warp``, ``output``/``metric``/``jitter``/``density`` (Worley;
+``density`` gives Worley's Poisson point process, see :func:`.noise.worley`),
 ``vmin``/``vmax`` (the value range mapped onto the colour map); ``normal_map`` (a bump
 strength: output a normal map of the height field instead of colours); ``speed`` (time
 per frame).  Unknown keys are an error, so a typo does not pass silently.
@@ -74,7 +75,7 @@ TEXTURE_KINDS: dict[str, str] = {
 _COMMON = {"kind", "size", "seed", "colormap", "tileable", "normal_map", "speed", "vmin",
            "vmax", "frames", "fps", "description"}
 _NOISE_KEYS = {"scale", "octaves", "persistence", "lacunarity", "fractal", "interpolation",
-               "warp", "output", "metric", "jitter", "gain"}
+               "warp", "output", "metric", "jitter", "density", "gain"}
 _KEYS = {
     **{k: _NOISE_KEYS for k in _NOISE},
     "marble": {"scale", "stripes", "turbulence", "octaves", "persistence", "lacunarity"},
