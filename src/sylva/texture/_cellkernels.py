@@ -47,6 +47,54 @@ def _pmod(i, period):
     return i % period if period > 0 else i
 
 
+@njit(cache=True, inline="always")
+def _cell_hash(hs, ndim, ix, iy, iz, iw, px, py, pz, pw):
+    """The hash of cell ``(ix, iy[, iz[, iw]])`` (wrapped by the periods) as in :func:`worley`."""
+    h = hash32(hs ^ (_pmod(ix, px) & MASK))
+    h = hash32(h ^ (_pmod(iy, py) & MASK))
+    if ndim >= 3:
+        h = hash32(h ^ (_pmod(iz, pz) & MASK))
+    if ndim >= 4:
+        h = hash32(h ^ (_pmod(iw, pw) & MASK))
+    return h
+
+
+@njit(cache=True, inline="always")
+def _distance4(metric, ddx, ddy, ddz, ddw):
+    """The ``metric`` distance of the offset (ddx, ddy, ddz, ddw) (squared for EUCLIDEAN_SQ)."""
+    if metric == MANHATTAN:
+        return abs(ddx) + abs(ddy) + abs(ddz) + abs(ddw)
+    if metric == CHEBYSHEV:
+        return max(max(abs(ddx), abs(ddy)), max(abs(ddz), abs(ddw)))
+    d = ddx * ddx + ddy * ddy + ddz * ddz + ddw * ddw
+    return math.sqrt(d) if metric == EUCLIDEAN else d
+
+
+@njit(cache=True, inline="always")
+def _offer(d, h, f1, f2, f3, best):
+    """F1 <= F2 <= F3 and the nearest point's hash after offering distance ``d`` of ``h``."""
+    if d < f1:
+        return d, f1, f2, h
+    if d < f2:
+        return f1, d, f2, best
+    if d < f3:
+        return f1, f2, d, best
+    return f1, f2, f3, best
+
+
+@njit(cache=True, inline="always")
+def _ring_gap(ndim, metric, r, fx, fy, fz, fw):
+    """The least distance from the point (at ``fx, fy …`` in its cell) to any cell outside
+    the rings searched up to ``r``: every unexamined cell lies at least this far away along
+    some axis (squared for EUCLIDEAN_SQ)."""
+    gap = min(min(fx + r, r + 1 - fx), min(fy + r, r + 1 - fy))
+    if ndim >= 3:
+        gap = min(gap, min(fz + r, r + 1 - fz))
+    if ndim >= 4:
+        gap = min(gap, min(fw + r, r + 1 - fw))
+    return gap * gap if metric == EUCLIDEAN_SQ else gap
+
+
 @njit(cache=True)
 def worley(ndim, x, y, z, w, px, py, pz, pw, metric, jitter, seed, needk):
     """Distances to the 1st, 2nd and 3rd nearest feature points and the nearest cell's id.
@@ -80,12 +128,7 @@ def worley(ndim, x, y, z, w, px, py, pz, pw, metric, jitter, seed, needk):
                         iy = icy + dy
                         iz = icz + dz
                         iw = icw + dw
-                        h = hash32(hs ^ (_pmod(ix, px) & MASK))
-                        h = hash32(h ^ (_pmod(iy, py) & MASK))
-                        if ndim >= 3:
-                            h = hash32(h ^ (_pmod(iz, pz) & MASK))
-                        if ndim >= 4:
-                            h = hash32(h ^ (_pmod(iw, pw) & MASK))
+                        h = _cell_hash(hs, ndim, ix, iy, iz, iw, px, py, pz, pw)
                         ddx = ix + 0.5 + jitter * (hash32(h ^ 0x68E31DA4) * INV32 - 0.5) - x
                         ddy = iy + 0.5 + jitter * (hash32(h ^ 0xB5297A4D) * INV32 - 0.5) - y
                         ddz = 0.0
@@ -94,50 +137,13 @@ def worley(ndim, x, y, z, w, px, py, pz, pw, metric, jitter, seed, needk):
                             ddz = iz + 0.5 + jitter * (hash32(h ^ 0x1B56C4E9) * INV32 - 0.5) - z
                         if ndim >= 4:
                             ddw = iw + 0.5 + jitter * (hash32(h ^ 0x7F4A7C15) * INV32 - 0.5) - w
-                        if metric == MANHATTAN:
-                            d = abs(ddx) + abs(ddy) + abs(ddz) + abs(ddw)
-                        elif metric == CHEBYSHEV:
-                            d = max(max(abs(ddx), abs(ddy)), max(abs(ddz), abs(ddw)))
-                        else:
-                            d = ddx * ddx + ddy * ddy + ddz * ddz + ddw * ddw
-                            if metric == EUCLIDEAN:
-                                d = math.sqrt(d)
-                        if d < f1:
-                            f3 = f2
-                            f2 = f1
-                            f1 = d
-                            best = h
-                        elif d < f2:
-                            f3 = f2
-                            f2 = d
-                        elif d < f3:
-                            f3 = d
-        # every unexamined cell lies at least `gap` away along some axis
-        gap = min(x - cx + r, r + 1 - (x - cx))
-        gap = min(gap, min(y - cy + r, r + 1 - (y - cy)))
-        if ndim >= 3:
-            gap = min(gap, min(z - cz + r, r + 1 - (z - cz)))
-        if ndim >= 4:
-            gap = min(gap, min(w - cw + r, r + 1 - (w - cw)))
-        if metric == EUCLIDEAN_SQ:
-            gap = gap * gap
+                        d = _distance4(metric, ddx, ddy, ddz, ddw)
+                        f1, f2, f3, best = _offer(d, h, f1, f2, f3, best)
         fk = f1 if needk <= 1 else (f2 if needk == 2 else f3)
-        if fk <= gap or r >= MAX_RING:
+        if fk <= _ring_gap(ndim, metric, r, x - cx, y - cy, z - cz, w - cw) or r >= MAX_RING:
             break
         r += 1
     return f1, f2, f3, hash32(best ^ 0x2545F491) * INV32
-
-
-@njit(cache=True, inline="always")
-def _cell_hash(hs, ndim, ix, iy, iz, iw, px, py, pz, pw):
-    """The hash of cell ``(ix, iy[, iz[, iw]])`` (wrapped by the periods) as in :func:`worley`."""
-    h = hash32(hs ^ (_pmod(ix, px) & MASK))
-    h = hash32(h ^ (_pmod(iy, py) & MASK))
-    if ndim >= 3:
-        h = hash32(h ^ (_pmod(iz, pz) & MASK))
-    if ndim >= 4:
-        h = hash32(h ^ (_pmod(iw, pw) & MASK))
-    return h
 
 
 @njit(cache=True, inline="always")
@@ -217,33 +223,10 @@ def worley_poisson(ndim, x, y, z, w, px, py, pz, pw, metric, density, seed, need
                                 ddz = iz + hash32(hp ^ 0x1B56C4E9) * INV32 - z
                             if ndim >= 4:
                                 ddw = iw + hash32(hp ^ 0x7F4A7C15) * INV32 - w
-                            if metric == MANHATTAN:
-                                d = abs(ddx) + abs(ddy) + abs(ddz) + abs(ddw)
-                            elif metric == CHEBYSHEV:
-                                d = max(max(abs(ddx), abs(ddy)), max(abs(ddz), abs(ddw)))
-                            else:
-                                d = ddx * ddx + ddy * ddy + ddz * ddz + ddw * ddw
-                                if metric == EUCLIDEAN:
-                                    d = math.sqrt(d)
-                            if d < f1:
-                                f3 = f2
-                                f2 = f1
-                                f1 = d
-                                best = hp
-                            elif d < f2:
-                                f3 = f2
-                                f2 = d
-                            elif d < f3:
-                                f3 = d
-        gap = min(x - cx + r, r + 1 - (x - cx))
-        gap = min(gap, min(y - cy + r, r + 1 - (y - cy)))
-        if ndim >= 3:
-            gap = min(gap, min(z - cz + r, r + 1 - (z - cz)))
-        if ndim >= 4:
-            gap = min(gap, min(w - cw + r, r + 1 - (w - cw)))
-        if metric == EUCLIDEAN_SQ:
-            gap = gap * gap
+                            d = _distance4(metric, ddx, ddy, ddz, ddw)
+                            f1, f2, f3, best = _offer(d, hp, f1, f2, f3, best)
         fk = f1 if needk <= 1 else (f2 if needk == 2 else f3)
+        gap = _ring_gap(ndim, metric, r, x - cx, y - cy, z - cz, w - cw)
         if fk <= gap or r >= POISSON_MAX_RING:
             break
         if f1 == math.inf and 2 * r + 1 >= maxp:
