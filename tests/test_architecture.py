@@ -17,7 +17,7 @@ ALLOWED = {
     "tree": {"lsystem", "turtle", "geometry", "texture"},
     "world": {"tree", "turtle", "geometry", "texture", "lsystem"},
 }
-FREE = {"errors", "data", "_version"}
+FREE = {"errors", "data", "_version", "_atomic"}
 
 
 def _imports(path: Path, package: str) -> set[str]:

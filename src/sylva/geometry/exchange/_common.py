@@ -9,6 +9,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
+from ..._atomic import atomic_write
 from ..mesh import Material, Mesh, Scene
 from ..records import Geometry
 
@@ -32,12 +33,11 @@ def as_scene(obj) -> Scene:
 
 @contextlib.contextmanager
 def open_target(target: PathOrFile, binary: bool) -> Iterator[io.IOBase]:
-    """Yield a writable file for ``target`` (a path is opened and closed, a file object is
-    used as is)."""
+    """Yield a writable file for ``target``: a path is written atomically (a temporary file
+    beside it, renamed over it only once the writer succeeds; see :mod:`sylva._atomic`), a
+    file object is used as is."""
     if isinstance(target, (str, os.PathLike)):
-        mode = "wb" if binary else "w"
-        kw = {} if binary else {"encoding": "utf-8", "newline": "\n"}
-        with open(target, mode, **kw) as fh:  # noqa: SIM115
+        with atomic_write(target, "wb" if binary else "w") as fh:
             yield fh
     else:
         yield target

@@ -17,10 +17,12 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import os
 
 import numpy as np
 
+from ..._atomic import AtomicGroup
 from ._common import (
     PathOrFile,
     as_scene,
@@ -66,44 +68,52 @@ def write_obj(scene, target: PathOrFile, *, mtl_file=None) -> None:
     scene = as_scene(scene)
     path = target_path(target)
     mtl_name = None
-    if path is not None and isinstance(target, (str, os.PathLike)):
-        stem = os.path.splitext(path)[0]
-        mtl_path = stem + ".mtl"
-        mtl_name = os.path.basename(mtl_path)
-        with open(mtl_path, "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(mtl_text(scene))
-    elif mtl_file is not None:
-        mtl_file.write(mtl_text(scene))
-        mtl_name = os.path.basename(getattr(mtl_file, "name", "materials.mtl"))
-    with open_target(target, binary=False) as fh:
-        fh.write(f"# sylva OBJ: {scene.name}\n")
-        if mtl_name:
-            fh.write(f"mtllib {mtl_name}\n")
-        vbase = 1
-        tbase = 1
-        for mesh in scene.meshes:
-            if mesh.n_vertices == 0:
-                continue
-            fh.write(f"o {safe_name(mesh.name)}\n")
-            if mesh.colors is not None:
-                vc = np.concatenate([mesh.vertices, mesh.colors[:, :3]], axis=1)
-                fh.write(rows("v %.7g %.7g %.7g %.4g %.4g %.4g", vc))
-            else:
-                fh.write(rows("v %.7g %.7g %.7g", mesh.vertices))
-            has_uv = mesh.uvs is not None
+    with contextlib.ExitStack() as stack:
+        if path is not None and isinstance(target, (str, os.PathLike)):
+            # The .mtl and the .obj appear together or not at all, the .obj last.
+            group = stack.enter_context(AtomicGroup())
+            mtl_path = os.path.splitext(path)[0] + ".mtl"
+            mtl_name = os.path.basename(mtl_path)
+            with group.open(mtl_path, "w") as fh:
+                fh.write(mtl_text(scene))
+            fh = stack.enter_context(group.open(path, "w", main=True))
+        else:
+            if mtl_file is not None:
+                mtl_file.write(mtl_text(scene))
+                mtl_name = os.path.basename(getattr(mtl_file, "name", "materials.mtl"))
+            fh = stack.enter_context(open_target(target, binary=False))
+        _write_obj_body(fh, scene, mtl_name)
+
+
+def _write_obj_body(fh, scene, mtl_name) -> None:
+    fh.write(f"# sylva OBJ: {scene.name}\n")
+    if mtl_name:
+        fh.write(f"mtllib {mtl_name}\n")
+    vbase = 1
+    tbase = 1
+    for mesh in scene.meshes:
+        if mesh.n_vertices == 0:
+            continue
+        fh.write(f"o {safe_name(mesh.name)}\n")
+        if mesh.colors is not None:
+            vc = np.concatenate([mesh.vertices, mesh.colors[:, :3]], axis=1)
+            fh.write(rows("v %.7g %.7g %.7g %.4g %.4g %.4g", vc))
+        else:
+            fh.write(rows("v %.7g %.7g %.7g", mesh.vertices))
+        has_uv = mesh.uvs is not None
+        if has_uv:
+            fh.write(rows("vt %.6g %.6g", mesh.uvs))
+        fh.write(rows("vn %.5g %.5g %.5g", mesh.normals))
+        for mid, tris in material_groups(mesh):
+            fh.write(f"usemtl {safe_name(material_of(mesh, mid).name)}\n")
+            idx = mesh.indices[tris].astype(np.int64) + vbase
             if has_uv:
-                fh.write(rows("vt %.6g %.6g", mesh.uvs))
-            fh.write(rows("vn %.5g %.5g %.5g", mesh.normals))
-            for mid, tris in material_groups(mesh):
-                fh.write(f"usemtl {safe_name(material_of(mesh, mid).name)}\n")
-                idx = mesh.indices[tris].astype(np.int64) + vbase
-                if has_uv:
-                    rep = idx.repeat(3, axis=1)
-                    if tbase != vbase:
-                        rep[:, 1::3] += tbase - vbase
-                    fh.write(rows("f %d/%d/%d %d/%d/%d %d/%d/%d", rep))
-                else:
-                    rep = idx.repeat(2, axis=1)
-                    fh.write(rows("f %d//%d %d//%d %d//%d", rep))
-            vbase += mesh.n_vertices
-            tbase += mesh.n_vertices if has_uv else 0
+                rep = idx.repeat(3, axis=1)
+                if tbase != vbase:
+                    rep[:, 1::3] += tbase - vbase
+                fh.write(rows("f %d/%d/%d %d/%d/%d %d/%d/%d", rep))
+            else:
+                rep = idx.repeat(2, axis=1)
+                fh.write(rows("f %d//%d %d//%d %d//%d", rep))
+        vbase += mesh.n_vertices
+        tbase += mesh.n_vertices if has_uv else 0
