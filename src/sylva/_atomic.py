@@ -46,7 +46,14 @@ import tempfile
 from collections.abc import Iterator
 from typing import IO, Any
 
-__all__ = ["AtomicGroup", "atomic_path", "atomic_write", "describe_os_error"]
+__all__ = [
+    "AtomicGroup",
+    "atomic_path",
+    "atomic_write",
+    "describe_os_error",
+    "os_error_from_text",
+    "save_buffered",
+]
 
 PathLike = str | os.PathLike
 
@@ -118,6 +125,22 @@ def _check_target(target: str) -> None:
         raise IsADirectoryError(errno.EISDIR, "is a directory", target)
 
 
+def _name_target(exc: BaseException, members: list[tuple[str, str, bool]]) -> None:
+    """Make an ``OSError`` of a write name the file the user asked for.
+
+    ``write()`` on a full disk raises ``ENOSPC`` without a file name, and an error on the
+    temporary file names the hidden temporary; both are renamed to the target (the last
+    member written, when the error names no file), so the message says which output failed.
+    """
+    if not isinstance(exc, OSError) or not members:
+        return
+    targets = {tmp: target for tmp, target, _ in members}
+    if exc.filename is None:
+        exc.filename = members[-1][1]
+    elif exc.filename in targets:
+        exc.filename = targets[exc.filename]
+
+
 class AtomicGroup:
     """Several files that appear together: companions first, the main file last.
 
@@ -142,7 +165,11 @@ class AtomicGroup:
         """A temporary path beside ``target`` (same suffix) to write with any library."""
         target = os.fspath(target)
         _check_target(target)
-        tmp = _temp_name(target)
+        try:
+            tmp = _temp_name(target)
+        except OSError as exc:  # no folder, no permission: name the target, not the temp
+            exc.filename = target
+            raise
         self._members.append((tmp, target, main))
         return tmp
 
@@ -186,10 +213,12 @@ class AtomicGroup:
         if exc_type is None:
             try:
                 self.commit()
-            except BaseException:
+            except BaseException as failure:
+                _name_target(failure, self._members)
                 self.abort()
                 raise
         else:
+            _name_target(exc, self._members)
             self.abort()
 
 
@@ -240,3 +269,36 @@ def describe_os_error(exc: OSError, path: PathLike | None = None) -> str:
         if not os.path.isdir(folder):
             cause = f"the folder {folder} does not exist"
     return f"cannot write {where}: {cause}" if where else f"cannot write: {cause}"
+
+
+#: The causes a tool (ffmpeg, usd-core) may report in words instead of an errno.
+_TOOL_ERRNOS = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EACCES, errno.EPERM,
+                errno.EROFS, errno.ENOENT, errno.ENOTDIR, errno.EISDIR, errno.ENAMETOOLONG)
+
+
+def os_error_from_text(text: str, path: PathLike, tool: str) -> OSError:
+    """The ``OSError`` a tool that reports failures as text (ffmpeg's log, usd-core's
+    ``Tf.ErrorException``) met: the errno whose message appears in ``text`` (``"No space
+    left on device"``, ``"File too large"``...), else ``EIO`` with the tool's last line."""
+    low = text.lower()
+    for code in _TOOL_ERRNOS:
+        if os.strerror(code).lower() in low:
+            return OSError(code, os.strerror(code), os.fspath(path))
+    last = next((ln.strip() for ln in reversed(text.splitlines()) if ln.strip()), "")
+    return OSError(errno.EIO, f"{tool} failed: {last}" if last else f"{tool} failed",
+                   os.fspath(path))
+
+
+def save_buffered(target: PathLike, save) -> None:
+    """Write what ``save(file)`` writes into memory, then to ``target`` atomically.
+
+    For Pillow: its C encoders write to a file's descriptor directly and miss a short
+    ``write()`` (on a full disk a JPEG comes out truncated, with no error).  Through an
+    in-memory file every byte goes through Python's checked writes.
+    """
+    import io
+
+    buf = io.BytesIO()
+    save(buf)
+    with atomic_write(target) as fh:
+        fh.write(buf.getbuffer())

@@ -4,7 +4,9 @@ Each sub-command lives in its own module of this package and exposes
 ``register(subparsers)``, which adds its parser and sets ``func`` to a callable taking the
 parsed arguments and returning an exit status.  Modules are discovered, so adding a command
 touches no other file.  A :class:`~sylva.errors.SylvaError` is printed without a traceback
-and exits with status 2.
+and exits with status 2; so is an ``OSError`` (a missing folder, no permission, a full disk),
+as one line naming the file and the cause.  Every output is written atomically (see
+:mod:`sylva._atomic`), so a failed command leaves the previous file as it was.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import importlib
 import pkgutil
 import sys
 
+from .._atomic import describe_os_error
 from ..errors import SylvaError
 
 __all__ = ["build_parser", "main"]
@@ -47,5 +50,8 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("sylva: interrupted", file=sys.stderr)
         return 130
-    except BrokenPipeError:
-        return 0
+    except OSError as exc:
+        if isinstance(exc, BrokenPipeError) and exc.filename is None:
+            return 0  # stdout closed early (sylva derive ... | head); not a failed write
+        print(f"sylva: error: {describe_os_error(exc)}", file=sys.stderr)
+        return 2

@@ -66,5 +66,7 @@ def run(args: argparse.Namespace) -> int:
         )  # fmt: skip
         write(scene, args.output, format=fmt)
         what = f"{scene.n_triangles} triangles"
+    if what.startswith("0 "):  # a valid, empty file: the word draws nothing
+        what += "; nothing to draw, the file holds an empty scene"
     print(f"sylva: wrote {args.output} ({len(word)} modules, {what})", file=sys.stderr)
     return 0

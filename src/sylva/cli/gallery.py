@@ -10,6 +10,7 @@ import sys
 import time
 from pathlib import Path
 
+from .._atomic import atomic_write, save_buffered
 from ._common import parse_size
 
 __all__ = ["make", "register"]
@@ -101,7 +102,9 @@ def _textures(out: Path, size: int = 256) -> list[dict]:
         t = time.perf_counter()
         recipe = dict(PRESETS[name])
         recipe["size"] = [size, size]
-        Image.fromarray(render(recipe)).save(out / f"texture-{name}.png")
+        image = Image.fromarray(render(recipe))
+        save_buffered(out / f"texture-{name}.png",
+                      lambda fh, image=image: image.save(fh, format="PNG"))
         made.append(dict(file=f"texture-{name}.png", title=f"texture preset {name}",
                          seconds=time.perf_counter() - t))
     return made
@@ -157,7 +160,8 @@ def make(out: str | Path, size=(800, 800), only: str | None = None,
               f"{r['render']:6.2f}s", file=sys.stderr)
     anims = _animations(out) if animations and only is None else []
     textures = _textures(out) if only is None else []
-    (out / "index.html").write_text(_page(rows, anims + textures), encoding="utf-8")
+    with atomic_write(out / "index.html", "w") as fh:
+        fh.write(_page(rows, anims + textures))
     print(f"sylva: wrote {out / 'index.html'} ({len(rows)} examples, {len(anims)} animations, "
           f"{len(textures)} textures)", file=sys.stderr)
     return 0

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._atomic import save_buffered
 from ..errors import SylvaError
 
 _OPTIONS = (
@@ -87,29 +88,24 @@ def _save_image(path: Path, frames: list[np.ndarray], fps: float) -> None:
         from PIL import Image
 
         try:
-            Image.fromarray(frames[0]).save(path)
+            fmt = Image.registered_extensions()[suffix]
+        except KeyError:
+            raise SylvaError(f"cannot write {path}: unknown image format {suffix!r}") from None
+        image = Image.fromarray(frames[0])
+        try:
+            save_buffered(path, lambda fh: image.save(fh, format=fmt))
         except (KeyError, ValueError) as exc:
             raise SylvaError(f"cannot write {path}: unknown image format ({exc})") from None
         return
-    import imageio.v3 as iio
-
-    if suffix == ".gif":
-        iio.imwrite(path, np.stack(frames), extension=".gif", duration=1000.0 / fps, loop=0)
-    elif suffix == ".mp4":
-        _write_mp4(path, frames, fps)
-    else:
+    if suffix not in (".gif", ".mp4"):
         raise SylvaError(f"an animation needs a .gif or .mp4 output, got {path.name}")
+    from ..render.animate import write_animation
 
-
-def _write_mp4(path: Path, frames: list[np.ndarray], fps: float) -> None:
-    import imageio.v2 as iio2
-
-    h, w = frames[0].shape[:2]
-    frames = [f[: h - h % 2, : w - w % 2] for f in frames]  # yuv420p needs even sizes
-    with iio2.get_writer(path, fps=fps, codec="libx264", quality=8,
-                         macro_block_size=2) as writer:
-        for f in frames:
-            writer.append_data(f)
+    if suffix == ".mp4":
+        h, w = frames[0].shape[:2]
+        frames = [f[: h - h % 2, : w - w % 2] for f in frames]  # yuv420p needs even sizes
+    # one writer for every animation: atomic, and a full disk is an error, not a short file
+    write_animation(frames, path, fps=fps, progress=False)
 
 
 def run(args: argparse.Namespace) -> int:

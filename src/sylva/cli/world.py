@@ -19,6 +19,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from .._atomic import save_buffered
 from ..errors import SylvaError
 
 
@@ -170,7 +171,8 @@ def run(args) -> int:
             from PIL import Image
 
             bpath = out.with_name(out.stem + ".biomes.png")
-            Image.fromarray(store.biome_map()).save(bpath)  # row 0: lowest z, as --view top
+            image = Image.fromarray(store.biome_map())  # row 0: lowest z, as --view top
+            save_buffered(bpath, lambda fh: image.save(fh, format="PNG"))
             say(f"wrote {bpath}")
         if ext == ".glb":
             from ..world.export import write_world_glb

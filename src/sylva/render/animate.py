@@ -16,6 +16,11 @@ True
 
 from __future__ import annotations
 
+import contextlib
+import errno
+import io
+import os
+import signal
 import sys
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
@@ -24,6 +29,7 @@ import numpy as np
 from PIL import Image
 from tqdm import tqdm
 
+from sylva._atomic import AtomicGroup, os_error_from_text
 from sylva.geometry.mesh import Mesh, Scene
 from sylva.render.camera import Camera
 from sylva.render.offscreen import Renderer, parse_color
@@ -364,61 +370,121 @@ def write_animation(
     )
     shape = None
     count = 0
-    writer = _Writer(fmt, path, fps, loop, quality)
-    try:
-        for frame in bar:
-            rgb = _to_rgb(frame, bg)
-            if shape is None:
-                shape = rgb.shape
-            elif rgb.shape != shape:
-                raise ValueError(f"frame {count} is {rgb.shape[:2]}, the first was {shape[:2]}")
-            writer.send(rgb)
-            count += 1
-        if count == 0:
-            raise ValueError("no frames to write")
-    except BaseException:
+    # frames stream into a temporary file beside ``path`` that replaces it only once the
+    # animation is complete: a failure (or Ctrl-C) leaves the previous file as it was
+    with AtomicGroup() as group:
+        writer = _Writer(fmt, group.path(path, main=True), fps, loop, quality)
+        try:
+            for frame in bar:
+                rgb = _to_rgb(frame, bg)
+                if shape is None:
+                    shape = rgb.shape
+                elif rgb.shape != shape:
+                    raise ValueError(
+                        f"frame {count} is {rgb.shape[:2]}, the first was {shape[:2]}")
+                writer.send(rgb)
+                count += 1
+            if count == 0:
+                raise ValueError("no frames to write")
+        except BaseException:
+            writer.abort()
+            raise
+        finally:
+            bar.close()
         writer.close()
-        path.unlink(missing_ok=True)  # no half-written animations
-        raise
-    finally:
-        bar.close()
-    writer.close()
     return path
 
 
 class _Writer:
-    """Streams frames to imageio; ``close_with`` finishes (or aborts) the file."""
+    """Streams frames to a GIF (Pillow) or to ffmpeg (H.264); :meth:`close` finishes the
+    file and raises ``OSError`` when it could not be written whole.
+
+    imageio's writers hide failures: its ffmpeg writer never reads ffmpeg's exit status (a
+    full disk gives a truncated MP4 and no error) and its GIF writer repeats a failed flush
+    from ``__del__``.  So the GIF is assembled by Pillow in memory and written with Python's
+    checked writes, and ffmpeg runs here, its exit status checked and
+    its complaint turned into the ``OSError`` it met.
+    """
 
     def __init__(self, fmt, path, fps, loop, quality):
         self.fmt, self.path, self.fps, self.loop, self.quality = fmt, path, fps, loop, quality
-        self._handle = None
+        self._frames: list[Image.Image] = []
+        self._proc = None
+        self._log: list[bytes] = []
+        self._reader = None
 
     def send(self, rgb: np.ndarray) -> None:
         if self.fmt == "gif":
-            if self._handle is None:
-                import imageio.v3 as iio
+            self._frames.append(Image.fromarray(rgb))
+            return
+        pad_h, pad_w = rgb.shape[0] % 2, rgb.shape[1] % 2  # yuv420p needs even sides
+        if pad_h or pad_w:
+            rgb = np.pad(rgb, ((0, pad_h), (0, pad_w), (0, 0)), mode="edge")
+        if self._proc is None:
+            self._start(rgb.shape[1], rgb.shape[0])
+        try:
+            self._proc.stdin.write(np.ascontiguousarray(rgb).tobytes())
+        except (BrokenPipeError, OSError):
+            self._finish()  # ffmpeg stopped: raise what it met
+            raise
 
-                self._handle = iio.imopen(self.path, "w", plugin="pillow")
-            self._handle.write(rgb, duration=1000.0 / self.fps, loop=self.loop, is_batch=False)
-        else:
-            if self._handle is None:
-                import imageio.v2 as iio2
+    def _start(self, w: int, h: int) -> None:
+        import subprocess
+        import threading
+        from fractions import Fraction
 
-                self._handle = iio2.get_writer(
-                    self.path,
-                    format="FFMPEG",
-                    fps=self.fps,
-                    codec="libx264",
-                    pixelformat="yuv420p",
-                    macro_block_size=1,
-                    quality=self.quality,
-                )
-            pad_h, pad_w = rgb.shape[0] % 2, rgb.shape[1] % 2  # yuv420p needs even sides
-            if pad_h or pad_w:
-                rgb = np.pad(rgb, ((0, pad_h), (0, pad_w), (0, 0)), mode="edge")
-            self._handle.append_data(rgb)
+        import imageio_ffmpeg
+
+        crf = int((1 - self.quality / 10.0) * 51)  # imageio-ffmpeg's quality scale
+        cmd = [imageio_ffmpeg.get_ffmpeg_exe(), "-y", "-loglevel", "error", "-nostdin",
+               "-f", "rawvideo", "-vcodec", "rawvideo", "-s", f"{w}x{h}", "-pix_fmt", "rgb24",
+               "-r", str(Fraction(self.fps).limit_denominator()), "-i", "-", "-an",
+               "-vcodec", "libx264", "-pix_fmt", "yuv420p", "-crf", str(crf), self.path]
+        self._proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
+                                      stderr=subprocess.PIPE)
+        # drain ffmpeg's log as it comes, so a chatty failure cannot fill the pipe
+        self._reader = threading.Thread(target=lambda: self._log.extend(self._proc.stderr),
+                                        daemon=True)
+        self._reader.start()
+
+    def _finish(self) -> None:
+        proc, self._proc = self._proc, None
+        if proc is None:
+            return
+        with contextlib.suppress(OSError):
+            proc.stdin.close()
+        code = proc.wait()
+        self._reader.join()
+        proc.stderr.close()
+        if code == -signal.SIGXFSZ:  # killed for passing the file size limit
+            raise OSError(errno.EFBIG, os.strerror(errno.EFBIG), self.path)
+        if code != 0:
+            text = b"".join(self._log).decode("utf-8", "replace")
+            raise os_error_from_text(text or f"exit status {code}", self.path, "ffmpeg")
 
     def close(self) -> None:
-        if self._handle is not None:
-            self._handle.close()
-            self._handle = None
+        if self.fmt != "gif":
+            self._finish()
+            return
+        frames, self._frames = self._frames, []
+        if not frames:
+            return
+        args = dict(format="GIF", duration=1000.0 / self.fps, loop=self.loop)
+        if len(frames) > 1:
+            args.update(save_all=True, append_images=frames[1:])
+        buf = io.BytesIO()  # Pillow writes to a descriptor unchecked; Python's writes check
+        frames[0].save(buf, **args)
+        with open(self.path, "wb") as fh:
+            fh.write(buf.getbuffer())
+
+    def abort(self) -> None:
+        """Stop without finishing (the temporary file is discarded by the caller)."""
+        self._frames = []
+        proc, self._proc = self._proc, None
+        if proc is not None:
+            with contextlib.suppress(OSError):
+                proc.stdin.close()
+            proc.kill()
+            proc.wait()
+            self._reader.join()
+            proc.stderr.close()

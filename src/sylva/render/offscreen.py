@@ -30,6 +30,7 @@ import moderngl
 import numpy as np
 from PIL import Image, ImageColor
 
+from sylva._atomic import save_buffered
 from sylva.geometry.mesh import Mesh, Scene
 from sylva.render._programs import compile_program
 from sylva.render.camera import Camera, tile_matrix
@@ -727,14 +728,15 @@ def save_image(image, path, *, bg="white", quality: int = 95) -> Path:
         image = Image.fromarray(np.ascontiguousarray(image))
     suffix = path.suffix.lower()
     if suffix == ".png":
-        image.save(path, format="PNG")
+        save_buffered(path, lambda fh: image.save(fh, format="PNG"))
     elif suffix in (".jpg", ".jpeg"):
         if image.mode in ("RGBA", "LA"):
             rgb = tuple(round(c * 255) for c in parse_color(bg))
             flat = Image.new("RGB", image.size, rgb)
             flat.paste(image, mask=image.getchannel("A"))
             image = flat
-        image.convert("RGB").save(path, format="JPEG", quality=int(quality))
+        rgb_image = image.convert("RGB")
+        save_buffered(path, lambda fh: rgb_image.save(fh, format="JPEG", quality=int(quality)))
     else:
         raise ValueError(f"cannot write {path.name!r}: use .png, .jpg or .jpeg")
     return path

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import errno
 import os
-import tempfile
 from pathlib import Path, PurePosixPath
 
+from .._atomic import atomic_write, describe_os_error
 from ..errors import SylvaError
 
 __all__ = ["SUFFIXES", "Workspace", "WorkspaceError"]
@@ -23,6 +24,16 @@ class WorkspaceError(SylvaError):
     def __init__(self, message: str, status: int = 400) -> None:
         self.status = status
         super().__init__(message)
+
+
+def _save_status(exc: OSError) -> int:
+    """The HTTP status of a failed save: 507 Insufficient Storage for a full disk or quota,
+    403 where the server may not write, 500 for the rest."""
+    if exc.errno in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG):
+        return 507
+    if exc.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
+        return 403
+    return 500
 
 
 def decode(data: bytes) -> str:
@@ -108,16 +119,14 @@ class Workspace:
             raise WorkspaceError(f"{rel} exists already", 409)
         if path.exists() and not path.is_file():
             raise WorkspaceError(f"{rel} is not a file", 409)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        if not path.parent.resolve().is_relative_to(self.root):
-            raise WorkspaceError(f"{rel!r} leaves the workspace", 403)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".sylva-", suffix=".tmp")
         try:
-            with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            if not path.parent.resolve().is_relative_to(self.root):
+                raise WorkspaceError(f"{rel!r} leaves the workspace", 403)
+            # a temporary file beside it, renamed over it: the mode and owner of the file
+            # it replaces are kept, and a failed save leaves the old file whole
+            with atomic_write(path, "w", newline="") as fh:
                 fh.write(text)
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        except OSError as exc:
+            raise WorkspaceError(describe_os_error(exc, rel), _save_status(exc)) from None
         return self.relative(path)

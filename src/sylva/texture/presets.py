@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._atomic import atomic_write
 from ..errors import SylvaError
 from . import fractals, noise, patterns
 from .colormap import apply_colormap, normal_map, normalize
@@ -414,7 +415,8 @@ def save_preset(recipe: Mapping | str, path) -> Path:
     """Write a recipe (checked by :func:`resolve`) to a TOML file; returns the path."""
     r = resolve(recipe)
     path = Path(path)
-    path.write_text("# sylva texture preset\n" + dumps_toml(r), encoding="utf-8")
+    with atomic_write(path, "w") as fh:
+        fh.write("# sylva texture preset\n" + dumps_toml(r))
     return path
 
 

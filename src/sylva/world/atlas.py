@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._atomic import save_buffered
 from ..geometry.mesh import Material
 from ..texture import bark, granite, grass, noise_grid
 from .blocks import TEXTURES
@@ -218,7 +219,8 @@ class Atlas:
         from PIL import Image
 
         path = Path(path)
-        Image.fromarray(self.image, "RGBA").save(path)
+        image = Image.fromarray(self.image, "RGBA")
+        save_buffered(path, lambda fh: image.save(fh, format="PNG"))
         return path
 
     def save_tiles(self, folder) -> dict[str, Path]:
@@ -230,7 +232,8 @@ class Atlas:
         out = {}
         for name in self.names:
             p = folder / f"{name}.png"
-            Image.fromarray(np.ascontiguousarray(self.tile(name)), "RGBA").save(p)
+            image = Image.fromarray(np.ascontiguousarray(self.tile(name)), "RGBA")
+            save_buffered(p, lambda fh, image=image: image.save(fh, format="PNG"))
             out[name] = p
         return out
 

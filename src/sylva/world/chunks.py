@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._atomic import atomic_write
 from ..geometry.mesh import Material, Mesh
 from .blocks import Block
 from .meshing import quads_to_mesh, skin_quads
@@ -83,7 +84,7 @@ class Chunk:
         )  # fmt: skip
         if self.voxels is not None:
             arrays["voxels"] = self.voxels
-        with open(path, "wb") as fh:
+        with atomic_write(path) as fh:
             np.savez_compressed(fh, **arrays)
         return path
 

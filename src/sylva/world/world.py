@@ -35,6 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._atomic import atomic_write
 from ..errors import SylvaError
 from ..geometry.mesh import Material, Mesh, Scene
 from .biomes import BIOME_COLORS, Biome
@@ -236,7 +237,8 @@ class World:
             "chunks": [{"cx": s[0], "cz": s[1], "quads": s[2], "plants": s[3],
                         "file": Path(s[4]).name} for s in summaries],
         }  # fmt: skip
-        (folder / "world.json").write_text(json.dumps(index, indent=1), encoding="utf-8")
+        with atomic_write(folder / "world.json", "w") as fh:  # the index last: chunks first
+            fh.write(json.dumps(index, indent=1))
         return ChunkStore(folder, owned=owned, config=self.config)
 
     def biome_map(self) -> np.ndarray:

@@ -145,9 +145,11 @@ def gltf_document(scene) -> tuple[dict, bytes]:
     doc: dict = {
         "asset": {"version": "2.0", "generator": "sylva"},
         "scene": 0,
-        "scenes": [{"name": scene.name, "nodes": list(range(len(nodes)))}],
-        "nodes": nodes,
+        "scenes": [{"name": scene.name}],
     }
+    if nodes:  # an empty scene has no node list at all: empty arrays are invalid glTF
+        doc["scenes"][0]["nodes"] = list(range(len(nodes)))
+        doc["nodes"] = nodes
     if meshes:
         doc["meshes"] = meshes
         doc["accessors"] = b.accessors

@@ -203,6 +203,8 @@ class _Doc:
                                 "wrapS": _REPEAT, "wrapT": _REPEAT}]  # fmt: skip
         if extra_used:
             doc["extensionsUsed"] = [EXTENSION]
+        if not self.nodes:  # nothing to draw: empty arrays are invalid glTF, leave them out
+            del doc["nodes"], doc["scenes"][0]["nodes"]
         if not self.meshes:
             del doc["meshes"]
         if not self.materials:

@@ -18,6 +18,7 @@ import tempfile
 
 import numpy as np
 
+from ..._atomic import atomic_path, os_error_from_text
 from ...errors import SylvaError
 from ._common import PathOrFile, as_scene, material_groups, material_of, safe_name
 
@@ -39,84 +40,93 @@ def _ident(name: str) -> str:
 
 
 def write_usd(scene, target: PathOrFile, *, suffix: str | None = None) -> None:
-    """Write a USD stage to a path (or a binary file object, via a temporary file)."""
+    """Write a USD stage to a path (or a binary file object, via a temporary file).
+
+    usd-core writes by file name: a path target gets a temporary file beside it (same
+    suffix, so the same format) that replaces it only once the stage is saved."""
     if not available():
         raise SylvaError("USD export needs the usd-core package: pip install usd-core")
-    from pxr import Gf, Sdf, Usd, UsdGeom, UsdShade, Vt
+    from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdShade, Vt
 
     scene = as_scene(scene)
     if isinstance(target, (str, os.PathLike)):
-        path = os.fspath(target)
-        tmpdir = None
-    else:
-        tmpdir = tempfile.mkdtemp(prefix="sylva-usd-")
-        path = os.path.join(tmpdir, "scene" + (suffix or ".usdc"))
+        with atomic_path(target) as tmp:
+            try:
+                _write_stage(scene, tmp, (Gf, Sdf, Usd, UsdGeom, UsdShade, Vt))
+            except Tf.ErrorException as exc:  # a full disk, in usd-core's words
+                raise os_error_from_text(str(exc), tmp, "usd-core") from None
+        return
+    tmpdir = tempfile.mkdtemp(prefix="sylva-usd-")
     try:
-        stage = Usd.Stage.CreateNew(path)
-        UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
-        UsdGeom.SetStageMetersPerUnit(stage, 1.0)
-        root = UsdGeom.Xform.Define(stage, "/" + _ident(scene.name))
-        stage.SetDefaultPrim(root.GetPrim())
-        looks: dict[str, UsdShade.Material] = {}
-        base = root.GetPath()
-        for k, mesh in enumerate(scene.meshes):
-            if mesh.n_triangles == 0:
-                continue
-            gm = UsdGeom.Mesh.Define(stage, base.AppendChild(f"{_ident(mesh.name)}_{k}"))
-            gm.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
-            gm.CreateOrientationAttr(UsdGeom.Tokens.rightHanded)
-            gm.CreatePointsAttr(Vt.Vec3fArray.FromNumpy(mesh.vertices))
-            gm.CreateFaceVertexCountsAttr(
-                Vt.IntArray.FromNumpy(np.full(mesh.n_triangles, 3, np.int32))
-            )
-            gm.CreateFaceVertexIndicesAttr(
-                Vt.IntArray.FromNumpy(mesh.indices.reshape(-1).astype(np.int32))
-            )
-            gm.CreateNormalsAttr(Vt.Vec3fArray.FromNumpy(mesh.normals))
-            gm.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
-            lo, hi = mesh.bounds()
-            gm.CreateExtentAttr(
-                Vt.Vec3fArray([Gf.Vec3f(*map(float, lo)), Gf.Vec3f(*map(float, hi))])
-            )
-            pv = UsdGeom.PrimvarsAPI(gm)
-            if mesh.uvs is not None:
-                st = pv.CreatePrimvar(
-                    "st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.vertex
-                )
-                st.Set(Vt.Vec2fArray.FromNumpy(mesh.uvs))
-            if mesh.colors is not None:
-                dc = gm.CreateDisplayColorPrimvar(UsdGeom.Tokens.vertex)
-                dc.Set(Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(mesh.colors[:, :3])))
-            binding = UsdShade.MaterialBindingAPI.Apply(gm.GetPrim())
-            for mid, tris in material_groups(mesh):
-                mat = material_of(mesh, mid)
-                key = _ident(mat.name)
-                if key not in looks:
-                    m = UsdShade.Material.Define(stage, base.AppendChild("Looks").AppendChild(key))
-                    sh = UsdShade.Shader.Define(stage, m.GetPath().AppendChild("Surface"))
-                    sh.CreateIdAttr("UsdPreviewSurface")
-                    sh.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).Set(
-                        Gf.Vec3f(*map(float, mat.color[:3]))
-                    )
-                    sh.CreateInput("opacity", Sdf.ValueTypeNames.Float).Set(float(mat.color[3]))
-                    sh.CreateInput("roughness", Sdf.ValueTypeNames.Float).Set(float(mat.roughness))
-                    sh.CreateInput("metallic", Sdf.ValueTypeNames.Float).Set(float(mat.metallic))
-                    m.CreateSurfaceOutput().ConnectToSource(sh.ConnectableAPI(), "surface")
-                    looks[key] = m
-                subset = UsdGeom.Subset.CreateGeomSubset(
-                    gm,
-                    key,
-                    UsdGeom.Tokens.face,
-                    Vt.IntArray.FromNumpy(tris.astype(np.int32)),
-                    UsdShade.Tokens.materialBind,
-                )
-                UsdShade.MaterialBindingAPI.Apply(subset.GetPrim()).Bind(looks[key])
-            if len(looks) == 1:
-                binding.Bind(next(iter(looks.values())))
-        stage.GetRootLayer().Save()
-        if tmpdir is not None:
-            with open(path, "rb") as fh:
-                shutil.copyfileobj(fh, target)  # type: ignore[arg-type]
+        path = os.path.join(tmpdir, "scene" + (suffix or ".usdc"))
+        _write_stage(scene, path, (Gf, Sdf, Usd, UsdGeom, UsdShade, Vt))
+        with open(path, "rb") as fh:
+            shutil.copyfileobj(fh, target)  # type: ignore[arg-type]
     finally:
-        if tmpdir is not None:
-            shutil.rmtree(tmpdir, ignore_errors=True)
+        shutil.rmtree(tmpdir, ignore_errors=True)
+
+
+def _write_stage(scene, path: str, pxr) -> None:
+    Gf, Sdf, Usd, UsdGeom, UsdShade, Vt = pxr
+    stage = Usd.Stage.CreateNew(path)
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    root = UsdGeom.Xform.Define(stage, "/" + _ident(scene.name))
+    stage.SetDefaultPrim(root.GetPrim())
+    looks: dict[str, UsdShade.Material] = {}
+    base = root.GetPath()
+    for k, mesh in enumerate(scene.meshes):
+        if mesh.n_triangles == 0:
+            continue
+        gm = UsdGeom.Mesh.Define(stage, base.AppendChild(f"{_ident(mesh.name)}_{k}"))
+        gm.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+        gm.CreateOrientationAttr(UsdGeom.Tokens.rightHanded)
+        gm.CreatePointsAttr(Vt.Vec3fArray.FromNumpy(mesh.vertices))
+        gm.CreateFaceVertexCountsAttr(
+            Vt.IntArray.FromNumpy(np.full(mesh.n_triangles, 3, np.int32))
+        )
+        gm.CreateFaceVertexIndicesAttr(
+            Vt.IntArray.FromNumpy(mesh.indices.reshape(-1).astype(np.int32))
+        )
+        gm.CreateNormalsAttr(Vt.Vec3fArray.FromNumpy(mesh.normals))
+        gm.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+        lo, hi = mesh.bounds()
+        gm.CreateExtentAttr(
+            Vt.Vec3fArray([Gf.Vec3f(*map(float, lo)), Gf.Vec3f(*map(float, hi))])
+        )
+        pv = UsdGeom.PrimvarsAPI(gm)
+        if mesh.uvs is not None:
+            st = pv.CreatePrimvar(
+                "st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.vertex
+            )
+            st.Set(Vt.Vec2fArray.FromNumpy(mesh.uvs))
+        if mesh.colors is not None:
+            dc = gm.CreateDisplayColorPrimvar(UsdGeom.Tokens.vertex)
+            dc.Set(Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(mesh.colors[:, :3])))
+        binding = UsdShade.MaterialBindingAPI.Apply(gm.GetPrim())
+        for mid, tris in material_groups(mesh):
+            mat = material_of(mesh, mid)
+            key = _ident(mat.name)
+            if key not in looks:
+                m = UsdShade.Material.Define(stage, base.AppendChild("Looks").AppendChild(key))
+                sh = UsdShade.Shader.Define(stage, m.GetPath().AppendChild("Surface"))
+                sh.CreateIdAttr("UsdPreviewSurface")
+                sh.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).Set(
+                    Gf.Vec3f(*map(float, mat.color[:3]))
+                )
+                sh.CreateInput("opacity", Sdf.ValueTypeNames.Float).Set(float(mat.color[3]))
+                sh.CreateInput("roughness", Sdf.ValueTypeNames.Float).Set(float(mat.roughness))
+                sh.CreateInput("metallic", Sdf.ValueTypeNames.Float).Set(float(mat.metallic))
+                m.CreateSurfaceOutput().ConnectToSource(sh.ConnectableAPI(), "surface")
+                looks[key] = m
+            subset = UsdGeom.Subset.CreateGeomSubset(
+                gm,
+                key,
+                UsdGeom.Tokens.face,
+                Vt.IntArray.FromNumpy(tris.astype(np.int32)),
+                UsdShade.Tokens.materialBind,
+            )
+            UsdShade.MaterialBindingAPI.Apply(subset.GetPrim()).Bind(looks[key])
+        if len(looks) == 1:
+            binding.Bind(next(iter(looks.values())))
+    stage.GetRootLayer().Save()
