@@ -359,21 +359,21 @@ def write_animation(
         raise ValueError(f"fps must be > 0, got {fps}")
     if total is None and hasattr(frames, "__len__"):
         total = len(frames)
-    bar = tqdm(
-        frames,
-        total=total,
-        desc=desc or path.name,
-        unit="frame",
-        file=sys.stderr,
-        disable=not progress,
-        leave=True,
-    )
     shape = None
     count = 0
     # frames stream into a temporary file beside ``path`` that replaces it only once the
     # animation is complete: a failure (or Ctrl-C) leaves the previous file as it was
     with AtomicGroup() as group:
         writer = _Writer(fmt, group.path(path, main=True), fps, loop, quality)
+        bar = tqdm(  # after the temporary file: a missing folder fails before any output
+            frames,
+            total=total,
+            desc=desc or path.name,
+            unit="frame",
+            file=sys.stderr,
+            disable=not progress,
+            leave=True,
+        )
         try:
             for frame in bar:
                 rgb = _to_rgb(frame, bg)
