@@ -12,7 +12,9 @@ as one line naming the file and the cause.  Every output is written atomically (
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
+import os
 import pkgutil
 import sys
 
@@ -20,6 +22,9 @@ from .._atomic import describe_os_error
 from ..errors import SylvaError
 
 __all__ = ["build_parser", "main"]
+
+#: Commands whose ``--out`` is a folder they make (the others' outputs are files).
+_FOLDER_OUTPUTS = {"gallery", "demo"}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -39,10 +44,28 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _check_output_folder(args: argparse.Namespace) -> None:
+    """Fail before the work, not after it, when the output's folder is missing."""
+    path = getattr(args, "output", None)
+    if path is None and args.command not in _FOLDER_OUTPUTS:
+        path = getattr(args, "out", None)
+    if not isinstance(path, str) or not path:
+        return
+    folder = os.path.dirname(os.path.abspath(path))
+    if os.path.isdir(folder):
+        return
+    up = folder
+    while not os.path.exists(up):
+        up = os.path.dirname(up)
+    code = errno.ENOENT if os.path.isdir(up) else errno.ENOTDIR
+    raise OSError(code, os.strerror(code), path)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
+        _check_output_folder(args)
         return int(args.func(args) or 0)
     except SylvaError as exc:
         print(f"sylva: error: {exc}", file=sys.stderr)

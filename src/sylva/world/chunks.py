@@ -72,8 +72,12 @@ class Chunk:
         """The chunk's skin as triangles (world coordinates), material id = tile."""
         return quads_to_mesh(self.quads, materials=materials, name=f"chunk_{self.cx}_{self.cz}")
 
-    def save(self, path) -> Path:
-        """Write the chunk to ``path`` (``.npz``, compressed)."""
+    def save(self, path, *, atomic: bool = True) -> Path:
+        """Write the chunk to ``path`` (``.npz``, compressed).
+
+        ``atomic`` (default) writes a temporary file beside it and renames it over ``path``
+        (see :mod:`sylva._atomic`); a private scratch folder may skip that (and its fsync).
+        """
         path = Path(path)
         arrays = dict(
             meta=np.array([self.cx, self.cz, self.size], np.int64),
@@ -84,7 +88,7 @@ class Chunk:
         )  # fmt: skip
         if self.voxels is not None:
             arrays["voxels"] = self.voxels
-        with atomic_write(path) as fh:
+        with atomic_write(path) if atomic else open(path, "wb") as fh:
             np.savez_compressed(fh, **arrays)
         return path
 

@@ -95,12 +95,13 @@ def expand_instances(mesh: Mesh, inst: Instances) -> Mesh:
                 materials=list(mesh.materials), name=f"{mesh.name}_x{k}")  # fmt: skip
 
 
-def _worker(cfg_dict: dict, block: tuple[int, int, int, int], bounds, directory: str) -> list:
+def _worker(cfg_dict: dict, block: tuple[int, int, int, int], bounds, directory: str,
+            atomic: bool = True) -> list:
     cfg = WorldConfig(**cfg_dict)
     out = []
     for chunk in generate_chunks(cfg, *block, bounds=bounds):
         path = Path(directory) / f"chunk_{chunk.cx}_{chunk.cz}.npz"
-        chunk.save(path)
+        chunk.save(path, atomic=atomic)
         out.append((chunk.cx, chunk.cz, int(chunk.quads.shape[0]), len(chunk.plants), str(path)))
     return out
 
@@ -213,7 +214,7 @@ class World:
 
         if workers <= 1:
             for block in blocks:
-                record(_worker(cfg, block, bounds, str(folder)))
+                record(_worker(cfg, block, bounds, str(folder), not owned))
         else:
             ctx = multiprocessing.get_context("spawn")
             with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
@@ -224,7 +225,8 @@ class World:
                         nxt = next(it, None)
                         if nxt is None:
                             break
-                        pending.add(pool.submit(_worker, cfg, nxt, bounds, str(folder)))
+                        pending.add(pool.submit(_worker, cfg, nxt, bounds, str(folder),
+                                                not owned))
                     if not pending:
                         break
                     finished, pending = wait(pending, return_when=FIRST_COMPLETED)
