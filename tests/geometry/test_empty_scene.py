@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import json
+import re
+import shutil
+import subprocess
 
 import numpy as np
 import pytest
@@ -54,3 +57,20 @@ def test_empty_stl_ply_obj_read_back_as_empty_meshes(ext, tmp_path):
     if ext == "stl":  # 80-byte header and a zero triangle count, nothing else
         data = path.read_bytes()
         assert len(data) == 84 and np.frombuffer(data[80:], "<u4")[0] == 0
+
+
+def test_empty_pov_scene_parses_and_renders(tmp_path):
+    """POV-Ray refuses a camera whose location is its look_at point, which is where the
+    camera of an empty scene's (zero) bounds used to be."""
+    path = tmp_path / "empty.pov"
+    write(Scene([]), path)
+    cam = re.search(r"camera \{ location <([^>]*)> look_at <([^>]*)>", path.read_text())
+    loc, at = (np.array([float(v) for v in g.split(",")]) for g in cam.groups())
+    assert np.linalg.norm(loc - at) > 0.1
+    povray = shutil.which("povray")
+    if povray is None:
+        pytest.skip("povray is not installed")
+    run = subprocess.run([povray, f"+I{path}", f"+O{tmp_path / 'e.png'}", "+W16", "+H16",
+                          "-D", "-GA"], capture_output=True, text=True, timeout=60,
+                         check=False)
+    assert run.returncode == 0 and (tmp_path / "e.png").exists(), run.stderr[-2000:]

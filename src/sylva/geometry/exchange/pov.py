@@ -37,6 +37,8 @@ def write_pov(
     lo, hi = scene.bounds().astype(np.float64)
     center = (lo + hi) / 2.0
     radius = max(float(np.linalg.norm(hi - lo)) / 2.0, 1e-6)
+    if scene.n_triangles == 0:  # nothing to draw: POV-Ray refuses a camera at its look_at
+        center, radius = np.zeros(3), 1.0
     dist = radius / np.tan(np.radians(camera_angle) / 2.0) * 1.1
     cx, cy, cz = center[0], center[1], -center[2]
     with open_target(target, binary=False) as fh:
