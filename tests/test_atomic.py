@@ -1,6 +1,7 @@
 """The atomic-write path every writer uses: a failed write never destroys a good file."""
 
 import doctest
+import errno
 import os
 import resource
 import stat
@@ -106,3 +107,56 @@ def test_describe_missing_folder(tmp_path):
     except OSError as e:
         msg = describe_os_error(e, missing)
     assert msg == f"cannot write {missing}: the folder {tmp_path / 'nope'} does not exist"
+
+
+def test_error_in_the_writer_names_the_target_not_the_temp(tmp_path):
+    """``write()`` on a full disk raises ENOSPC without a file name, and an error on the
+    temporary file names the hidden temporary: both come out naming the target."""
+    target = tmp_path / "out.glb"
+    with pytest.raises(OSError) as err, atomic_write(target):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+    assert err.value.filename == str(target)
+    assert describe_os_error(err.value) == f"cannot write {target}: the disk is full"
+    with pytest.raises(OSError) as err, atomic_path(target) as tmp:
+        raise OSError(errno.EFBIG, os.strerror(errno.EFBIG), tmp)
+    assert err.value.filename == str(target)
+    # an error about some other file (a texture read) keeps its own name
+    with pytest.raises(OSError) as err, atomic_write(target):
+        raise FileNotFoundError(errno.ENOENT, "no such file", "/elsewhere/bark.png")
+    assert err.value.filename == "/elsewhere/bark.png"
+    assert os.listdir(tmp_path) == []
+
+
+def test_os_error_from_a_tools_words(tmp_path):
+    from sylva._atomic import os_error_from_text
+
+    log = "[out#0/mp4] Error writing trailer: No space left on device\n"
+    e = os_error_from_text(log, tmp_path / "a.mp4", "ffmpeg")
+    assert (e.errno, e.filename) == (errno.ENOSPC, str(tmp_path / "a.mp4"))
+    e = os_error_from_text("Conversion failed!\n", "a.mp4", "ffmpeg")
+    assert describe_os_error(e) == "cannot write a.mp4: ffmpeg failed: conversion failed!"
+
+
+def test_save_buffered_goes_through_checked_writes(tmp_path):
+    """Pillow's encoders write to the descriptor and miss a short write: a JPEG past a
+    file size limit came out truncated with no error.  Through save_buffered it fails."""
+    target = tmp_path / "img.jpg"
+    target.write_bytes(b"old jpeg")
+    code = textwrap.dedent(f"""
+        import resource, signal, sys
+        import numpy as np
+        from PIL import Image
+        from sylva._atomic import save_buffered
+        img = Image.fromarray(np.random.default_rng(0).integers(0, 255, (64, 64, 3),
+                                                                 dtype=np.uint8))
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (2000, resource.RLIM_INFINITY))
+        try:
+            save_buffered({str(target)!r}, lambda fh: img.save(fh, format="JPEG"))
+        except OSError as e:
+            sys.exit(e.errno)
+    """)
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert r.returncode == errno.EFBIG, r.stderr
+    assert target.read_bytes() == b"old jpeg"
+    assert os.listdir(tmp_path) == ["img.jpg"]
