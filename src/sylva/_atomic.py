@@ -51,6 +51,8 @@ __all__ = [
     "atomic_path",
     "atomic_write",
     "describe_os_error",
+    "is_write_error",
+    "make_folder",
     "os_error_from_text",
     "save_buffered",
 ]
@@ -134,6 +136,7 @@ def _name_target(exc: BaseException, members: list[tuple[str, str, bool]]) -> No
     """
     if not isinstance(exc, OSError) or not members:
         return
+    exc.sylva_write = True
     targets = {tmp: target for tmp, target, _ in members}
     if exc.filename is None:
         exc.filename = members[-1][1]
@@ -169,6 +172,7 @@ class AtomicGroup:
             tmp = _temp_name(target)
         except OSError as exc:  # no folder, no permission: name the target, not the temp
             exc.filename = target
+            exc.sylva_write = True
             raise
         self._members.append((tmp, target, main))
         return tmp
@@ -248,8 +252,9 @@ def atomic_path(target: PathLike) -> Iterator[str]:
         yield group.path(target, main=True)
 
 
-def describe_os_error(exc: OSError, path: PathLike | None = None) -> str:
-    """A one-line message for a failed file operation: the path and the cause in words."""
+def describe_os_error(exc: OSError, path: PathLike | None = None, *, verb: str = "write") -> str:
+    """A one-line message for a failed file operation: the path and the cause in words
+    (``cannot write PATH: the disk is full``; ``verb`` replaces *write*)."""
     where = os.fspath(path) if path is not None else (exc.filename or "")
     causes = {
         errno.ENOSPC: "the disk is full",
@@ -268,7 +273,22 @@ def describe_os_error(exc: OSError, path: PathLike | None = None) -> str:
         folder = os.path.dirname(os.path.abspath(where))
         if not os.path.isdir(folder):
             cause = f"the folder {folder} does not exist"
-    return f"cannot write {where}: {cause}" if where else f"cannot write: {cause}"
+    return f"cannot {verb} {where}: {cause}" if where else f"cannot {verb}: {cause}"
+
+
+def is_write_error(exc: BaseException) -> bool:
+    """True for an ``OSError`` met writing a file through this module (or marked so by
+    :func:`make_folder`), as opposed to one met reading."""
+    return isinstance(exc, OSError) and getattr(exc, "sylva_write", False)
+
+
+def make_folder(folder: PathLike) -> None:
+    """``mkdir -p`` whose failure counts as a failed write (see :func:`is_write_error`)."""
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as exc:
+        exc.sylva_write = True
+        raise
 
 
 #: The causes a tool (ffmpeg, usd-core) may report in words instead of an errno.

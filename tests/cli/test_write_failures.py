@@ -241,3 +241,14 @@ def test_broken_stdout_is_still_quiet(monkeypatch, capsys):
     monkeypatch.undo()
     assert capsys.readouterr().err == ""
 
+
+
+def test_a_failed_read_is_not_called_a_write(monkeypatch, capsys, tmp_path):
+    import sylva.cli.export as export
+
+    def unreadable(args):
+        raise PermissionError(13, "Permission denied", "/data/in.lsys")
+
+    monkeypatch.setattr(export, "run", unreadable)
+    assert main(["export", "in.lsys", "-o", str(tmp_path / "out.glb")]) == 2
+    assert capsys.readouterr().err == "sylva: error: cannot open /data/in.lsys: permission denied\n"

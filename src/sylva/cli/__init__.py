@@ -18,7 +18,7 @@ import os
 import pkgutil
 import sys
 
-from .._atomic import describe_os_error
+from .._atomic import describe_os_error, is_write_error
 from ..errors import SylvaError
 
 __all__ = ["build_parser", "main"]
@@ -58,7 +58,9 @@ def _check_output_folder(args: argparse.Namespace) -> None:
     while not os.path.exists(up):
         up = os.path.dirname(up)
     code = errno.ENOENT if os.path.isdir(up) else errno.ENOTDIR
-    raise OSError(code, os.strerror(code), path)
+    exc = OSError(code, os.strerror(code), path)
+    exc.sylva_write = True
+    raise exc
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -76,5 +78,8 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as exc:
         if isinstance(exc, BrokenPipeError) and exc.filename is None:
             return 0  # stdout closed early (sylva derive ... | head); not a failed write
-        print(f"sylva: error: {describe_os_error(exc)}", file=sys.stderr)
+        # a write names its output ("cannot write OUT: the disk is full"); anything else
+        # (a file that could not be read) is said without claiming it was a write
+        verb = "write" if is_write_error(exc) else "open"
+        print(f"sylva: error: {describe_os_error(exc, verb=verb)}", file=sys.stderr)
         return 2

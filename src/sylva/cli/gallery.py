@@ -10,7 +10,7 @@ import sys
 import time
 from pathlib import Path
 
-from .._atomic import atomic_write, save_buffered
+from .._atomic import atomic_write, make_folder, save_buffered
 from ._common import parse_size
 
 __all__ = ["make", "register"]
@@ -148,7 +148,7 @@ def make(out: str | Path, size=(800, 800), only: str | None = None,
     from ..data import examples
 
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+    make_folder(out)
     rows = []
     chosen = [e for e in examples() if only is None or only in e.name]
     print(f"{'example':40s} {'modules':>9s} {'triangles':>10s} {'grow':>7s} {'render':>7s}",
