@@ -44,8 +44,11 @@ from . import lsysvis
 
 __all__ = ["parse"]
 
-_KEY = re.compile(r"\s*(lsystem|derivation\s+length|seed|axiom|ignore|consider|maximum\s+depth)"
+_KEY = re.compile(r"\s*(lsystem|derivation\s+length|seed|axiom|ignore|consider|maximum\s+depth"
+                  r"|tropism\s+direction|initial\s+elasticity|elasticity\s+increment)"
                   r"\s*:(.*)\Z", re.IGNORECASE)  # fmt: skip
+_VIEW = {"tropism direction": "tropism", "initial elasticity": "elasticity",
+         "elasticity increment": "elasticity_step"}  # fmt: skip
 _DEFINE = re.compile(r"\s*#\s*define\s+([A-Za-z_]\w*)\s+(.+?)\s*\Z")
 _SECTION = re.compile(r"\s*(homomorphism|decomposition|endlsystem)\b(.*)\Z", re.IGNORECASE)
 
@@ -115,6 +118,7 @@ def _production(line: str, render: bool, where) -> tuple[str, list[tuple[int, in
         parts.append((len(head) + 4, line.rindex(prob)))
     succ_at = at + 3 + len(succ) - len(succ.lstrip())
     parts.append((len(head) + len(arrow) + 2, succ_at))
+    succ = "" if succ.strip() == "*" else succ  # cpfg's '*' is the empty word
     return f"{head} {arrow} {_in_parens_power(succ.strip())}", sorted(parts)
 
 
@@ -139,6 +143,7 @@ def parse(text: str, filename: str | None = None) -> Program:
     name: str | None = None
     render = False
     ended = False
+    trop_at = None
     for number, raw in enumerate(lines, start=1):
 
         def where(message: str, column: int = 1, _n=number, _raw=raw) -> LSystemSyntaxError:
@@ -178,6 +183,11 @@ def parse(text: str, filename: str | None = None) -> Program:
                 out.append(f"steps = {value}")
             elif key == "maximum depth":
                 out.append("")
+            elif key in _VIEW:
+                out.append(f"{_VIEW[key]} = {_power(value)}")
+                if key == "tropism direction":
+                    trop_at = where("the tropism direction is the zero vector; expected a "
+                                    "direction such as 0,-1,0", line.index(":") + 2)  # fmt: skip
             else:
                 out.append(f"{key} = {_in_parens_power(value)}")
             continue
@@ -196,4 +206,10 @@ def parse(text: str, filename: str | None = None) -> Program:
         raise _relocate(err, original, parts) from None
     settings = dict(program.settings)
     settings.setdefault("turtle", "abop")
+    if "tropism" in settings:  # cpfg normalises the direction (interpret.c)
+        t = settings["tropism"]
+        norm = sum(c * c for c in t) ** 0.5  # type: ignore[union-attr]
+        if norm == 0.0:
+            raise trop_at
+        settings["tropism"] = tuple(c / norm for c in t)  # type: ignore[union-attr]
     return program.replace(settings=settings, dialect="cpfg", name=name or program.name)

@@ -53,6 +53,15 @@ Extensions (so that every dialect converts to ``.lsys`` and back)
     Which turtle command table draws the word (default ``lsys``).
 ``reduction radius thickness`` (seed 000) and ``yaw pitch shrink`` (seed 004)
     Numeric settings of the other dialects' turtles.
+``tropism = x, y, z``, ``elasticity = e``, ``elasticity_step = s``
+    ABOP §2.3 tropism (``lsys`` and ``abop`` turtles): after every step the heading turns
+    by ``e·|H × T|`` about ``H × T`` toward ``T`` (default ``T = 0, -1, 0``, gravity).
+    ``@Ts(e)`` sets a branch's elasticity, ``@Ti(d)`` / ``@Td(d)`` add or take ``d``
+    (default ``elasticity_step``).  ``@O(d)`` draws a sphere of diameter ``d``, ``@v``
+    rolls to vertical (ABOP's ``$``), ``@M(x, y, z)`` moves to a point, ``@R(hx, hy, hz[,
+    ux, uy, uz])`` sets the heading (and up).  ``@`` is a module of its own; the letters
+    after it name the function, as in cpfg, and an ``@`` followed by anything else is an
+    error.
 
 Special variables go to :attr:`Program.settings` (only those the file sets; ``bg``, ``color``
 and ``color_delta`` as 3-tuples of floats, ``turtle`` as a string, the rest as floats), user
@@ -123,15 +132,34 @@ NUMERIC_SETTINGS: tuple[str, ...] = (
     "yaw",
     "pitch",
     "shrink",
+    "elasticity",
+    "elasticity_step",
 )
-#: Three-component special variables, and whether each is clamped to [0, 1].
-COLOUR_SETTINGS: Mapping[str, bool] = {"bg": True, "color": True, "color_delta": False}
+#: Three-component special variables, and whether each is clamped to [0, 1] (the colours
+#: ``bg``, ``color``, ``color_delta`` and the tropism vector).
+COLOUR_SETTINGS: Mapping[str, bool] = {
+    "bg": True,
+    "color": True,
+    "color_delta": False,
+    "tropism": False,
+}
 #: The turtle command tables ``turtle = ...`` may name.
 TURTLES: tuple[str, ...] = ("lsys", "abop", "classic", "engine")
 #: Every name with a special meaning on the left of ``=``.
 SPECIAL_VARIABLES: frozenset[str] = frozenset(
     (*NUMERIC_SETTINGS, *COLOUR_SETTINGS, "axiom", "ignore", "consider", "seed", "steps", "turtle")
 )
+
+#: The functions that follow ``@`` in a word (cpfg's ``@O @v @M @R @Ts @Ti @Td``), for the
+#: turtles that read them; ``T`` is followed by one of its own letters.
+AT_FUNCTIONS: Mapping[str, frozenset[str]] = {
+    "O": frozenset(),
+    "v": frozenset(),
+    "M": frozenset(),
+    "R": frozenset(),
+    "T": frozenset("sid"),
+}
+_AT_TURTLES = ("lsys", "abop")
 
 _BLANK = re.compile(r"\s*(?:#.*)?\Z", re.DOTALL)
 _ASSIGN = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*=(?![=>])")
@@ -493,6 +521,29 @@ def _modules(items: list[_Item], where: Where, what: str) -> list[tuple[Module, 
     return [(Module(it.symbol, tuple(it.params or ())), it) for it in items]
 
 
+def _check_at(items: list[_Item], where: Where) -> None:
+    """Every ``@`` of a written word followed by a function in :data:`AT_FUNCTIONS`."""
+    want = "@O, @v, @M, @R, @Ts, @Ti or @Td"
+    for k, it in enumerate(items):
+        if it.bracket or it.symbol != "@":
+            continue
+        if it.params is not None:
+            raise where.semantic(
+                f"'@' takes no parameters: they belong to its function; expected {want}",
+                it.params_column,
+            )
+        nxt = items[k + 1] if k + 1 < len(items) else None
+        if nxt is None or nxt.bracket or nxt.symbol not in AT_FUNCTIONS:
+            got = f"'@{nxt.symbol}'" if nxt is not None else "'@' at the end of the word"
+            raise where.semantic(f"unknown @ module {got}; expected {want}", it.column)
+        subs = AT_FUNCTIONS[nxt.symbol]
+        if subs:
+            last = items[k + 2] if k + 2 < len(items) else None
+            if last is None or last.bracket or last.symbol not in subs:
+                got = f"'@{nxt.symbol}{last.symbol}'" if last is not None else f"'@{nxt.symbol}'"
+                raise where.semantic(f"unknown @ module {got}; expected {want}", it.column)
+
+
 def _first_column(line: str) -> int:
     return len(line) - len(line.lstrip()) + 1
 
@@ -611,6 +662,7 @@ class _Reader:
         self.steps: int | None = None
         self.rules: list[Rule] = []
         self.first_rule_line: int | None = None
+        self.at_words: list[tuple[list[_Item], Where]] = []  # checked once the turtle is known
 
     def read(self, text: str) -> None:
         if text.startswith("\ufeff"):
@@ -643,6 +695,8 @@ class _Reader:
                         ) from None
                     raise
                 self.rules.append(_build_rule(parts, where, self.constants))
+                if any(it.symbol == "@" and not it.bracket for it in parts[-1]):
+                    self.at_words.append((parts[-1], where))
 
     def assign(self, m: re.Match, where: Where) -> None:
         name = m.group(1)
@@ -665,6 +719,8 @@ class _Reader:
             items = _parse(padded, "word", where)
             if not items:
                 raise where.error("the axiom is empty; expected a word such as 'F'", value_col)
+            if any(it.symbol == "@" and not it.bracket for it in items):
+                self.at_words.append((items, where))
             axiom = []
             for mod, it in _modules(items, where, "the axiom"):
                 args = tuple(
@@ -706,7 +762,12 @@ class _Reader:
         cols = [value_col if c is None else _skip_spaces(where.line, c) for _, c in parts]
         want = 3 if name in COLOUR_SETTINGS else 1
         if len(parts) != want:
-            if want == 3:
+            if name == "tropism":
+                msg = (
+                    f"'tropism' is a vector: expected 3 components (x, y, z, separated by "
+                    f"commas), got {len(parts)}"
+                )
+            elif want == 3:
                 msg = (
                     f"{name!r} is a colour: expected 3 components (red, green, blue between "
                     f"0 and 1, separated by commas), got {len(parts)}"
@@ -736,6 +797,9 @@ class _Reader:
             self.constants[name] = values[0]
 
     def program(self, text: str) -> Program:
+        if self.settings.get("turtle", "lsys") in _AT_TURTLES:
+            for items, where in self.at_words:
+                _check_at(items, where)
         if self.axiom is None:
             lines = text.splitlines()
             line = self.first_rule_line or 1
