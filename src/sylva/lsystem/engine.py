@@ -329,8 +329,20 @@ class _Compiled:
             self.axiom = ModuleString(alphabet, np.array(ids, ID_DTYPE))
         self.axiom.check_brackets(program.filename)
         self.alphabet = alphabet
-        self.productions = _RuleSet(program.productions, alphabet, constants)
+        self._constants = constants
+        self._groups: dict[int, _RuleSet] = {}
+        self.productions = self.group_rules(0)
         self.render = _RuleSet(program.render_rules, alphabet, constants)
+        self.decomposition = _RuleSet(program.decompositions, alphabet, constants)
+        self.interpretation = _RuleSet(program.interpretations, alphabet, constants)
+        self.group_fn = None
+        if program.group is not None:
+            try:
+                self.group_fn = compile_expr(program.group, bound=("step",), constants=constants)
+            except LSystemSemanticError as exc:
+                raise LSystemSemanticError(
+                    f"the group expression: {exc.message}", filename=program.filename
+                ) from None
         ign = [alphabet.id(s) for s in program.ignore]
         cons = None
         if program.consider is not None:
@@ -338,6 +350,31 @@ class _Compiled:
         self._ign = ign
         self._cons = cons
         self.ignored = ignored_table(len(alphabet), ign, cons)
+
+    def group_rules(self, group: int) -> _RuleSet:
+        """The productions of ``group`` and of group 0 (those outside any group)."""
+        rs = self._groups.get(group)
+        if rs is None:
+            prods = self.program.productions
+            mine = [i for i, r in enumerate(prods) if r.group in (0, group)]
+            rs = _RuleSet([prods[i] for i in mine], self.alphabet, self._constants)
+            rs.origin = np.array(mine, np.int64)  # index in program.productions
+            self._groups[group] = rs
+        return rs
+
+    def rules_for(self, step: int) -> _RuleSet:
+        """The productions of step ``step`` (0 for the first): the group ``Program.group``
+        chooses, with group 0."""
+        if self.group_fn is None:
+            return self.productions
+        v = float(np.asarray(self.group_fn({"step": np.array([float(step)])}, 1)).ravel()[0])
+        if not (np.isfinite(v) and v == int(v)):
+            raise LSystemSemanticError(
+                f"step {step + 1}: the group expression gave {v:g}; expected a whole number "
+                "(the group of productions to use)",
+                filename=self.program.filename,
+            )
+        return self.group_rules(int(v))
 
     def ignored_for(self, word: ModuleString) -> np.ndarray:
         if self.ignored.shape[0] < len(word.alphabet):
@@ -693,6 +730,52 @@ def _resolve_seed(seed: int | None, program: Program) -> int:
     return int(seed) & _MASK
 
 
+def _pass_key(seed: int, step: int, phase: str, depth: int) -> np.uint64:
+    """The key of one decomposition or interpretation pass (apart from every step's)."""
+    base = int(step_key(seed, step, phase == "interpretation"))
+    return np.uint64(_splitmix(base ^ _splitmix(0x5EED0000 + 2 * depth + 1)))
+
+
+def _passes(word, rs, comp, seed, step, depth, phase, limit, track=False):
+    """``rs`` applied again and again until no rule applies, at most ``depth`` times.
+
+    Returns the word and, when ``track``, the index of the module each new module came
+    from (``int64[n]``; ``None`` otherwise).  A rule that still applies after ``depth``
+    passes raises :class:`~sylva.errors.LSystemSemanticError` naming the module, the step
+    and the rule.
+    """
+    src = np.arange(len(word), dtype=np.int64) if track else None
+    if not rs.rules:
+        return word, src
+    for d in range(depth + 1):
+        rs.grow()
+        got: list[np.ndarray] = []
+        new = _step_general(word, rs, comp, _pass_key(seed, step, phase, d), limit, step, got)
+        choice = got[0]
+        applied = np.flatnonzero(choice >= 0)
+        if applied.size == 0:
+            return word, src
+        if d == depth:
+            k = int(applied[0])
+            name = word.alphabet.names[int(word.ids[k])]
+            where = f"after step {step}" if step else "of the axiom"
+            raise _rule_error(
+                rs.rules[int(choice[k])].rule,
+                f"the {phase} {where} goes deeper than its maximum depth {depth}: module {k} "
+                f"({name!r}) is still rewritten; expected rules that end within the depth "
+                f"(or a larger 'maximum depth')",
+            )
+        if track:
+            src = np.repeat(src, np.where(choice < 0, 1, rs.rule_len[np.maximum(choice, 0)]))
+        keep = _cut_keep(new)
+        if keep is not None:
+            new = _apply_cut(new, -1, keep)
+            if track:
+                src = src[keep]
+        word = new
+    return word, src  # pragma: no cover - the loop returns or raises
+
+
 def _traced_step(word, rs, comp, key, limit, step):
     """A general-road step that also says where every new module came from.
 
@@ -757,11 +840,19 @@ class Derivation:
         self.limit = int(limit)
         self.trace = bool(trace)
         self._compiled = _compiled(program)
-        self.word: ModuleString = self._compiled.axiom
+        self.word: ModuleString = self._axiom()
         self.step = 0
         self._history: list = []
         self._origin_rule = np.full(len(self.word), -1, np.int64) if trace else None
         self._origin_step = np.zeros(len(self.word), np.int64) if trace else None
+
+    def _axiom(self) -> ModuleString:
+        """The axiom, decomposed."""
+        comp = self._compiled
+        depth = self.program.decomposition_depth
+        word, _ = _passes(comp.axiom, comp.decomposition, comp, self.seed, 0, depth,
+                          "decomposition", self.limit)  # fmt: skip
+        return word
 
     def origin(self, index: int) -> tuple[Rule | None, int]:
         """The production that made module ``index`` of the current word, and its step.
@@ -772,7 +863,7 @@ class Derivation:
         if not self.trace:
             raise ValueError("origin() needs a Derivation made with trace=True")
         r = int(self._origin_rule[index])
-        rule = self._compiled.productions.rules[r].rule if r >= 0 else None
+        rule = self.program.productions[r] if r >= 0 else None
         return rule, int(self._origin_step[index])
 
     @property
@@ -796,7 +887,7 @@ class Derivation:
 
     def reset(self) -> ModuleString:
         """Back to the axiom."""
-        self.word = self._compiled.axiom
+        self.word = self._axiom()
         self.step = 0
         self._history.clear()
         if self.trace:
@@ -808,10 +899,13 @@ class Derivation:
     def is_d0l(self) -> bool:
         """True when the remaining steps are deterministic, context-free and parameter-free,
         so that :meth:`advance` jumps several steps at once by block expansion."""
-        rs = self._compiled.productions
+        comp = self._compiled
+        rs = comp.productions
         rs.grow()
         return bool(
             not self.trace
+            and comp.group_fn is None
+            and not comp.decomposition.rules
             and rs.rules
             and rs.fast
             and not self.word.has_params
@@ -846,16 +940,27 @@ class Derivation:
     def _advance_one(self) -> None:
         comp = self._compiled
         key = step_key(self.seed, self.step)
+        rs = comp.rules_for(self.step)
+        decompose = comp.decomposition.rules
         if self.trace:
-            new, src, rule = _traced_step(
-                self.word, comp.productions, comp, key, self.limit, self.step
-            )
+            new, src, rule = _traced_step(self.word, rs, comp, key, self.limit, self.step)
             saved = (self.word, self._origin_rule, self._origin_step)
             made = rule >= 0
-            self._origin_rule = np.where(made, rule, self._origin_rule[src])
-            self._origin_step = np.where(made, self.step + 1, self._origin_step[src])
+            rule = np.where(made, rs.origin[np.maximum(rule, 0)], -1)
+            origin_rule = np.where(made, rule, self._origin_rule[src])
+            origin_step = np.where(made, self.step + 1, self._origin_step[src])
+            if decompose:  # decomposed modules keep the origin of the module they replace
+                new, src = _passes(new, comp.decomposition, comp, self.seed, self.step + 1,
+                                   self.program.decomposition_depth, "decomposition",
+                                   self.limit, track=True)  # fmt: skip
+                origin_rule, origin_step = origin_rule[src], origin_step[src]
+            self._origin_rule, self._origin_step = origin_rule, origin_step
         else:
-            new = _step(self.word, comp.productions, comp, key, self.limit, self.step)
+            new = _step(self.word, rs, comp, key, self.limit, self.step)
+            if decompose:
+                new, _ = _passes(new, comp.decomposition, comp, self.seed, self.step + 1,
+                                 self.program.decomposition_depth, "decomposition",
+                                 self.limit)  # fmt: skip
             saved = self.word
         self._history.append(saved)
         if len(self._history) > 8:
@@ -882,18 +987,24 @@ class Derivation:
     def render_word(self) -> ModuleString:
         """The word the turtle draws: render rules applied once to the current word."""
         comp = self._compiled
+        word, _ = _passes(self.word, comp.interpretation, comp, self.seed, self.step,
+                          self.program.interpretation_depth, "interpretation",
+                          self.limit)  # fmt: skip
         if not comp.render.rules:
-            return self.word
+            return word
         key = step_key(self.seed, self.step, render=True)
-        return _step(self.word, comp.render, comp, key, self.limit, self.step)
+        return _step(word, comp.render, comp, key, self.limit, self.step)
 
     def render_word_sources(self) -> tuple[ModuleString, np.ndarray]:
         """The render word and, per render-word module, the index of the word module it
         came from (``int64[n]``), so a drawn module can be traced back to the word."""
         comp = self._compiled
+        word, first = _passes(self.word, comp.interpretation, comp, self.seed, self.step,
+                              self.program.interpretation_depth, "interpretation",
+                              self.limit, track=True)  # fmt: skip
         key = step_key(self.seed, self.step, render=True)
-        word, src, _ = _traced_step(self.word, comp.render, comp, key, self.limit, self.step)
-        return word, src
+        word, src, _ = _traced_step(word, comp.render, comp, key, self.limit, self.step)
+        return word, first[src]
 
     def __iter__(self) -> Iterator[ModuleString]:
         """Yield the current word, then each following word, without end."""
@@ -959,12 +1070,18 @@ def render_word(
     a word read from text is re-coded first.
     """
     comp = _compiled(program)
-    if not comp.render.rules:
+    if not comp.render.rules and not comp.interpretation.rules:
         return word
     if word.alphabet is not comp.alphabet:
         word = ModuleString.from_modules(iter(word), comp.alphabet)
         comp.render.grow()
-    key = step_key(_resolve_seed(seed, program), step, render=True)
+    seed = _resolve_seed(seed, program)
+    word, _ = _passes(word, comp.interpretation, comp, seed, step,
+                      program.interpretation_depth, "interpretation",
+                      DEFAULT_MODULE_LIMIT)  # fmt: skip
+    if not comp.render.rules:
+        return word
+    key = step_key(seed, step, render=True)
     return _step(word, comp.render, comp, key, DEFAULT_MODULE_LIMIT, step)
 
 
@@ -973,11 +1090,12 @@ def rewrite(
 ) -> ModuleString:
     """One derivation step of ``program`` applied to an arbitrary ``word``."""
     comp = _compiled(program)
+    rs = comp.rules_for(step)
     if word.alphabet is not comp.alphabet:
         word = ModuleString.from_modules(iter(word), comp.alphabet)
-        comp.productions.grow()
+        rs.grow()
     key = step_key(_resolve_seed(seed, program), step)
-    return _step(word, comp.productions, comp, key, DEFAULT_MODULE_LIMIT, step)
+    return _step(word, rs, comp, key, DEFAULT_MODULE_LIMIT, step)
 
 
 _ = (OPEN, CLOSE)

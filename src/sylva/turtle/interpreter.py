@@ -273,7 +273,10 @@ def _tropism(cfg, s: Mapping, program: Program | None, ops: np.ndarray) -> None:
 def _check_at(word: ModuleString, ops: np.ndarray, arg: np.ndarray, cpfg: bool) -> None:
     """Every ``@`` of ``word`` followed by a function the turtle knows (``O v M R T``, and
     ``s i d`` after ``T``), else a :class:`TurtleSettingsError` naming the module."""
-    at = np.flatnonzero(ops[word.ids] == T.AT)
+    syms = np.flatnonzero(ops == T.AT)  # the alphabet's '@' (no pass over a word without)
+    if syms.size == 0:
+        return
+    at = np.flatnonzero(word.ids == syms[0])
     if at.size == 0:
         return
     names = word.alphabet.names

@@ -15,7 +15,14 @@ Tables
     cut the rest of the branch, ``!`` width ×``thick_factor`` (``!(w)`` sets the width),
     ``; '`` next colour index (``;(i)`` sets it), ``,`` previous colour index, ``~`` a
     predefined surface (a leaf; ``~(s)`` or ``~l(s)`` scales it).  Parameters override the
-    defaults: ``+(30)`` turns 30°, ``F(2)`` draws 2 units.
+    defaults: ``+(30)`` turns 30°, ``F(2)`` draws 2 units.  ``@`` calls one of cpfg's
+    functions, named by the modules after it: ``@O(d)`` a sphere of diameter ``d`` (default
+    the width), ``@v`` roll to vertical (``$``), ``@M(x, y[, z])`` move to a point,
+    ``@R(hx, hy[, hz[, ux, uy, uz]])`` set the heading (and up), ``@Ts @Ti @Td`` set,
+    increase, decrease the elasticity of tropism (ABOP §2.3: after every ``F f G g`` the
+    frame turns by ``e·|H × T|`` about ``H × T``; settings ``tropism``, ``elasticity``,
+    ``elasticity_step``).  Programs read from cpfg write ``@Ts(1, e)`` (the tropism's index
+    first, cpfg's spelling), the others ``@Ts(e)`` (L-Py's).
 ``lsys`` (seed 001, LSysVis Table 3)
     ``F f [ ] + - ^ & \\ / | $`` as above (Table 3 calls ``+``/``-`` yaw, ``^``/``&`` pitch
     and ``\\``/``/`` roll; we keep ABOP's signs), ``!`` adds ``thick_delta`` (``!(x)`` sets
@@ -23,7 +30,7 @@ Tables
     ``color_delta`` (``;(r,g,b)`` sets the colour), ``_`` adds ``len_delta`` (``_(x)`` sets
     the length).  The thesis lost the glyph of the length command; we chose ``_`` (seed
     001 §9.1).  ``{ } .`` (the thesis's future work) make polygons whose vertices are the
-    turtle's positions, as in ABOP.
+    turtle's positions, as in ABOP; ``@`` and tropism as in ``abop``.
 ``classic`` (seed 000)
     ``F`` draws a segment and multiplies the radius by ``reduction`` (a frustum whose top is
     ``reduction`` times its base), ``f`` moves, ``+ - & ^ / \\ |`` rotate by ``angle``, ``[ ]``,

@@ -62,6 +62,16 @@ Extensions (so that every dialect converts to ``.lsys`` and back)
     ux, uy, uz])`` sets the heading (and up).  ``@`` is a module of its own; the letters
     after it name the function, as in cpfg, and an ``@`` followed by anything else is an
     error.
+``decomposition:``, ``interpretation:``, ``production:``, ``group N:`` (section lines)
+    The rules after ``decomposition:`` rewrite the word after every step (and the axiom),
+    again and again until none applies, at most ``decomposition_depth = N`` times (default
+    1; rules that still apply then are an error that names the module and the step).  The
+    rules after ``interpretation:`` do so to the word the turtle draws, at most
+    ``interpretation_depth`` times; seed 001's ``->>`` rules still apply once.  The rules
+    after ``group N:`` are the productions of table ``N`` (ABOP §1.4's table L-systems,
+    L-Py's groups); ``group = expression`` (of ``step``, the steps done before, from 0, and
+    the global variables) picks each step's table, and the rules outside any group apply
+    in every step.  ``production:`` returns to those.
 
 Special variables go to :attr:`Program.settings` (only those the file sets; ``bg``, ``color``
 and ``color_delta`` as 3-tuples of floats, ``turtle`` as a string, the rest as floats), user
@@ -85,7 +95,7 @@ import math
 import re
 from collections.abc import Collection, Iterable, Mapping
 from contextvars import ContextVar
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cache
 from importlib import resources
 from pathlib import Path
@@ -146,9 +156,20 @@ COLOUR_SETTINGS: Mapping[str, bool] = {
 #: The turtle command tables ``turtle = ...`` may name.
 TURTLES: tuple[str, ...] = ("lsys", "abop", "classic", "engine")
 #: Every name with a special meaning on the left of ``=``.
+#: Whole-number program fields: the most passes of decomposition and interpretation rules.
+DEPTHS: tuple[str, ...] = ("decomposition_depth", "interpretation_depth")
 SPECIAL_VARIABLES: frozenset[str] = frozenset(
-    (*NUMERIC_SETTINGS, *COLOUR_SETTINGS, "axiom", "ignore", "consider", "seed", "steps", "turtle")
-)
+    (*NUMERIC_SETTINGS, *COLOUR_SETTINGS, *DEPTHS, "axiom", "ignore", "consider", "seed",
+     "steps", "turtle", "group")
+)  # fmt: skip
+#: The section headers among the rules and the phase of the rules after them.
+SECTIONS: Mapping[str, str] = {
+    "production": "production",
+    "decomposition": "decomposition",
+    "interpretation": "interpretation",
+    "group": "production",
+}
+_SECTION_LINE = re.compile(r"\s*(production|decomposition|interpretation|group)\b(?!\s*=)")
 
 #: The functions that follow ``@`` in a word (cpfg's ``@O @v @M @R @Ts @Ti @Td``), for the
 #: turtles that read them; ``T`` is followed by one of its own letters.
@@ -317,6 +338,9 @@ class _Build(Transformer):
     def expr_only(self, c):
         return c[0]
 
+    def section(self, c):
+        return c
+
     # ---- expressions
     def chain(self, c):
         return _group(c)
@@ -373,7 +397,7 @@ def _parser() -> Lark:
         grammar,
         parser="lalr",
         lexer="contextual",
-        start=["rule", "word", "symbols", "exprs", "expr_only"],
+        start=["rule", "word", "symbols", "exprs", "expr_only", "section"],
         maybe_placeholders=True,
         transformer=_Build(),
     )
@@ -663,6 +687,10 @@ class _Reader:
         self.rules: list[Rule] = []
         self.first_rule_line: int | None = None
         self.at_words: list[tuple[list[_Item], Where]] = []  # checked once the turtle is known
+        self.phase = "production"  # of the rules that follow: set by section headers
+        self.group = 0
+        self.group_expr: Expr | None = None
+        self.depths: dict[str, int] = {}
 
     def read(self, text: str) -> None:
         if text.startswith("\ufeff"):
@@ -671,6 +699,11 @@ class _Reader:
             if _BLANK.match(line):
                 continue
             where = Where(line, lineno, self.filename)
+            if _SECTION_LINE.match(line):
+                if self.first_rule_line is None:
+                    self.first_rule_line = lineno
+                self.section(_parse(line, "section", where), where)
+                continue
             m = _ASSIGN.match(line)
             if m:
                 if self.first_rule_line is not None:
@@ -694,9 +727,34 @@ class _Reader:
                             lead.end() + 1,
                         ) from None
                     raise
-                self.rules.append(_build_rule(parts, where, self.constants))
+                rule = _build_rule(parts, where, self.constants)
+                if self.phase != "production" or self.group:
+                    rule = replace(rule, phase=self.phase, group=self.group)
+                self.rules.append(rule)
                 if any(it.symbol == "@" and not it.bracket for it in parts[-1]):
                     self.at_words.append((parts[-1], where))
+
+    def section(self, parts, where: Where) -> None:
+        kw, number, _colon = parts
+        name = str(kw)
+        if name == "group":
+            if number is None:
+                raise where.error(
+                    "expected the group's number: 'group 1:'", where.end_column()
+                )
+            v = float(number)
+            if not v.is_integer() or v < 0:
+                raise where.semantic(
+                    f"a group is a whole number >= 0, got {number}", number.column
+                )
+            self.group = int(v)
+        elif number is not None:
+            raise where.error(
+                f"'{name}:' takes no number; expected ':' after {name!r}", number.column
+            )
+        else:
+            self.group = 0
+        self.phase = SECTIONS[name]
 
     def assign(self, m: re.Match, where: Where) -> None:
         name = m.group(1)
@@ -743,6 +801,15 @@ class _Reader:
                 self.ignore = names
             else:
                 self.consider = names
+        elif name == "group":
+            expr = _parse(padded, "expr_only", where)
+            _check_vars(
+                expr,
+                {"step", *self.constants},
+                where,
+                _known_hint(["step", *self.constants], "'step' or a global variable"),
+            )
+            self.group_expr = expr
         elif name == "turtle":
             t = _WORD_NAME.match(rest)
             if not t or t.group(1) not in TURTLES:
@@ -784,6 +851,11 @@ class _Reader:
             self.settings[name] = tuple(values)
         elif name in NUMERIC_SETTINGS:
             self.settings[name] = values[0]
+        elif name in DEPTHS:
+            v = values[0]
+            if not v.is_integer() or v < 1:
+                raise where.semantic(f"{name!r} expected a whole number >= 1, got {v:g}", value_col)
+            self.depths[name] = int(v)
         elif name in ("seed", "steps"):
             digits = _DIGITS.match(padded)
             if digits:  # exact, also beyond 2**53
@@ -825,6 +897,8 @@ class _Reader:
             dialect="lsys",
             name=Path(self.filename).stem if self.filename else None,
             filename=self.filename,
+            group=self.group_expr,
+            **self.depths,
         )
 
 
