@@ -42,7 +42,7 @@ WORKLOADS = {
     "bracketed": (None, 5, 20.0),
     "parametric": ("R = 1.456\naxiom = A(1)\nA(s) -> F(s)[+A(s/R)][-A(s/R)]", 18, 8.0),
     # interpretation, not derivation: the turtle walks ABOP Fig. 2.8b (T, e) at n = 10
-    "tropism": (None, 10, 20.0),
+    "tropism": (None, 10, 5.0),
 }
 #: Workloads that time the turtle (modules interpreted per second); the peer has none.
 TURTLE = ("tropism",)
@@ -71,14 +71,14 @@ def program(name: str):
     return loads(text), steps
 
 
-def measure_turtle(name: str, repeat: int) -> tuple[float, int]:
+def measure_turtle(name: str, repeat: int, **overrides) -> tuple[float, int]:
     p, steps = program(name)
     word = derive(p, steps, seed=1)
-    interpret(word, p)  # compile the walk
+    interpret(word, p, **overrides)  # compile the walk
     times = []
     for _ in range(repeat):
         t = time.perf_counter()
-        interpret(word, p)
+        interpret(word, p, **overrides)
         times.append(time.perf_counter() - t)
     return statistics.median(times), len(word)
 
@@ -143,6 +143,9 @@ def main() -> int:
         pms = f"{pm:9.2f}" if pm else "        -"
         flag = "" if mps >= target else "  (below target)"
         print(f"{LABELS[name]:56s} {mps:10.1f} {target:7.0f} {pms} {ratio}{flag}")
+    if "tropism" in args.names:  # the same word and walk without bending, for comparison
+        sec, size = measure_turtle("tropism", args.repeat, elasticity=0.0)
+        print(f"{'  the same word without tropism (elasticity = 0)':56s} {size / sec / 1e6:10.1f}")
     print("peer: lindenmayer 1.5.4 on node " + (subprocess.run(
         ["node", "--version"], capture_output=True, text=True).stdout.strip()
         if theirs else "(not run)"))

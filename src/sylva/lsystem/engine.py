@@ -547,8 +547,11 @@ def _step_general(
     limit: int,
     step: int,
     choices: list | None = None,
+    keys: np.ndarray | None = None,
 ) -> ModuleString:
-    """The general road; when ``choices`` is a list, the rule chosen per module is appended."""
+    """The general road; when ``choices`` is a list, the rule chosen per module is appended.
+
+    ``keys`` (``uint64[n]``, lineage keys) replace the positions in the random draws."""
     n = len(word)
     ids = word.ids
     choice = np.full(n, -1, np.int64)
@@ -637,7 +640,8 @@ def _step_general(
             applicable = (weights > 0).any(axis=1)
             rows = np.flatnonzero(applicable)
             cum = np.cumsum(weights[rows], axis=1)
-            u = _kernels.uniform(key, undecided[rows]) * cum[:, -1]
+            at = undecided[rows] if keys is None else keys[undecided[rows]]
+            u = _kernels.uniform(key, at) * cum[:, -1]
             pick = np.minimum((cum <= u[:, None]).sum(axis=1), len(tier) - 1)
             chosen_r = np.full(k, -1, np.int64)
             chosen_r[rows] = pick
@@ -730,6 +734,13 @@ def _resolve_seed(seed: int | None, program: Program) -> int:
     return int(seed) & _MASK
 
 
+def _decomposed_keys(keys: np.ndarray, src: np.ndarray) -> np.ndarray:
+    """Lineage keys after decomposition passes (``src``: the module each came from); a
+    module the passes left alone keeps its key."""
+    alone = np.bincount(src, minlength=keys.shape[0])[src] == 1
+    return np.where(alone, keys[src], lineage_keys(keys[src], _child_index(src)))
+
+
 def _pass_key(seed: int, step: int, phase: str, depth: int) -> np.uint64:
     """The key of one decomposition or interpretation pass (apart from every step's)."""
     base = int(step_key(seed, step, phase == "interpretation"))
@@ -776,27 +787,65 @@ def _passes(word, rs, comp, seed, step, depth, phase, limit, track=False):
     return word, src  # pragma: no cover - the loop returns or raises
 
 
-def _traced_step(word, rs, comp, key, limit, step):
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
+
+
+def _mix64(z: np.ndarray) -> np.ndarray:
+    """SplitMix64's finaliser over a ``uint64`` array (wrapping arithmetic)."""
+    z = z ^ (z >> np.uint64(30))
+    z = z * np.uint64(0xBF58476D1CE4E5B9)
+    z = z ^ (z >> np.uint64(27))
+    z = z * np.uint64(0x94D049BB133111EB)
+    return z ^ (z >> np.uint64(31))
+
+
+def lineage_keys(parents: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """The lineage keys of modules: a hash of their parent's key and their index in the
+    parent's successor (``uint64``; the axiom's parent is the seed)."""
+    return _mix64(parents + (index.astype(np.uint64) + np.uint64(1)) * _GOLDEN)
+
+
+def _axiom_keys(seed: int, n: int) -> np.ndarray:
+    return lineage_keys(np.full(n, seed & _MASK, np.uint64), np.arange(n))
+
+
+def _child_index(src: np.ndarray) -> np.ndarray:
+    """For ``src`` (non-decreasing), each entry's index among the entries of its value."""
+    m = src.shape[0]
+    if m == 0:
+        return np.zeros(0, np.int64)
+    start = np.flatnonzero(np.r_[True, src[1:] != src[:-1]])
+    return np.arange(m) - np.repeat(start, np.diff(np.r_[start, m]))
+
+
+def _traced_step(word, rs, comp, key, limit, step, keys=None):
     """A general-road step that also says where every new module came from.
 
     Returns the new word, the index of the old module each new module replaced
-    (``int64[n_new]``) and the rule that made it (``int64[n_new]``, -1 for a copy).
+    (``int64[n_new]``) and the rule that made it (``int64[n_new]``, -1 for a copy); with
+    lineage ``keys`` (``uint64[n]``) the draws use them, and the new modules' keys come
+    fourth (a copy keeps its key).
     """
     if not rs.rules:
         idx = np.arange(len(word), dtype=np.int64)
-        return word, idx, np.full(len(word), -1, np.int64)
+        return word, idx, np.full(len(word), -1, np.int64), keys
     rs.grow()
     got: list[np.ndarray] = []
-    new = _step_general(word, rs, comp, key, limit, step, choices=got)
+    new = _step_general(word, rs, comp, key, limit, step, choices=got, keys=keys)
     choice = got[0]
     lens = np.where(choice < 0, 1, rs.rule_len[np.maximum(choice, 0)])
     src = np.repeat(np.arange(len(word), dtype=np.int64), lens)
     rule = choice[src]
+    new_keys = None
+    if keys is not None:
+        new_keys = np.where(rule >= 0, lineage_keys(keys[src], _child_index(src)), keys[src])
     keep = _cut_keep(new)
     if keep is not None:
         new = _apply_cut(new, -1, keep)
         src, rule = src[keep], rule[keep]
-    return new, src, rule
+        if new_keys is not None:
+            new_keys = new_keys[keep]
+    return new, src, rule, new_keys
 
 
 class Derivation:
@@ -814,6 +863,12 @@ class Derivation:
     trace : bool
         Remember, for every module, the rule and the step that made it (:meth:`origin`),
         for debuggers such as the studio.  Tracing takes the general road.
+    lineage : bool
+        Key the random choices by ancestry instead of position: every module carries a key,
+        a hash of its parent's key and its index in the parent's successor (the axiom's
+        modules: of the seed and their index), and a stochastic rule is drawn from the key
+        and the step.  Editing the rules of one branch then leaves every other branch as it
+        was.  The same seed gives the same word on every machine; takes the general road.
 
     Examples
     --------
@@ -834,25 +889,34 @@ class Derivation:
         seed: int | None = None,
         limit: int = DEFAULT_MODULE_LIMIT,
         trace: bool = False,
+        lineage: bool = False,
     ) -> None:
         self.program = program
         self.seed = _resolve_seed(seed, program)
         self.limit = int(limit)
         self.trace = bool(trace)
+        self.lineage = bool(lineage)
         self._compiled = _compiled(program)
-        self.word: ModuleString = self._axiom()
-        self.step = 0
         self._history: list = []
-        self._origin_rule = np.full(len(self.word), -1, np.int64) if trace else None
-        self._origin_step = np.zeros(len(self.word), np.int64) if trace else None
+        self.reset()
 
     def _axiom(self) -> ModuleString:
-        """The axiom, decomposed."""
+        """The axiom, decomposed (and the lineage keys of its modules)."""
         comp = self._compiled
         depth = self.program.decomposition_depth
-        word, _ = _passes(comp.axiom, comp.decomposition, comp, self.seed, 0, depth,
-                          "decomposition", self.limit)  # fmt: skip
+        word, src = _passes(comp.axiom, comp.decomposition, comp, self.seed, 0, depth,
+                            "decomposition", self.limit, track=self.lineage)  # fmt: skip
+        if self.lineage:
+            keys = _axiom_keys(self.seed, len(comp.axiom))
+            self._keys = keys if word is comp.axiom else _decomposed_keys(keys, src)
         return word
+
+    @property
+    def keys(self) -> np.ndarray:
+        """``uint64[n]``: the lineage key of every module (needs ``lineage=True``)."""
+        if not self.lineage:
+            raise ValueError("keys needs a Derivation made with lineage=True")
+        return self._keys
 
     def origin(self, index: int) -> tuple[Rule | None, int]:
         """The production that made module ``index`` of the current word, and its step.
@@ -887,9 +951,11 @@ class Derivation:
 
     def reset(self) -> ModuleString:
         """Back to the axiom."""
+        self._keys = None
         self.word = self._axiom()
         self.step = 0
         self._history.clear()
+        self._origin_rule = self._origin_step = None
         if self.trace:
             self._origin_rule = np.full(len(self.word), -1, np.int64)
             self._origin_step = np.zeros(len(self.word), np.int64)
@@ -904,6 +970,7 @@ class Derivation:
         rs.grow()
         return bool(
             not self.trace
+            and not self.lineage
             and comp.group_fn is None
             and not comp.decomposition.rules
             and rs.rules
@@ -942,26 +1009,31 @@ class Derivation:
         key = step_key(self.seed, self.step)
         rs = comp.rules_for(self.step)
         decompose = comp.decomposition.rules
-        if self.trace:
-            new, src, rule = _traced_step(self.word, rs, comp, key, self.limit, self.step)
-            saved = (self.word, self._origin_rule, self._origin_step)
-            made = rule >= 0
-            rule = np.where(made, rs.origin[np.maximum(rule, 0)], -1)
-            origin_rule = np.where(made, rule, self._origin_rule[src])
-            origin_step = np.where(made, self.step + 1, self._origin_step[src])
+        saved = (self.word, self._origin_rule, self._origin_step, self._keys)
+        if self.trace or self.lineage:
+            new, src, rule, keys = _traced_step(self.word, rs, comp, key, self.limit,
+                                                self.step, self._keys)  # fmt: skip
+            if self.trace:
+                made = rule >= 0
+                rule = np.where(made, rs.origin[np.maximum(rule, 0)], -1)
+                self._origin_rule = np.where(made, rule, self._origin_rule[src])
+                self._origin_step = np.where(made, self.step + 1, self._origin_step[src])
             if decompose:  # decomposed modules keep the origin of the module they replace
                 new, src = _passes(new, comp.decomposition, comp, self.seed, self.step + 1,
                                    self.program.decomposition_depth, "decomposition",
                                    self.limit, track=True)  # fmt: skip
-                origin_rule, origin_step = origin_rule[src], origin_step[src]
-            self._origin_rule, self._origin_step = origin_rule, origin_step
+                if self.trace:
+                    self._origin_rule = self._origin_rule[src]
+                    self._origin_step = self._origin_step[src]
+                if keys is not None:
+                    keys = _decomposed_keys(keys, src)
+            self._keys = keys
         else:
             new = _step(self.word, rs, comp, key, self.limit, self.step)
             if decompose:
                 new, _ = _passes(new, comp.decomposition, comp, self.seed, self.step + 1,
                                  self.program.decomposition_depth, "decomposition",
                                  self.limit)  # fmt: skip
-            saved = self.word
         self._history.append(saved)
         if len(self._history) > 8:
             self._history.pop(0)
@@ -973,11 +1045,7 @@ class Derivation:
         if self.step == 0:
             return self.word
         if self._history:
-            saved = self._history.pop()
-            if self.trace:
-                self.word, self._origin_rule, self._origin_step = saved
-            else:
-                self.word = saved
+            self.word, self._origin_rule, self._origin_step, self._keys = self._history.pop()
             self.step -= 1
             return self.word
         target = self.step - 1
@@ -1003,7 +1071,7 @@ class Derivation:
                               self.program.interpretation_depth, "interpretation",
                               self.limit, track=True)  # fmt: skip
         key = step_key(self.seed, self.step, render=True)
-        word, src, _ = _traced_step(word, comp.render, comp, key, self.limit, self.step)
+        word, src, _, _ = _traced_step(word, comp.render, comp, key, self.limit, self.step)
         return word, first[src]
 
     def __iter__(self) -> Iterator[ModuleString]:
@@ -1029,8 +1097,11 @@ def derive(
     *,
     seed: int | None = None,
     limit: int = DEFAULT_MODULE_LIMIT,
+    lineage: bool = False,
 ) -> ModuleString:
     """The word after ``steps`` derivation steps (default: the program's own count, else 0).
+
+    ``lineage=True`` keys the random choices by ancestry (see :class:`Derivation`).
 
     >>> from sylva.lsystem.ast import Module, Pattern, Program, Rule
     >>> koch = Program(axiom=(Module("F"),), rules=(Rule(Pattern("F"),
@@ -1038,7 +1109,7 @@ def derive(
     >>> len(derive(koch, 3))
     148
     """
-    d = Derivation(program, seed=seed, limit=limit)
+    d = Derivation(program, seed=seed, limit=limit, lineage=lineage)
     return d.advance(_steps(program, steps))
 
 
