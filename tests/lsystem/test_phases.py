@@ -10,6 +10,8 @@ depth`` times; interpretation rules (cpfg's recursive ``homomorphism``, L-Py's
 from __future__ import annotations
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from sylva.errors import LSystemSemanticError, LSystemSyntaxError, SylvaError
 from sylva.lsystem import Derivation, derive, dumps, iterate, load, loads
@@ -185,3 +187,31 @@ def test_tables_round_trip_and_read_errors():
     assert (info.value.line, info.value.column) == (1, 9)
     with pytest.raises(SylvaError, match="expected a whole number"):
         derive(loads("group = step / 2\naxiom = a\na -> b"), 2)
+
+
+_BODIES = st.text(alphabet="AB+-", min_size=0, max_size=5).map(
+    lambda s: s[:2] + ("[" + s[2:] + "]" if len(s) > 2 else "")
+)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.lists(st.tuples(st.integers(0, 2), st.sampled_from("AB"), _BODIES, st.integers(1, 4)),
+             min_size=1, max_size=6),
+    st.integers(0, 2**32),
+    st.booleans(),
+)  # fmt: skip
+def test_tables_and_decomposition_give_one_word_on_every_road(rules, seed, decompose):
+    lines = ["group = step % 3", "axiom = A[B]A"]
+    for g in range(3):
+        mine = [f"{a} ->({w}) {b}" for gg, a, b, w in rules if gg == g]
+        if mine:
+            lines += [f"group {g}:" if g else "production:", *mine]
+    if decompose:
+        lines += ["decomposition:", "- -> +"]
+    p = loads("\n".join(lines))
+    fast = derive(p, 4, seed=seed)
+    general = Derivation(p, seed=seed, trace=True)  # the traced road is the general one
+    assert general.advance(4) == fast
+    assert Derivation(p, seed=seed, lineage=True).advance(4) == derive(p, 4, seed=seed,
+                                                                        lineage=True)

@@ -1015,7 +1015,8 @@ class Derivation:
                                                 self.step, self._keys)  # fmt: skip
             if self.trace:
                 made = rule >= 0
-                rule = np.where(made, rs.origin[np.maximum(rule, 0)], -1)
+                if made.any():  # the group's rule index in program.productions
+                    rule = np.where(made, rs.origin[np.maximum(rule, 0)], -1)
                 self._origin_rule = np.where(made, rule, self._origin_rule[src])
                 self._origin_step = np.where(made, self.step + 1, self._origin_step[src])
             if decompose:  # decomposed modules keep the origin of the module they replace
