@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from sylva.lsystem import Derivation, derive, loads
-from sylva.lsystem.engine import lineage_keys
+from sylva.lsystem._lineage import lineage_keys
 
 PLANT = """\
 seed = 11

@@ -37,6 +37,7 @@ import numpy as np
 
 from ..errors import GrowthLimitError, LSystemSemanticError
 from . import _kernels
+from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
 from .ast import Program, Rule
 from .expr import compile_expr, truth
 from .lstring import CLOSE, ID_DTYPE, OPEN, Alphabet, ModuleString
@@ -734,13 +735,6 @@ def _resolve_seed(seed: int | None, program: Program) -> int:
     return int(seed) & _MASK
 
 
-def _decomposed_keys(keys: np.ndarray, src: np.ndarray) -> np.ndarray:
-    """Lineage keys after decomposition passes (``src``: the module each came from); a
-    module the passes left alone keeps its key."""
-    alone = np.bincount(src, minlength=keys.shape[0])[src] == 1
-    return np.where(alone, keys[src], lineage_keys(keys[src], _child_index(src)))
-
-
 def _pass_key(seed: int, step: int, phase: str, depth: int) -> np.uint64:
     """The key of one decomposition or interpretation pass (apart from every step's)."""
     base = int(step_key(seed, step, phase == "interpretation"))
@@ -787,37 +781,6 @@ def _passes(word, rs, comp, seed, step, depth, phase, limit, track=False):
     return word, src  # pragma: no cover - the loop returns or raises
 
 
-_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
-
-
-def _mix64(z: np.ndarray) -> np.ndarray:
-    """SplitMix64's finaliser over a ``uint64`` array (wrapping arithmetic)."""
-    z = z ^ (z >> np.uint64(30))
-    z = z * np.uint64(0xBF58476D1CE4E5B9)
-    z = z ^ (z >> np.uint64(27))
-    z = z * np.uint64(0x94D049BB133111EB)
-    return z ^ (z >> np.uint64(31))
-
-
-def lineage_keys(parents: np.ndarray, index: np.ndarray) -> np.ndarray:
-    """The lineage keys of modules: a hash of their parent's key and their index in the
-    parent's successor (``uint64``; the axiom's parent is the seed)."""
-    return _mix64(parents + (index.astype(np.uint64) + np.uint64(1)) * _GOLDEN)
-
-
-def _axiom_keys(seed: int, n: int) -> np.ndarray:
-    return lineage_keys(np.full(n, seed & _MASK, np.uint64), np.arange(n))
-
-
-def _child_index(src: np.ndarray) -> np.ndarray:
-    """For ``src`` (non-decreasing), each entry's index among the entries of its value."""
-    m = src.shape[0]
-    if m == 0:
-        return np.zeros(0, np.int64)
-    start = np.flatnonzero(np.r_[True, src[1:] != src[:-1]])
-    return np.arange(m) - np.repeat(start, np.diff(np.r_[start, m]))
-
-
 def _traced_step(word, rs, comp, key, limit, step, keys=None):
     """A general-road step that also says where every new module came from.
 
@@ -838,7 +801,7 @@ def _traced_step(word, rs, comp, key, limit, step, keys=None):
     rule = choice[src]
     new_keys = None
     if keys is not None:
-        new_keys = np.where(rule >= 0, lineage_keys(keys[src], _child_index(src)), keys[src])
+        new_keys = np.where(rule >= 0, lineage_keys(keys[src], child_index(src)), keys[src])
     keep = _cut_keep(new)
     if keep is not None:
         new = _apply_cut(new, -1, keep)
@@ -907,8 +870,8 @@ class Derivation:
         word, src = _passes(comp.axiom, comp.decomposition, comp, self.seed, 0, depth,
                             "decomposition", self.limit, track=self.lineage)  # fmt: skip
         if self.lineage:
-            keys = _axiom_keys(self.seed, len(comp.axiom))
-            self._keys = keys if word is comp.axiom else _decomposed_keys(keys, src)
+            keys = axiom_keys(self.seed, len(comp.axiom))
+            self._keys = keys if word is comp.axiom else decomposed_keys(keys, src)
         return word
 
     @property
@@ -1027,7 +990,7 @@ class Derivation:
                     self._origin_rule = self._origin_rule[src]
                     self._origin_step = self._origin_step[src]
                 if keys is not None:
-                    keys = _decomposed_keys(keys, src)
+                    keys = decomposed_keys(keys, src)
             self._keys = keys
         else:
             new = _step(self.word, rs, comp, key, self.limit, self.step)
