@@ -320,9 +320,11 @@ def _run(word, program, dialect, seed, overrides, trace_on):
     dialect, s = _settings(program, dialect, overrides)
     cfg, palette, materials, vertex_colors, bg = _configure(dialect, s, seed)
     ops, arg = compile_table(TABLES[dialect], word.alphabet.names, ARGS.get(dialect))
-    if dialect in ("lsys", "abop"):
+    has_at = "@" in word.alphabet
+    if dialect in ("lsys", "abop") and (has_at or s.get("elasticity")):  # else nothing bends
         _tropism(cfg, s, program, ops)
-        _check_at(word, ops, arg, cfg[K.C_TMODE] != 0.0)
+        if has_at:
+            _check_at(word, ops, arg, cfg[K.C_TMODE] != 0.0)
     n = len(word)
     threads = _threads()
     parallel = threads > 1 and n >= PARALLEL_MIN and cfg[K.C_ENGINE] == 0.0
