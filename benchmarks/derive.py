@@ -5,7 +5,9 @@
 Each figure is the median of several runs after a warm-up (compilation excluded).  The
 peer runs when ``node`` is on PATH; ``npm ci`` in ``benchmarks/peers`` is done on demand.
 Figures are symbols (or modules) of the final word per second of the whole derivation,
-except for the context-sensitive rows, which count every module rewritten in every step.
+except for the context-sensitive rows, which count every module rewritten in every step,
+and the tropism row, which counts the modules the turtle interprets per second (ABOP §2.3
+bending after every step; the peer has no turtle).
 """
 
 from __future__ import annotations
@@ -21,7 +23,9 @@ import tempfile
 import time
 from pathlib import Path
 
+from sylva.data import find
 from sylva.lsystem import derive, loads
+from sylva.turtle import interpret
 
 PEERS = Path(__file__).parent / "peers"
 
@@ -37,7 +41,11 @@ WORKLOADS = {
     "signal": ("axiom = b" + "a" * 99_999 + "\nb < a -> b\nb -> a", 5, 43.0),
     "bracketed": (None, 5, 20.0),
     "parametric": ("R = 1.456\naxiom = A(1)\nA(s) -> F(s)[+A(s/R)][-A(s/R)]", 18, 8.0),
+    # interpretation, not derivation: the turtle walks ABOP Fig. 2.8b (T, e) at n = 10
+    "tropism": (None, 10, 5.0),
 }
+#: Workloads that time the turtle (modules interpreted per second); the peer has none.
+TURTLE = ("tropism",)
 LABELS = {
     "koch": "D0L Koch, 10 steps",
     "plant": "bracketed plant ABOP 1.24d, 11 steps",
@@ -45,6 +53,7 @@ LABELS = {
     "signal": "flat context-sensitive signal, 100 k modules",
     "bracketed": "bracketed context-sensitive, tree of 116 k modules",
     "parametric": "parametric A(s) -> F(s)[+A(s/R)][-A(s/R)], 18 steps",
+    "tropism": "turtle with tropism: ABOP Fig. 2.8b, n = 10 (interpret)",
 }
 
 
@@ -57,7 +66,21 @@ def program(name: str):
     text, steps, _ = WORKLOADS[name]
     if name == "bracketed":
         text = "ignore = +-\naxiom = " + bracketed_axiom() + "\nS < F -> S\nS -> F"
+    if name == "tropism":
+        text = find("abop-2.8b-ternary-tree").path.read_text(encoding="utf-8")
     return loads(text), steps
+
+
+def measure_turtle(name: str, repeat: int, **overrides) -> tuple[float, int]:
+    p, steps = program(name)
+    word = derive(p, steps, seed=1)
+    interpret(word, p, **overrides)  # compile the walk
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        interpret(word, p, **overrides)
+        times.append(time.perf_counter() - t)
+    return statistics.median(times), len(word)
 
 
 def measure(name: str, repeat: int) -> tuple[float, int]:
@@ -108,9 +131,9 @@ def main() -> int:
     args = ap.parse_args()
     rows = []
     for name in args.names:
-        sec, size = measure(name, args.repeat)
+        sec, size = (measure_turtle if name in TURTLE else measure)(name, args.repeat)
         rows.append((name, size / sec / 1e6, sec))
-    theirs = {} if args.no_peer else peer(args.names)
+    theirs = {} if args.no_peer else peer([n for n in args.names if n not in TURTLE])
     print(f"{'workload':56s} {'sylva M/s':>10s} {'target':>7s} {'peer M/s':>9s} {'ratio':>7s}")
     for name, mps, _sec in rows:
         target = WORKLOADS[name][2]
@@ -120,6 +143,9 @@ def main() -> int:
         pms = f"{pm:9.2f}" if pm else "        -"
         flag = "" if mps >= target else "  (below target)"
         print(f"{LABELS[name]:56s} {mps:10.1f} {target:7.0f} {pms} {ratio}{flag}")
+    if "tropism" in args.names:  # the same word and walk without bending, for comparison
+        sec, size = measure_turtle("tropism", args.repeat, elasticity=0.0)
+        print(f"{'  the same word without tropism (elasticity = 0)':56s} {size / sec / 1e6:10.1f}")
     print("peer: lindenmayer 1.5.4 on node " + (subprocess.run(
         ["node", "--version"], capture_output=True, text=True).stdout.strip()
         if theirs else "(not run)"))

@@ -114,6 +114,13 @@ class Rule:
 
     ``render`` marks a render rule (``->>``), applied once to make the word the turtle
     draws.  ``weight`` is an expression (usually a constant) evaluated per application.
+    ``phase`` says when the rule applies: ``"production"`` (a derivation step),
+    ``"decomposition"`` (after every step, again and again until no rule applies, at most
+    :attr:`Program.decomposition_depth` times) or ``"interpretation"`` (so to the word the
+    turtle draws, at most :attr:`Program.interpretation_depth` times); cpfg's and L-Py's
+    sections of those names.  ``group`` is the table (ABOP §1.4 table L-systems, L-Py's
+    ``group``) of a production: 0, the default, is used in every step, another group only
+    in the steps :attr:`Program.group` chooses it.
     """
 
     predecessor: Pattern
@@ -124,6 +131,8 @@ class Rule:
     weight: Expr = Num(1.0)
     render: bool = False
     span: Span | None = field(default=None, compare=False)
+    phase: str = "production"
+    group: int = 0
 
     @property
     def has_context(self) -> bool:
@@ -174,6 +183,13 @@ class Program:
         A name (file stem, or the engine format's index).
     filename : str or None
         Where the program was read from.
+    decomposition_depth, interpretation_depth : int
+        The most passes of decomposition (after each step) and interpretation rules (cpfg's
+        ``maximum depth:``, default 1); rules that still apply after them are an error.
+    group : Expr or None
+        Which group of productions (tables, ABOP §1.4) each step uses: an expression over
+        ``step`` (the number of steps done before it, from 0) and the global constants.
+        ``None`` uses group 0 only.
     """
 
     axiom: tuple[Module, ...]
@@ -187,6 +203,9 @@ class Program:
     dialect: str = "lsys"
     name: str | None = None
     filename: str | None = field(default=None, compare=False)
+    decomposition_depth: int = 1
+    interpretation_depth: int = 1
+    group: Expr | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "axiom", tuple(self.axiom))
@@ -209,14 +228,32 @@ class Program:
             and dict(self.settings) == dict(other.settings)
             and self.steps == other.steps
             and self.seed == other.seed
+            and self.decomposition_depth == other.decomposition_depth
+            and self.interpretation_depth == other.interpretation_depth
+            and self.group == other.group
         )
 
     __hash__ = None  # type: ignore[assignment]
 
     @property
     def productions(self) -> tuple[Rule, ...]:
-        """The rules used for derivation (not render rules)."""
-        return tuple(r for r in self.rules if not r.render)
+        """The rules used for derivation (of every group; not render rules)."""
+        return tuple(r for r in self.rules if not r.render and r.phase == "production")
+
+    @property
+    def decompositions(self) -> tuple[Rule, ...]:
+        """The decomposition rules."""
+        return tuple(r for r in self.rules if not r.render and r.phase == "decomposition")
+
+    @property
+    def interpretations(self) -> tuple[Rule, ...]:
+        """The interpretation rules (cpfg's recursive homomorphism)."""
+        return tuple(r for r in self.rules if not r.render and r.phase == "interpretation")
+
+    @property
+    def groups(self) -> tuple[int, ...]:
+        """The groups the productions use, sorted (``(0,)`` without tables)."""
+        return tuple(sorted({0, *(r.group for r in self.productions)}))
 
     @property
     def render_rules(self) -> tuple[Rule, ...]:

@@ -37,6 +37,7 @@ import numpy as np
 
 from ..errors import GrowthLimitError, LSystemSemanticError
 from . import _kernels
+from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
 from .ast import Program, Rule
 from .expr import compile_expr, truth
 from .lstring import CLOSE, ID_DTYPE, OPEN, Alphabet, ModuleString
@@ -329,8 +330,20 @@ class _Compiled:
             self.axiom = ModuleString(alphabet, np.array(ids, ID_DTYPE))
         self.axiom.check_brackets(program.filename)
         self.alphabet = alphabet
-        self.productions = _RuleSet(program.productions, alphabet, constants)
+        self._constants = constants
+        self._groups: dict[int, _RuleSet] = {}
+        self.productions = self.group_rules(0)
         self.render = _RuleSet(program.render_rules, alphabet, constants)
+        self.decomposition = _RuleSet(program.decompositions, alphabet, constants)
+        self.interpretation = _RuleSet(program.interpretations, alphabet, constants)
+        self.group_fn = None
+        if program.group is not None:
+            try:
+                self.group_fn = compile_expr(program.group, bound=("step",), constants=constants)
+            except LSystemSemanticError as exc:
+                raise LSystemSemanticError(
+                    f"the group expression: {exc.message}", filename=program.filename
+                ) from None
         ign = [alphabet.id(s) for s in program.ignore]
         cons = None
         if program.consider is not None:
@@ -338,6 +351,31 @@ class _Compiled:
         self._ign = ign
         self._cons = cons
         self.ignored = ignored_table(len(alphabet), ign, cons)
+
+    def group_rules(self, group: int) -> _RuleSet:
+        """The productions of ``group`` and of group 0 (those outside any group)."""
+        rs = self._groups.get(group)
+        if rs is None:
+            prods = self.program.productions
+            mine = [i for i, r in enumerate(prods) if r.group in (0, group)]
+            rs = _RuleSet([prods[i] for i in mine], self.alphabet, self._constants)
+            rs.origin = np.array(mine, np.int64)  # index in program.productions
+            self._groups[group] = rs
+        return rs
+
+    def rules_for(self, step: int) -> _RuleSet:
+        """The productions of step ``step`` (0 for the first): the group ``Program.group``
+        chooses, with group 0."""
+        if self.group_fn is None:
+            return self.productions
+        v = float(np.asarray(self.group_fn({"step": np.array([float(step)])}, 1)).ravel()[0])
+        if not (np.isfinite(v) and v == int(v)):
+            raise LSystemSemanticError(
+                f"step {step + 1}: the group expression gave {v:g}; expected a whole number "
+                "(the group of productions to use)",
+                filename=self.program.filename,
+            )
+        return self.group_rules(int(v))
 
     def ignored_for(self, word: ModuleString) -> np.ndarray:
         if self.ignored.shape[0] < len(word.alphabet):
@@ -510,8 +548,11 @@ def _step_general(
     limit: int,
     step: int,
     choices: list | None = None,
+    keys: np.ndarray | None = None,
 ) -> ModuleString:
-    """The general road; when ``choices`` is a list, the rule chosen per module is appended."""
+    """The general road; when ``choices`` is a list, the rule chosen per module is appended.
+
+    ``keys`` (``uint64[n]``, lineage keys) replace the positions in the random draws."""
     n = len(word)
     ids = word.ids
     choice = np.full(n, -1, np.int64)
@@ -600,7 +641,8 @@ def _step_general(
             applicable = (weights > 0).any(axis=1)
             rows = np.flatnonzero(applicable)
             cum = np.cumsum(weights[rows], axis=1)
-            u = _kernels.uniform(key, undecided[rows]) * cum[:, -1]
+            at = undecided[rows] if keys is None else keys[undecided[rows]]
+            u = _kernels.uniform(key, at) * cum[:, -1]
             pick = np.minimum((cum <= u[:, None]).sum(axis=1), len(tier) - 1)
             chosen_r = np.full(k, -1, np.int64)
             chosen_r[rows] = pick
@@ -693,27 +735,80 @@ def _resolve_seed(seed: int | None, program: Program) -> int:
     return int(seed) & _MASK
 
 
-def _traced_step(word, rs, comp, key, limit, step):
+def _pass_key(seed: int, step: int, phase: str, depth: int) -> np.uint64:
+    """The key of one decomposition or interpretation pass (apart from every step's)."""
+    base = int(step_key(seed, step, phase == "interpretation"))
+    return np.uint64(_splitmix(base ^ _splitmix(0x5EED0000 + 2 * depth + 1)))
+
+
+def _passes(word, rs, comp, seed, step, depth, phase, limit, track=False):
+    """``rs`` applied again and again until no rule applies, at most ``depth`` times.
+
+    Returns the word and, when ``track``, the index of the module each new module came
+    from (``int64[n]``; ``None`` otherwise).  A rule that still applies after ``depth``
+    passes raises :class:`~sylva.errors.LSystemSemanticError` naming the module, the step
+    and the rule.
+    """
+    src = np.arange(len(word), dtype=np.int64) if track else None
+    if not rs.rules:
+        return word, src
+    for d in range(depth + 1):
+        rs.grow()
+        got: list[np.ndarray] = []
+        new = _step_general(word, rs, comp, _pass_key(seed, step, phase, d), limit, step, got)
+        choice = got[0]
+        applied = np.flatnonzero(choice >= 0)
+        if applied.size == 0:
+            return word, src
+        if d == depth:
+            k = int(applied[0])
+            name = word.alphabet.names[int(word.ids[k])]
+            where = f"after step {step}" if step else "of the axiom"
+            raise _rule_error(
+                rs.rules[int(choice[k])].rule,
+                f"the {phase} {where} goes deeper than its maximum depth {depth}: module {k} "
+                f"({name!r}) is still rewritten; expected rules that end within the depth "
+                f"(or a larger 'maximum depth')",
+            )
+        if track:
+            src = np.repeat(src, np.where(choice < 0, 1, rs.rule_len[np.maximum(choice, 0)]))
+        keep = _cut_keep(new)
+        if keep is not None:
+            new = _apply_cut(new, -1, keep)
+            if track:
+                src = src[keep]
+        word = new
+    return word, src  # pragma: no cover - the loop returns or raises
+
+
+def _traced_step(word, rs, comp, key, limit, step, keys=None):
     """A general-road step that also says where every new module came from.
 
     Returns the new word, the index of the old module each new module replaced
-    (``int64[n_new]``) and the rule that made it (``int64[n_new]``, -1 for a copy).
+    (``int64[n_new]``) and the rule that made it (``int64[n_new]``, -1 for a copy); with
+    lineage ``keys`` (``uint64[n]``) the draws use them, and the new modules' keys come
+    fourth (a copy keeps its key).
     """
     if not rs.rules:
         idx = np.arange(len(word), dtype=np.int64)
-        return word, idx, np.full(len(word), -1, np.int64)
+        return word, idx, np.full(len(word), -1, np.int64), keys
     rs.grow()
     got: list[np.ndarray] = []
-    new = _step_general(word, rs, comp, key, limit, step, choices=got)
+    new = _step_general(word, rs, comp, key, limit, step, choices=got, keys=keys)
     choice = got[0]
     lens = np.where(choice < 0, 1, rs.rule_len[np.maximum(choice, 0)])
     src = np.repeat(np.arange(len(word), dtype=np.int64), lens)
     rule = choice[src]
+    new_keys = None
+    if keys is not None:
+        new_keys = np.where(rule >= 0, lineage_keys(keys[src], child_index(src)), keys[src])
     keep = _cut_keep(new)
     if keep is not None:
         new = _apply_cut(new, -1, keep)
         src, rule = src[keep], rule[keep]
-    return new, src, rule
+        if new_keys is not None:
+            new_keys = new_keys[keep]
+    return new, src, rule, new_keys
 
 
 class Derivation:
@@ -731,6 +826,12 @@ class Derivation:
     trace : bool
         Remember, for every module, the rule and the step that made it (:meth:`origin`),
         for debuggers such as the studio.  Tracing takes the general road.
+    lineage : bool
+        Key the random choices by ancestry instead of position: every module carries a key,
+        a hash of its parent's key and its index in the parent's successor (the axiom's
+        modules: of the seed and their index), and a stochastic rule is drawn from the key
+        and the step.  Editing the rules of one branch then leaves every other branch as it
+        was.  The same seed gives the same word on every machine; takes the general road.
 
     Examples
     --------
@@ -751,17 +852,34 @@ class Derivation:
         seed: int | None = None,
         limit: int = DEFAULT_MODULE_LIMIT,
         trace: bool = False,
+        lineage: bool = False,
     ) -> None:
         self.program = program
         self.seed = _resolve_seed(seed, program)
         self.limit = int(limit)
         self.trace = bool(trace)
+        self.lineage = bool(lineage)
         self._compiled = _compiled(program)
-        self.word: ModuleString = self._compiled.axiom
-        self.step = 0
         self._history: list = []
-        self._origin_rule = np.full(len(self.word), -1, np.int64) if trace else None
-        self._origin_step = np.zeros(len(self.word), np.int64) if trace else None
+        self.reset()
+
+    def _axiom(self) -> ModuleString:
+        """The axiom, decomposed (and the lineage keys of its modules)."""
+        comp = self._compiled
+        depth = self.program.decomposition_depth
+        word, src = _passes(comp.axiom, comp.decomposition, comp, self.seed, 0, depth,
+                            "decomposition", self.limit, track=self.lineage)  # fmt: skip
+        if self.lineage:
+            keys = axiom_keys(self.seed, len(comp.axiom))
+            self._keys = keys if word is comp.axiom else decomposed_keys(keys, src)
+        return word
+
+    @property
+    def keys(self) -> np.ndarray:
+        """``uint64[n]``: the lineage key of every module (needs ``lineage=True``)."""
+        if not self.lineage:
+            raise ValueError("keys needs a Derivation made with lineage=True")
+        return self._keys
 
     def origin(self, index: int) -> tuple[Rule | None, int]:
         """The production that made module ``index`` of the current word, and its step.
@@ -772,7 +890,7 @@ class Derivation:
         if not self.trace:
             raise ValueError("origin() needs a Derivation made with trace=True")
         r = int(self._origin_rule[index])
-        rule = self._compiled.productions.rules[r].rule if r >= 0 else None
+        rule = self.program.productions[r] if r >= 0 else None
         return rule, int(self._origin_step[index])
 
     @property
@@ -796,9 +914,11 @@ class Derivation:
 
     def reset(self) -> ModuleString:
         """Back to the axiom."""
-        self.word = self._compiled.axiom
+        self._keys = None
+        self.word = self._axiom()
         self.step = 0
         self._history.clear()
+        self._origin_rule = self._origin_step = None
         if self.trace:
             self._origin_rule = np.full(len(self.word), -1, np.int64)
             self._origin_step = np.zeros(len(self.word), np.int64)
@@ -808,10 +928,14 @@ class Derivation:
     def is_d0l(self) -> bool:
         """True when the remaining steps are deterministic, context-free and parameter-free,
         so that :meth:`advance` jumps several steps at once by block expansion."""
-        rs = self._compiled.productions
+        comp = self._compiled
+        rs = comp.productions
         rs.grow()
         return bool(
             not self.trace
+            and not self.lineage
+            and comp.group_fn is None
+            and not comp.decomposition.rules
             and rs.rules
             and rs.fast
             and not self.word.has_params
@@ -846,17 +970,34 @@ class Derivation:
     def _advance_one(self) -> None:
         comp = self._compiled
         key = step_key(self.seed, self.step)
-        if self.trace:
-            new, src, rule = _traced_step(
-                self.word, comp.productions, comp, key, self.limit, self.step
-            )
-            saved = (self.word, self._origin_rule, self._origin_step)
-            made = rule >= 0
-            self._origin_rule = np.where(made, rule, self._origin_rule[src])
-            self._origin_step = np.where(made, self.step + 1, self._origin_step[src])
+        rs = comp.rules_for(self.step)
+        decompose = comp.decomposition.rules
+        saved = (self.word, self._origin_rule, self._origin_step, self._keys)
+        if self.trace or self.lineage:
+            new, src, rule, keys = _traced_step(self.word, rs, comp, key, self.limit,
+                                                self.step, self._keys)  # fmt: skip
+            if self.trace:
+                made = rule >= 0
+                if made.any():  # the group's rule index in program.productions
+                    rule = np.where(made, rs.origin[np.maximum(rule, 0)], -1)
+                self._origin_rule = np.where(made, rule, self._origin_rule[src])
+                self._origin_step = np.where(made, self.step + 1, self._origin_step[src])
+            if decompose:  # decomposed modules keep the origin of the module they replace
+                new, src = _passes(new, comp.decomposition, comp, self.seed, self.step + 1,
+                                   self.program.decomposition_depth, "decomposition",
+                                   self.limit, track=True)  # fmt: skip
+                if self.trace:
+                    self._origin_rule = self._origin_rule[src]
+                    self._origin_step = self._origin_step[src]
+                if keys is not None:
+                    keys = decomposed_keys(keys, src)
+            self._keys = keys
         else:
-            new = _step(self.word, comp.productions, comp, key, self.limit, self.step)
-            saved = self.word
+            new = _step(self.word, rs, comp, key, self.limit, self.step)
+            if decompose:
+                new, _ = _passes(new, comp.decomposition, comp, self.seed, self.step + 1,
+                                 self.program.decomposition_depth, "decomposition",
+                                 self.limit)  # fmt: skip
         self._history.append(saved)
         if len(self._history) > 8:
             self._history.pop(0)
@@ -868,11 +1009,7 @@ class Derivation:
         if self.step == 0:
             return self.word
         if self._history:
-            saved = self._history.pop()
-            if self.trace:
-                self.word, self._origin_rule, self._origin_step = saved
-            else:
-                self.word = saved
+            self.word, self._origin_rule, self._origin_step, self._keys = self._history.pop()
             self.step -= 1
             return self.word
         target = self.step - 1
@@ -882,18 +1019,24 @@ class Derivation:
     def render_word(self) -> ModuleString:
         """The word the turtle draws: render rules applied once to the current word."""
         comp = self._compiled
+        word, _ = _passes(self.word, comp.interpretation, comp, self.seed, self.step,
+                          self.program.interpretation_depth, "interpretation",
+                          self.limit)  # fmt: skip
         if not comp.render.rules:
-            return self.word
+            return word
         key = step_key(self.seed, self.step, render=True)
-        return _step(self.word, comp.render, comp, key, self.limit, self.step)
+        return _step(word, comp.render, comp, key, self.limit, self.step)
 
     def render_word_sources(self) -> tuple[ModuleString, np.ndarray]:
         """The render word and, per render-word module, the index of the word module it
         came from (``int64[n]``), so a drawn module can be traced back to the word."""
         comp = self._compiled
+        word, first = _passes(self.word, comp.interpretation, comp, self.seed, self.step,
+                              self.program.interpretation_depth, "interpretation",
+                              self.limit, track=True)  # fmt: skip
         key = step_key(self.seed, self.step, render=True)
-        word, src, _ = _traced_step(self.word, comp.render, comp, key, self.limit, self.step)
-        return word, src
+        word, src, _, _ = _traced_step(word, comp.render, comp, key, self.limit, self.step)
+        return word, first[src]
 
     def __iter__(self) -> Iterator[ModuleString]:
         """Yield the current word, then each following word, without end."""
@@ -918,8 +1061,11 @@ def derive(
     *,
     seed: int | None = None,
     limit: int = DEFAULT_MODULE_LIMIT,
+    lineage: bool = False,
 ) -> ModuleString:
     """The word after ``steps`` derivation steps (default: the program's own count, else 0).
+
+    ``lineage=True`` keys the random choices by ancestry (see :class:`Derivation`).
 
     >>> from sylva.lsystem.ast import Module, Pattern, Program, Rule
     >>> koch = Program(axiom=(Module("F"),), rules=(Rule(Pattern("F"),
@@ -927,7 +1073,7 @@ def derive(
     >>> len(derive(koch, 3))
     148
     """
-    d = Derivation(program, seed=seed, limit=limit)
+    d = Derivation(program, seed=seed, limit=limit, lineage=lineage)
     return d.advance(_steps(program, steps))
 
 
@@ -959,12 +1105,18 @@ def render_word(
     a word read from text is re-coded first.
     """
     comp = _compiled(program)
-    if not comp.render.rules:
+    if not comp.render.rules and not comp.interpretation.rules:
         return word
     if word.alphabet is not comp.alphabet:
         word = ModuleString.from_modules(iter(word), comp.alphabet)
         comp.render.grow()
-    key = step_key(_resolve_seed(seed, program), step, render=True)
+    seed = _resolve_seed(seed, program)
+    word, _ = _passes(word, comp.interpretation, comp, seed, step,
+                      program.interpretation_depth, "interpretation",
+                      DEFAULT_MODULE_LIMIT)  # fmt: skip
+    if not comp.render.rules:
+        return word
+    key = step_key(seed, step, render=True)
     return _step(word, comp.render, comp, key, DEFAULT_MODULE_LIMIT, step)
 
 
@@ -973,11 +1125,12 @@ def rewrite(
 ) -> ModuleString:
     """One derivation step of ``program`` applied to an arbitrary ``word``."""
     comp = _compiled(program)
+    rs = comp.rules_for(step)
     if word.alphabet is not comp.alphabet:
         word = ModuleString.from_modules(iter(word), comp.alphabet)
-        comp.productions.grow()
+        rs.grow()
     key = step_key(_resolve_seed(seed, program), step)
-    return _step(word, comp.productions, comp, key, DEFAULT_MODULE_LIMIT, step)
+    return _step(word, rs, comp, key, DEFAULT_MODULE_LIMIT, step)
 
 
 _ = (OPEN, CLOSE)

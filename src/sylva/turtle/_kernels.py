@@ -13,6 +13,9 @@ import numpy as np
 from numba import njit, uint64
 
 from . import tables as T
+from ._state import COPIED, SPHERE_NP, SPHERE_NV, SPHERE_OFF, SPHERE_V
+from ._state import copy_state as _copy_state
+from .tables import AT_HEADING, AT_MOVE, AT_SPHERE, AT_T, AT_TD, AT_TI, AT_TS, AT_VERTICAL
 
 # --------------------------------------------------------------------------- state layout
 S_POS = 0
@@ -34,6 +37,10 @@ S_OPEN = 25
 S_DIR = 26  # unit direction of the last segment (valid while S_LAST >= 0)
 S_REF = 29  # its ring reference vector
 S_NROT = 32  # rotations since the frame was last made orthonormal
+# elasticity of the branch (ABOP §2.3 tropism; @Ts sets it per branch): the slot of seed
+# 004's pitch, which only the engine turtle uses, and it has no tropism (a 34th element
+# would make every push and pop of every word copy more)
+S_ELAST = S_PITCH
 NS = 33
 
 # --------------------------------------------------------------------------- settings layout
@@ -61,7 +68,13 @@ C_MAT_POLY = 24
 C_CIDX = 25
 C_ENGINE = 26
 C_CLAMP = 27
-NC = 28
+C_TROP = 28  # tropism vector T (3)
+C_ELAST = 31  # initial elasticity e
+C_ESTEP = 32  # elasticity increment of @Ti / @Td
+C_TMODE = 33  # 1: cpfg's @T modules (tropism index first), 0: sylva's / L-Py's
+C_TON = 34  # 1 when tropism may bend the word (an elasticity or an @ module): walk's flag
+NC = 35
+
 
 MASK32 = 0xFFFFFFFF
 UINT_MAX = 4294967295.0
@@ -137,82 +150,8 @@ def _rotate(st, a, b, c, s):  # pragma: no cover - compiled
         st[b + k] = -x * s + y * c
 
 
-@njit(cache=True, inline="always")
-def _copy_state(src, dst):  # pragma: no cover - compiled
-    # every element loaded before any is stored: src and dst may alias as far as LLVM
-    # knows, and only so can it copy with vector moves (numba's ``dst[:] = src`` made every
-    # push and pop cost ~60 ns, a third of the whole walk of a bracketed plant; an element
-    # loop is scalar).  Written out for NS = 33 (checked at import).
-    s0 = src[0]
-    s1 = src[1]
-    s2 = src[2]
-    s3 = src[3]
-    s4 = src[4]
-    s5 = src[5]
-    s6 = src[6]
-    s7 = src[7]
-    s8 = src[8]
-    s9 = src[9]
-    s10 = src[10]
-    s11 = src[11]
-    s12 = src[12]
-    s13 = src[13]
-    s14 = src[14]
-    s15 = src[15]
-    s16 = src[16]
-    s17 = src[17]
-    s18 = src[18]
-    s19 = src[19]
-    s20 = src[20]
-    s21 = src[21]
-    s22 = src[22]
-    s23 = src[23]
-    s24 = src[24]
-    s25 = src[25]
-    s26 = src[26]
-    s27 = src[27]
-    s28 = src[28]
-    s29 = src[29]
-    s30 = src[30]
-    s31 = src[31]
-    s32 = src[32]
-    dst[0] = s0
-    dst[1] = s1
-    dst[2] = s2
-    dst[3] = s3
-    dst[4] = s4
-    dst[5] = s5
-    dst[6] = s6
-    dst[7] = s7
-    dst[8] = s8
-    dst[9] = s9
-    dst[10] = s10
-    dst[11] = s11
-    dst[12] = s12
-    dst[13] = s13
-    dst[14] = s14
-    dst[15] = s15
-    dst[16] = s16
-    dst[17] = s17
-    dst[18] = s18
-    dst[19] = s19
-    dst[20] = s20
-    dst[21] = s21
-    dst[22] = s22
-    dst[23] = s23
-    dst[24] = s24
-    dst[25] = s25
-    dst[26] = s26
-    dst[27] = s27
-    dst[28] = s28
-    dst[29] = s29
-    dst[30] = s30
-    dst[31] = s31
-    dst[32] = s32
-
-
-if NS != 33:  # pragma: no cover - a layout change must update _copy_state
-    raise ImportError("_copy_state copies 33 state elements, the state has NS")
+if NS != COPIED:  # pragma: no cover - a layout change must update _copy_state
+    raise ImportError(f"_copy_state copies {COPIED} state elements, the state has {NS}")
 
 
 @njit(cache=True)
@@ -251,6 +190,38 @@ def _level(st):  # pragma: no cover - compiled
     st[S_U] = hy * lz - hz * 0.0
     st[S_U + 1] = hz * lx - hx * lz
     st[S_U + 2] = hx * 0.0 - hy * lx
+
+
+@njit(cache=True)
+def _bend(st, tx, ty, tz):  # pragma: no cover - compiled
+    """ABOP §2.3 tropism: rotate the frame about H x T by e|H x T| (H turns toward T)."""
+    hx = st[S_H]
+    hy = st[S_H + 1]
+    hz = st[S_H + 2]
+    ax = hy * tz - hz * ty
+    ay = hz * tx - hx * tz
+    az = hx * ty - hy * tx
+    m = math.sqrt(ax * ax + ay * ay + az * az)
+    if m < 1e-12:
+        return
+    ang = st[S_ELAST] * m
+    kx = ax / m
+    ky = ay / m
+    kz = az / m
+    c = math.cos(ang)
+    s = math.sin(ang)
+    for off in range(S_H, S_U + 3, 3):  # H, L and U alike (Rodrigues)
+        vx = st[off]
+        vy = st[off + 1]
+        vz = st[off + 2]
+        d = (kx * vx + ky * vy + kz * vz) * (1.0 - c)
+        st[off] = vx * c + (ky * vz - kz * vy) * s + kx * d
+        st[off + 1] = vy * c + (kz * vx - kx * vz) * s + ky * d
+        st[off + 2] = vz * c + (kx * vy - ky * vx) * s + kz * d
+    st[S_NROT] += 1.0
+    if st[S_NROT] >= 64.0:
+        _normalize_frame(st)
+        st[S_NROT] = 0.0
 
 
 @njit(cache=True)
@@ -298,14 +269,15 @@ K_SALT = 10  # seed 004's salt chain
 K_SEL = 11  # next subtree to hand to the parallel walkers
 NK = 12
 
-# the bits of scan_range's per-symbol table
+# the bits and fields of scan_range's per-symbol table
 F_DRAW = 1
-F_PV = 2
-F_POLY = 4
 F_SERIAL = 8
 F_LEAF = 16
 F_PUSH = 32
 F_POP = 64
+F_PV = 1 << 8  # bits 8-15: polygon-vertex room
+F_POLY = 1 << 16  # bits 16-23: polygon room
+
 
 PUSH_CAP = 1 << 16  # brackets deeper than this are never split off (the walk still works)
 
@@ -348,7 +320,14 @@ def scan_range(ids, ops, lo, hi, s_min, s_max):  # pragma: no cover - compiled
             (op == T.DRAW or op == T.DRAW_NOREC) * F_DRAW
             + (op == T.DRAW or op == T.MOVE or op == T.POLY_VERTEX or op == T.POLY_BEGIN) * F_PV
             + (op == T.POLY_BEGIN) * F_POLY
-            + (op == T.POLY_BEGIN or op == T.POLY_END or op == T.POLY_VERTEX or op == T.CUT)
+            + (op == T.AT) * (SPHERE_NV * F_PV + SPHERE_NP * F_POLY)  # room for an @O
+            + (
+                op == T.POLY_BEGIN
+                or op == T.POLY_END
+                or op == T.POLY_VERTEX
+                or op == T.CUT
+                or op == T.AT
+            )
             * F_SERIAL
             + (op == T.LEAF or op == T.SURFACE) * F_LEAF
             + (op == T.PUSH) * F_PUSH
@@ -357,11 +336,11 @@ def scan_range(ids, ops, lo, hi, s_min, s_max):  # pragma: no cover - compiled
     for i in range(lo, hi):
         f = fl[uint64(ids[i])]
         n_draw += f & F_DRAW
-        n_pv += (f >> 1) & 1
-        n_poly += (f >> 2) & 1
+        n_pv += (f >> 8) & 0xFF
+        n_poly += (f >> 16) & 0xFF
         serial += (f >> 3) & 1
         n_leaf += (f >> 4) & 1
-        if f < F_PUSH:
+        if (f & (F_PUSH | F_POP)) == 0:
             continue
         if f & F_PUSH:
             if ld < PUSH_CAP:
@@ -431,10 +410,79 @@ def scan_word(ids, ops, s_min, s_max):
     return scan_merge([scan_range(ids, ops, 0, ids.shape[0], s_min, s_max)])
 
 
+@njit(cache=True, inline="always")
+def _trace_pose(tr_pos, tr_frame, i, st):  # pragma: no cover - compiled
+    for k in range(3):
+        tr_pos[i, k] = st[S_POS + k]
+        tr_frame[i, 0, k] = st[S_H + k]
+        tr_frame[i, 1, k] = st[S_L + k]
+        tr_frame[i, 2, k] = st[S_U + k]
+
+
+@njit(cache=True)
+def _set_heading(st, values, a, npar):  # pragma: no cover - compiled
+    """cpfg's @R: H from the first 2 or 3 parameters (a zero vector is +Y); U from the next
+    three when they make a vector that is not along H, else the frame turns the least."""
+    hx = values[a]
+    hy = values[a + 1]
+    hz = values[a + 2] if npar >= 3 else 0.0
+    m = math.sqrt(hx * hx + hy * hy + hz * hz)
+    if m == 0.0:
+        hx, hy, hz, m = 0.0, 1.0, 0.0, 1.0
+    hx /= m
+    hy /= m
+    hz /= m
+    ux = 0.0
+    uy = 0.0
+    uz = 0.0
+    um = 0.0
+    if npar >= 6:
+        ux = values[a + 3]
+        uy = values[a + 4]
+        uz = values[a + 5]
+        d = ux * hx + uy * hy + uz * hz
+        ux -= d * hx
+        uy -= d * hy
+        uz -= d * hz
+        um = math.sqrt(ux * ux + uy * uy + uz * uz)
+    if um > 1e-9:
+        ux /= um
+        uy /= um
+        uz /= um
+        lx = uy * hz - uz * hy  # L = U x H
+        ly = uz * hx - ux * hz
+        lz = ux * hy - uy * hx
+    else:  # the rotation that takes the old H to the new one carries L along
+        lx, ly, lz = _transport(
+            st[S_L],
+            st[S_L + 1],
+            st[S_L + 2],
+            st[S_H],
+            st[S_H + 1],
+            st[S_H + 2],
+            hx,
+            hy,
+            hz,
+            st[S_U],
+            st[S_U + 1],
+            st[S_U + 2],
+        )
+    st[S_H] = hx
+    st[S_H + 1] = hy
+    st[S_H + 2] = hz
+    st[S_L] = lx
+    st[S_L + 1] = ly
+    st[S_L + 2] = lz
+    st[S_U] = hy * lz - hz * ly  # U = H x L
+    st[S_U + 1] = hz * lx - hx * lz
+    st[S_U + 2] = hx * ly - hy * lx
+    st[S_NROT] = 0.0
+
+
 @njit(cache=True, nogil=True)
 def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks, tr, sel,
          slot_state, slot_depth, has_par, engine,
-         trace):  # fmt: skip  # pragma: no cover - compiled
+         trace, tropism):  # fmt: skip  # pragma: no cover - compiled
     """Interpret modules ``i`` … ``stop - 1`` from state ``st`` at bracket ``depth``.
 
     ``stack`` holds the states pushed above bracket level ``base``.  Segment slot ``s`` is
@@ -444,9 +492,10 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
     in ``slot_state`` and jumps past its ``]`` (the state after a bracket pair is the state
     before it).
 
-    ``has_par`` (the word has parameters), ``engine`` (seed 004's executor) and ``trace``
-    (record every pose) must agree with ``word`` and ``tr``; :func:`walk_plain` passes them
-    as constants, so that numba drops their code from the loop.
+    ``has_par`` (the word has parameters), ``engine`` (seed 004's executor), ``trace``
+    (record every pose) and ``tropism`` (an elasticity or an ``@`` module may bend the
+    turtle) must agree with ``word``, ``tr`` and ``cfg``; :func:`walk_plain` passes them as
+    constants, so that numba drops their code from the loop.
     """
     ids, offsets, values, match, ops, oparg, cfg, palette = word
     seg_start, seg_end, seg_rad, seg_col, seg_mat, seg_mod, seg_par, seg_dep, seg_ref = segs
@@ -558,6 +607,8 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                 tmp_owner[ntmp] = pstack[npstack - 1]
                 tmp_implicit[ntmp] = True
                 ntmp += 1
+            if tropism and st[S_ELAST] != 0.0:  # after each step (ABOP §2.3)
+                _bend(st, cfg[C_TROP], cfg[C_TROP + 1], cfg[C_TROP + 2])
         elif op >= T.TURN_LEFT and op <= T.TURN_AROUND:
             if op == T.TURN_AROUND:
                 ang = 180.0
@@ -746,6 +797,66 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                 leaf_col[nl, 2] = 0.10
             leaf_mod[nl] = i
             nl += 1
+        elif tropism and op == T.AT:  # cpfg's @: the function is the next module (or two)
+            j = i + 1
+            code = oparg[ids[j]] if j < n else 0.0
+            fa = 0
+            fn = 0
+            if has_par and j < n:
+                fa = offsets[j]
+                fn = offsets[j + 1] - fa
+            if trace:
+                _trace_pose(tr_pos, tr_frame, i, st)
+            if code == AT_SPHERE:
+                r = (values[fa] if fn > 0 else 2.0 * st[S_RAD]) * 0.5  # @O(d): a diameter
+                if cfg[C_MAT_POLY] >= 0:
+                    mat = np.int32(cfg[C_MAT_POLY])
+                else:
+                    mat = np.int32(np.int64(st[S_CIDX]) % npal)
+                for q in range(SPHERE_NP):
+                    for t in range(SPHERE_OFF[q], SPHERE_OFF[q + 1]):
+                        for k in range(3):
+                            poly_v[nv, k] = st[S_POS + k] + r * SPHERE_V[t, k]
+                        nv += 1
+                    for k in range(3):
+                        poly_col[npoly, k] = st[S_COL + k]
+                    poly_mat[npoly] = mat
+                    poly_mod[npoly] = i
+                    npoly += 1
+                    poly_off[npoly] = nv
+            elif code == AT_VERTICAL:
+                _level(st)
+            elif code == AT_MOVE:
+                if fn >= 2:
+                    st[S_POS] = values[fa]
+                    st[S_POS + 1] = values[fa + 1]
+                    st[S_POS + 2] = values[fa + 2] if fn >= 3 else 0.0
+                    st[S_LAST] = -1.0  # the next segment does not grow from the last
+            elif code == AT_HEADING:
+                if fn >= 2:
+                    _set_heading(st, values, fa, fn)
+            elif code == AT_T:
+                j += 1
+                sub = oparg[ids[j]] if j < n else 0.0
+                if trace:
+                    _trace_pose(tr_pos, tr_frame, j - 1, st)
+                ka = 0
+                kn = 0
+                if has_par and j < n:
+                    ka = offsets[j]
+                    kn = offsets[j + 1] - ka
+                if cfg[C_TMODE] != 0.0:  # cpfg: the tropism's index, then the value
+                    ka += 1
+                    kn -= 1
+                e = st[S_ELAST]
+                if sub == AT_TS:
+                    e = values[ka] if kn > 0 else 0.0
+                elif sub == AT_TI:
+                    e += values[ka] if kn > 0 else cfg[C_ESTEP]
+                elif sub == AT_TD:
+                    e -= values[ka] if kn > 0 else cfg[C_ESTEP]
+                st[S_ELAST] = e
+            i = j
         elif engine:
             if op == T.YAW_LEFT:
                 st[S_YAW] += (-1.0 + delta) * cfg[C_YAW]
@@ -834,13 +945,14 @@ def walk_plain(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, 
     The flags are literal ``False``: numba prunes their branches, and the loop of a
     bracketed plant runs about 20 % faster than with the flags tested on every module."""
     walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks, tr, sel,
-         slot_state, slot_depth, False, False, False)  # fmt: skip
+         slot_state, slot_depth, False, False, False, False)  # fmt: skip
 
 
 @njit(cache=True)
 def walk_flags(word, tr):  # pragma: no cover - compiled
-    """``(has_par, engine, trace)`` of a word (:func:`walk`'s last arguments)."""
-    return word[1].shape[0] > 0, word[6][C_ENGINE] != 0.0, tr[0].shape[0] > 0
+    """``(has_par, engine, trace, tropism)`` of a word (:func:`walk`'s last arguments)."""
+    cfg = word[6]
+    return word[1].shape[0] > 0, cfg[C_ENGINE] != 0.0, tr[0].shape[0] > 0, cfg[C_TON] != 0.0
 
 
 @njit(cache=True)
@@ -955,6 +1067,8 @@ def walk_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace, blk_
     st[S_LAST] = -1.0
     st[S_OPEN] = -1.0
     st[S_SCALE] = cfg[C_BASE]
+    if not engine:
+        st[S_ELAST] = cfg[C_ELAST]
     if engine:
         st[S_YAW] = -90.0
         st[S_PITCH] = 0.0
@@ -966,16 +1080,16 @@ def walk_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace, blk_
     k = sel.shape[0]
     slot_state = np.empty((k, NS))
     slot_depth = np.empty(k, np.int64)
-    has_par, engine, trace_on = walk_flags(word, tr)
+    has_par, engine, trace_on, tropism = walk_flags(word, tr)
     # no literal 0 for the start, depth and base: numba would compile a walk of its own for
     # them; so one compiled walk (and one walk_plain) serves this call and the threads' calls
     z = n - n
-    if not has_par and not engine and not trace_on:
+    if not has_par and not engine and not trace_on and not tropism:
         walk_plain(z, n, st, stack, z, z, cnt, word, segs, leaves, polys, blocks, tr, sel,
                    slot_state, slot_depth)  # fmt: skip
     else:
         walk(z, n, st, stack, z, z, cnt, word, segs, leaves, polys, blocks, tr, sel,
-             slot_state, slot_depth, has_par, engine, trace_on)  # fmt: skip
+             slot_state, slot_depth, has_par, engine, trace_on, tropism)  # fmt: skip
     return word, segs, leaves, polys, blocks, tr, cnt, slot_state, slot_depth
 
 

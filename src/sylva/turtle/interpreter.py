@@ -62,10 +62,16 @@ _BUFFER_COLORS = (
     (0.90, 0.85, 0.30),
 )
 
+#: ABOP §2.3 tropism: the vector T, the initial elasticity e and the step of @Ti / @Td.
+_TROPISM = ("tropism", "elasticity", "elasticity_step")
+#: The tropism vector when a program sets an elasticity but no vector: gravity (ABOP's
+#: figures use T = (0, -1, 0); +Y is up).
+GRAVITY = (0.0, -1.0, 0.0)
+
 # Setting names each dialect understands (besides its DEFAULTS).
 _EXTRA = {
-    "lsys": {"ignore", "axiom", "turtle"},
-    "abop": {"palette", "color", "bg", "turtle", "angle", "delta", "width"},
+    "lsys": {"ignore", "axiom", "turtle", *_TROPISM},
+    "abop": {"palette", "color", "bg", "turtle", "angle", "delta", "width", *_TROPISM},
     "classic": {"angle", "thickness", "radius", "turtle", "iteration"},
     "engine": {"turtle", "seed", "noise_seed", "salt"},
 }
@@ -248,11 +254,77 @@ def _configure(dialect: str, s: dict, seed: int | None):
     return cfg, palette, materials, vertex_colors, bg
 
 
+def _tropism(cfg, s: Mapping, program: Program | None, ops: np.ndarray) -> None:
+    """The tropism settings into ``cfg``; the walk's tropism flag when anything can bend."""
+    t = s.get("tropism", GRAVITY)
+    try:
+        vec = tuple(float(x) for x in t)  # type: ignore[union-attr]
+    except (TypeError, ValueError):
+        vec = ()
+    if len(vec) != 3 or not all(np.isfinite(vec)):
+        raise TurtleSettingsError(f"setting 'tropism' must be 3 numbers (x, y, z), got {t!r}")
+    cfg[K.C_TROP : K.C_TROP + 3] = vec
+    cfg[K.C_ELAST] = _num(s, "elasticity") if "elasticity" in s else 0.0
+    cfg[K.C_ESTEP] = _num(s, "elasticity_step") if "elasticity_step" in s else 0.0
+    cfg[K.C_TMODE] = 1.0 if program is not None and program.dialect == "cpfg" else 0.0
+    cfg[K.C_TON] = 1.0 if cfg[K.C_ELAST] != 0.0 or np.any(ops == T.AT) else 0.0
+
+
+def _check_at(word: ModuleString, ops: np.ndarray, arg: np.ndarray, cpfg: bool) -> None:
+    """Every ``@`` of ``word`` followed by a function the turtle knows (``O v M R T``, and
+    ``s i d`` after ``T``), else a :class:`TurtleSettingsError` naming the module."""
+    syms = np.flatnonzero(ops == T.AT)  # the alphabet's '@' (no pass over a word without)
+    if syms.size == 0:
+        return
+    at = np.flatnonzero(word.ids == syms[0])
+    if at.size == 0:
+        return
+    names = word.alphabet.names
+    n = len(word)
+    code = np.zeros(at.size)
+    inside = at + 1 < n
+    code[inside] = arg[word.ids[at[inside] + 1]]
+    fun = np.isin(code, list(T.AT_FUNCTIONS.values()))
+    tee = code == T.AT_T
+    sub_at = at + 2
+    sub = np.zeros(at.size)
+    ok2 = tee & (sub_at < n)
+    sub[ok2] = arg[word.ids[sub_at[ok2]]]
+    bad = ~fun | (tee & ~np.isin(sub, list(T.AT_SUBFUNCTIONS.values())))
+    want = "@O @v @M @R @Ts @Ti @Td"
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        p = int(at[k])
+        nxt = names[word.ids[p + 1]] if p + 1 < n else None
+        if nxt is not None and tee[k]:
+            after = names[word.ids[p + 2]] if p + 2 < n else None
+            got = f"'@T' followed by {after!r}" if after is not None else "'@T' at the end"
+        else:
+            got = f"'@' followed by {nxt!r}" if nxt is not None else "'@' at the end"
+        raise TurtleSettingsError(
+            f"unknown @ module at module {p} of the word: {got}; expected one of {want}"
+        )
+    if cpfg and word.values.size:  # cpfg's @T take the tropism's index first: sylva has one
+        for p in at[tee].tolist():
+            a, b = word.offsets[p + 2], word.offsets[p + 3]
+            if b > a and word.values[a] != 1.0:
+                raise TurtleSettingsError(
+                    f"module {p + 2} of the word: @T{names[word.ids[p + 2]]} names tropism "
+                    f"{word.values[a]:g}; expected 1 (sylva has one tropism, the view "
+                    "file's 'tropism direction:')"
+                )
+
+
 def _run(word, program, dialect, seed, overrides, trace_on):
     word = _as_word(word, program)
     dialect, s = _settings(program, dialect, overrides)
     cfg, palette, materials, vertex_colors, bg = _configure(dialect, s, seed)
     ops, arg = compile_table(TABLES[dialect], word.alphabet.names, ARGS.get(dialect))
+    has_at = "@" in word.alphabet
+    if dialect in ("lsys", "abop") and (has_at or s.get("elasticity")):  # else nothing bends
+        _tropism(cfg, s, program, ops)
+        if has_at:
+            _check_at(word, ops, arg, cfg[K.C_TMODE] != 0.0)
     n = len(word)
     threads = _threads()
     parallel = threads > 1 and n >= PARALLEL_MIN and cfg[K.C_ENGINE] == 0.0
@@ -314,9 +386,9 @@ def _walk_subtrees(sel, slots, depths, rows, arrays, threads) -> int:
     none = np.zeros((0, 6), np.int64)
     no_slots = np.zeros((0, K.NS))
     no_depth = np.zeros(0, np.int64)
-    has_par, engine, trace = K.walk_flags(arrays[0], arrays[5])
-    if has_par or engine or trace:
-        flags: tuple = (has_par, engine, trace)
+    has_par, engine, trace, tropism = K.walk_flags(arrays[0], arrays[5])
+    if has_par or engine or trace or tropism:
+        flags: tuple = (has_par, engine, trace, tropism)
         walk = K.walk
     else:  # the common case, compiled without the flags' branches
         flags = ()

@@ -15,7 +15,14 @@ Tables
     cut the rest of the branch, ``!`` width ×``thick_factor`` (``!(w)`` sets the width),
     ``; '`` next colour index (``;(i)`` sets it), ``,`` previous colour index, ``~`` a
     predefined surface (a leaf; ``~(s)`` or ``~l(s)`` scales it).  Parameters override the
-    defaults: ``+(30)`` turns 30°, ``F(2)`` draws 2 units.
+    defaults: ``+(30)`` turns 30°, ``F(2)`` draws 2 units.  ``@`` calls one of cpfg's
+    functions, named by the modules after it: ``@O(d)`` a sphere of diameter ``d`` (default
+    the width), ``@v`` roll to vertical (``$``), ``@M(x, y[, z])`` move to a point,
+    ``@R(hx, hy[, hz[, ux, uy, uz]])`` set the heading (and up), ``@Ts @Ti @Td`` set,
+    increase, decrease the elasticity of tropism (ABOP §2.3: after every ``F f G g`` the
+    frame turns by ``e·|H × T|`` about ``H × T``; settings ``tropism``, ``elasticity``,
+    ``elasticity_step``).  Programs read from cpfg write ``@Ts(1, e)`` (the tropism's index
+    first, cpfg's spelling), the others ``@Ts(e)`` (L-Py's).
 ``lsys`` (seed 001, LSysVis Table 3)
     ``F f [ ] + - ^ & \\ / | $`` as above (Table 3 calls ``+``/``-`` yaw, ``^``/``&`` pitch
     and ``\\``/``/`` roll; we keep ABOP's signs), ``!`` adds ``thick_delta`` (``!(x)`` sets
@@ -23,7 +30,7 @@ Tables
     ``color_delta`` (``;(r,g,b)`` sets the colour), ``_`` adds ``len_delta`` (``_(x)`` sets
     the length).  The thesis lost the glyph of the length command; we chose ``_`` (seed
     001 §9.1).  ``{ } .`` (the thesis's future work) make polygons whose vertices are the
-    turtle's positions, as in ABOP.
+    turtle's positions, as in ABOP; ``@`` and tropism as in ``abop``.
 ``classic`` (seed 000)
     ``F`` draws a segment and multiplies the radius by ``reduction`` (a frustum whose top is
     ``reduction`` times its base), ``f`` moves, ``+ - & ^ / \\ |`` rotate by ``angle``, ``[ ]``,
@@ -93,8 +100,28 @@ SHRINK = 34  # engine x
 GROW = 35  # engine X
 RESET_SCALE = 36  # engine S
 BUFFER = 37  # engine 0-9 (argument: the buffer)
+AT = 38  # @ (abop, lsys): cpfg's functions, named by the next module (argument: AT_*)
 
-OPCODE_NAMES = {v: k for k, v in list(globals().items()) if k.isupper() and isinstance(v, int)}
+# the functions after ``@``: each is the argument of the letter that names it
+AT_SPHERE = 1  # @O(d): a sphere of diameter d (default: the width)
+AT_VERTICAL = 2  # @v: roll to vertical (ABOP's $)
+AT_MOVE = 3  # @M(x, y[, z]): move to a point without drawing
+AT_HEADING = 4  # @R(hx, hy[, hz[, ux, uy, uz]]): set the heading (and up)
+AT_T = 5  # @T followed by s, i or d: the elasticity of tropism
+AT_TS = 6  # @Ts: set it
+AT_TI = 7  # @Ti: increase it
+AT_TD = 8  # @Td: decrease it
+#: The letters after ``@`` and their functions (``T`` takes one more letter).
+AT_FUNCTIONS: Mapping[str, int] = {
+    "O": AT_SPHERE, "v": AT_VERTICAL, "M": AT_MOVE, "R": AT_HEADING, "T": AT_T,
+}  # fmt: skip
+AT_SUBFUNCTIONS: Mapping[str, int] = {"s": AT_TS, "i": AT_TI, "d": AT_TD}
+
+OPCODE_NAMES = {
+    v: k
+    for k, v in list(globals().items())
+    if k.isupper() and isinstance(v, int) and not k.startswith("AT_")
+}
 
 # --------------------------------------------------------------------------- tables
 _ROT = {
@@ -126,6 +153,7 @@ TABLES: Mapping[str, Mapping[str, int]] = {
         "'": COLOR_NEXT,
         ",": COLOR_PREV,
         "~": SURFACE,
+        "@": AT,
     },
     "lsys": {
         "F": DRAW,
@@ -141,6 +169,7 @@ TABLES: Mapping[str, Mapping[str, int]] = {
         "~": ANGLE_ADD,
         ";": COLOR_ADD,
         "_": LENGTH_ADD,
+        "@": AT,
     },
     "classic": {
         "F": DRAW,
@@ -168,7 +197,12 @@ TABLES: Mapping[str, Mapping[str, int]] = {
     },
 }
 
-ARGS: Mapping[str, Mapping[str, float]] = {"engine": {str(d): float(d) for d in range(10)}}
+_AT_ARGS = {k: float(v) for k, v in (*AT_FUNCTIONS.items(), *AT_SUBFUNCTIONS.items())}
+ARGS: Mapping[str, Mapping[str, float]] = {
+    "engine": {str(d): float(d) for d in range(10)},
+    "abop": _AT_ARGS,
+    "lsys": _AT_ARGS,
+}
 
 # Default colour table of the ABOP dialect (cpfg colour indices), linear RGB: a ramp from bark
 # to leaf green (``'``/``;`` step along it level by level, as in ABOP Fig. 1.25), then two
@@ -260,5 +294,5 @@ def compile_table(
         op = table.get(name)
         if op is not None:
             ops[i] = op
-            arg[i] = args.get(name, 0.0)
+        arg[i] = args.get(name, 0.0)
     return ops, arg

@@ -69,7 +69,7 @@ def test_detection():
         ("/* one\ntwo */\nLsystem: 1\nAxiom: F\nF --> F[+F\nendlsystem", 5, None, "']'"),
         ("Lsystem: 1\nAxiom: F\nF(x) --> F(x*)[+F : 0.5\n", 3, 14, "expression"),
         ("Lsystem: 1\nAxiom: F\nF(x) : y > 1 --> F(x)\n", 3, 8, "unknown variable 'y'"),
-        ("Lsystem: 1\nAxiom: F\ndecomposition\nF --> FF\n", 3, 1, "decomposition"),
+        ("Lsystem: 1\nAxiom: F\nmaximum depth: 2\n", 3, 1, "belongs in a decomposition"),
         ("#include <lpfgall.h>\nLsystem: 1\n", 1, 1, "#include"),
         ("Lsystem: 1\nAxiom: F\nF -> FF\n", 3, 1, "production"),
         ("Lsystem: 1\nAxiom: F\nhomomorphism\nF --> G : 0.5\n", 4, None, "probability"),

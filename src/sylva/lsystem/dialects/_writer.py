@@ -21,9 +21,11 @@ from ..ast import Binary, Call, Expr, Module, Num, Pattern, Program, Rule, Unary
 from ..lstring import format_number
 from .lsysvis import (
     COLOUR_SETTINGS,
+    DEPTHS,
     NUMERIC_SETTINGS,
     PRECEDENCE,
     RIGHT_ASSOCIATIVE,
+    SECTIONS,
     SPECIAL_VARIABLES,
     TURTLES,
 )
@@ -217,6 +219,10 @@ def format_program(program: Program) -> str:
         lines.append(f"steps = {int(program.steps)}")
     if program.seed is not None:
         lines.append(f"seed = {int(program.seed)}")
+    for name in DEPTHS:
+        depth = int(getattr(program, name))
+        if depth != 1:
+            lines.append(f"{name} = {depth}")
     for name in NUMERIC_SETTINGS:
         if name in settings:
             lines.append(f"{name} = {_number(settings[name])}")  # type: ignore[arg-type]
@@ -237,10 +243,19 @@ def format_program(program: Program) -> str:
         lines.append(
             ("consider = " + "".join(format_symbol(s) for s in sorted(program.consider))).rstrip()
         )
+    if program.group is not None:
+        lines.append(f"group = {format_expr(program.group)}")
     if not program.axiom:
         raise ValueError("the axiom is empty")
     lines.append("axiom = " + format_word(program.axiom))
     if program.rules:
         lines.append("")
-        lines.extend(format_rule(r) for r in program.rules)
+        section = ("production", 0)
+        for r in program.rules:
+            if (r.phase, r.group) != section:
+                if r.phase not in SECTIONS or (r.group and r.phase != "production"):
+                    raise ValueError(f"a rule of phase {r.phase!r} in group {r.group}")
+                section = (r.phase, r.group)
+                lines.append(f"group {int(r.group)}:" if r.group else f"{r.phase}:")
+            lines.append(format_rule(r))
     return "\n".join(lines) + "\n"

@@ -16,11 +16,19 @@
 Read: ``/* … */`` and ``//`` comments; ``#define NAME value`` (a constant); ``Lsystem:``
 (the name); ``derivation length:``; ``seed:``; ``Axiom:``; ``ignore:`` and ``consider:``;
 productions ``[lc <] pred [> rc] [: condition] --> successor [: probability]`` (a condition
-``*`` means none; probabilities are weights); ``homomorphism`` (the productions after it are
-render rules, drawn but not derived: sylva's ``->>``); ``maximum depth:`` (read and not
-needed: render rules apply once); ``endlsystem`` (the rest of the file is ignored).  Inside
-expressions ``^`` is cpfg's power (sylva's ``**``).  The turtle is ABOP's (``turtle =
-abop``).  Not supported, with an error that says so: ``decomposition``, ``#include``.
+``*`` means none, a successor ``*`` is the empty word; probabilities are weights);
+``decomposition`` (the productions after it are decomposition rules, applied after every
+step until none applies); ``homomorphism`` (the productions after it are drawn, not
+derived: without a ``maximum depth:`` they are seed 001's render rules, ``->>``, one pass;
+with one they are interpretation rules, applied again to what they make);
+``maximum depth:`` (in those two sections: the most passes, cpfg's default 1; rules that
+still apply after them are an error); the view file's ``tropism direction:`` (normalised,
+as cpfg does), ``initial elasticity:`` and ``elasticity increment:`` (ABOP §2.3 tropism);
+``endlsystem`` (the rest of the file is ignored).  Inside expressions ``^`` is cpfg's power
+(sylva's ``**``).  The turtle is ABOP's (``turtle = abop``), with cpfg's ``@`` functions
+(``@O @v @M @R``, and ``@Ts(1, e)`` / ``@Ti`` / ``@Td`` whose first parameter is the
+tropism's index: sylva has one, 1).  Not supported, with an error that says so:
+``#include``.
 
 The reader turns each line into one line of sylva's ``.lsys`` language and parses that, so
 errors name the file's lines and columns (a column right of a ``^`` that became ``**`` may
@@ -36,16 +44,21 @@ Examples
 
 from __future__ import annotations
 
+import math
 import re
 
-from ...errors import LSystemSyntaxError
+from ...errors import LSystemSyntaxError, SylvaError
 from ..ast import Program
+from ..expr import evaluate_constant
 from . import lsysvis
 
 __all__ = ["parse"]
 
-_KEY = re.compile(r"\s*(lsystem|derivation\s+length|seed|axiom|ignore|consider|maximum\s+depth)"
+_KEY = re.compile(r"\s*(lsystem|derivation\s+length|seed|axiom|ignore|consider|maximum\s+depth"
+                  r"|tropism\s+direction|initial\s+elasticity|elasticity\s+increment)"
                   r"\s*:(.*)\Z", re.IGNORECASE)  # fmt: skip
+_VIEW = {"tropism direction": "tropism", "initial elasticity": "elasticity",
+         "elasticity increment": "elasticity_step"}  # fmt: skip
 _DEFINE = re.compile(r"\s*#\s*define\s+([A-Za-z_]\w*)\s+(.+?)\s*\Z")
 _SECTION = re.compile(r"\s*(homomorphism|decomposition|endlsystem)\b(.*)\Z", re.IGNORECASE)
 
@@ -115,6 +128,7 @@ def _production(line: str, render: bool, where) -> tuple[str, list[tuple[int, in
         parts.append((len(head) + 4, line.rindex(prob)))
     succ_at = at + 3 + len(succ) - len(succ.lstrip())
     parts.append((len(head) + len(arrow) + 2, succ_at))
+    succ = "" if succ.strip() == "*" else succ  # cpfg's '*' is the empty word
     return f"{head} {arrow} {_in_parens_power(succ.strip())}", sorted(parts)
 
 
@@ -139,6 +153,10 @@ def parse(text: str, filename: str | None = None) -> Program:
     name: str | None = None
     render = False
     ended = False
+    trop_at = None
+    section = "production"
+    depths: dict[str, tuple[str, LSystemSyntaxError]] = {}
+    recursive = _homomorphism_has_depth(lines)
     for number, raw in enumerate(lines, start=1):
 
         def where(message: str, column: int = 1, _n=number, _raw=raw) -> LSystemSyntaxError:
@@ -158,15 +176,16 @@ def parse(text: str, filename: str | None = None) -> Program:
                         line.index("#") + 1)  # fmt: skip
         if m := _SECTION.match(line):
             key = m.group(1).lower()
+            section = key
             if key == "decomposition":
-                raise where(
-                    "cpfg decomposition rules are not supported; expected "
-                    "productions, homomorphism or endlsystem",
-                    line.index(m.group(1)) + 1,
-                )
-            render = render or key == "homomorphism"
-            ended = key == "endlsystem"
-            out.append("")
+                render = False
+                out.append("decomposition:")
+            elif key == "homomorphism":
+                render = not recursive  # no maximum depth: seed 001's render rules
+                out.append("production:" if render else "interpretation:")
+            else:
+                ended = True
+                out.append("")
             continue
         if m := _KEY.match(line):
             key = " ".join(m.group(1).lower().split())
@@ -177,7 +196,17 @@ def parse(text: str, filename: str | None = None) -> Program:
             elif key == "derivation length":
                 out.append(f"steps = {value}")
             elif key == "maximum depth":
+                if section not in _DEPTH_OF:
+                    raise where("'maximum depth:' belongs in a decomposition or homomorphism "
+                                "section; expected it after 'decomposition' or "
+                                "'homomorphism'", 1 + len(line) - len(line.lstrip()))  # fmt: skip
+                depths[_DEPTH_OF[section]] = (value, where("", line.index(":") + 2))
                 out.append("")
+            elif key in _VIEW:
+                out.append(f"{_VIEW[key]} = {_power(value)}")
+                if key == "tropism direction":
+                    trop_at = where("the tropism direction is the zero vector; expected a "
+                                    "direction such as 0,-1,0", line.index(":") + 2)  # fmt: skip
             else:
                 out.append(f"{key} = {_in_parens_power(value)}")
             continue
@@ -196,4 +225,36 @@ def parse(text: str, filename: str | None = None) -> Program:
         raise _relocate(err, original, parts) from None
     settings = dict(program.settings)
     settings.setdefault("turtle", "abop")
-    return program.replace(settings=settings, dialect="cpfg", name=name or program.name)
+    if "tropism" in settings:  # cpfg normalises the direction (interpret.c)
+        t = settings["tropism"]
+        norm = sum(c * c for c in t) ** 0.5  # type: ignore[union-attr]
+        if norm == 0.0:
+            raise trop_at
+        settings["tropism"] = tuple(c / norm for c in t)  # type: ignore[union-attr]
+    fields = {}
+    for field, (text, at) in depths.items():
+        try:
+            v = evaluate_constant(lsysvis.parse_expr(_power(text)), program.constants)
+        except (SylvaError, ArithmeticError, ValueError, TypeError):
+            v = float("nan")
+        if not (math.isfinite(v) and v == int(v) and v >= 1):
+            raise LSystemSyntaxError(f"maximum depth {text!r}: expected a whole number >= 1",
+                                     filename=at.filename, line=at.line, column=at.column,
+                                     source_line=at.source_line)  # fmt: skip
+        fields[field] = int(v)
+    return program.replace(settings=settings, dialect="cpfg", name=name or program.name,
+                           **fields)  # fmt: skip
+
+
+_DEPTH_OF = {"decomposition": "decomposition_depth", "homomorphism": "interpretation_depth"}
+
+
+def _homomorphism_has_depth(lines: list[str]) -> bool:
+    """Whether the homomorphism section sets a ``maximum depth:`` (cpfg's recursion)."""
+    inside = False
+    for line in lines:
+        if m := _SECTION.match(line):
+            inside = m.group(1).lower() == "homomorphism"
+        elif inside and (k := _KEY.match(line)) and "depth" in k.group(1).lower():
+            return True
+    return False

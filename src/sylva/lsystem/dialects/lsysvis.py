@@ -53,6 +53,25 @@ Extensions (so that every dialect converts to ``.lsys`` and back)
     Which turtle command table draws the word (default ``lsys``).
 ``reduction radius thickness`` (seed 000) and ``yaw pitch shrink`` (seed 004)
     Numeric settings of the other dialects' turtles.
+``tropism = x, y, z``, ``elasticity = e``, ``elasticity_step = s``
+    ABOP §2.3 tropism (``lsys`` and ``abop`` turtles): after every step the heading turns
+    by ``e·|H × T|`` about ``H × T`` toward ``T`` (default ``T = 0, -1, 0``, gravity).
+    ``@Ts(e)`` sets a branch's elasticity, ``@Ti(d)`` / ``@Td(d)`` add or take ``d``
+    (default ``elasticity_step``).  ``@O(d)`` draws a sphere of diameter ``d``, ``@v``
+    rolls to vertical (ABOP's ``$``), ``@M(x, y, z)`` moves to a point, ``@R(hx, hy, hz[,
+    ux, uy, uz])`` sets the heading (and up).  ``@`` is a module of its own; the letters
+    after it name the function, as in cpfg, and an ``@`` followed by anything else is an
+    error.
+``decomposition:``, ``interpretation:``, ``production:``, ``group N:`` (section lines)
+    The rules after ``decomposition:`` rewrite the word after every step (and the axiom),
+    again and again until none applies, at most ``decomposition_depth = N`` times (default
+    1; rules that still apply then are an error that names the module and the step).  The
+    rules after ``interpretation:`` do so to the word the turtle draws, at most
+    ``interpretation_depth`` times; seed 001's ``->>`` rules still apply once.  The rules
+    after ``group N:`` are the productions of table ``N`` (ABOP §1.4's table L-systems,
+    L-Py's groups); ``group = expression`` (of ``step``, the steps done before, from 0, and
+    the global variables) picks each step's table, and the rules outside any group apply
+    in every step.  ``production:`` returns to those.
 
 Special variables go to :attr:`Program.settings` (only those the file sets; ``bg``, ``color``
 and ``color_delta`` as 3-tuples of floats, ``turtle`` as a string, the rest as floats), user
@@ -76,7 +95,7 @@ import math
 import re
 from collections.abc import Collection, Iterable, Mapping
 from contextvars import ContextVar
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cache
 from importlib import resources
 from pathlib import Path
@@ -123,15 +142,45 @@ NUMERIC_SETTINGS: tuple[str, ...] = (
     "yaw",
     "pitch",
     "shrink",
+    "elasticity",
+    "elasticity_step",
 )
-#: Three-component special variables, and whether each is clamped to [0, 1].
-COLOUR_SETTINGS: Mapping[str, bool] = {"bg": True, "color": True, "color_delta": False}
+#: Three-component special variables, and whether each is clamped to [0, 1] (the colours
+#: ``bg``, ``color``, ``color_delta`` and the tropism vector).
+COLOUR_SETTINGS: Mapping[str, bool] = {
+    "bg": True,
+    "color": True,
+    "color_delta": False,
+    "tropism": False,
+}
 #: The turtle command tables ``turtle = ...`` may name.
 TURTLES: tuple[str, ...] = ("lsys", "abop", "classic", "engine")
 #: Every name with a special meaning on the left of ``=``.
+#: Whole-number program fields: the most passes of decomposition and interpretation rules.
+DEPTHS: tuple[str, ...] = ("decomposition_depth", "interpretation_depth")
 SPECIAL_VARIABLES: frozenset[str] = frozenset(
-    (*NUMERIC_SETTINGS, *COLOUR_SETTINGS, "axiom", "ignore", "consider", "seed", "steps", "turtle")
-)
+    (*NUMERIC_SETTINGS, *COLOUR_SETTINGS, *DEPTHS, "axiom", "ignore", "consider", "seed",
+     "steps", "turtle", "group")
+)  # fmt: skip
+#: The section headers among the rules and the phase of the rules after them.
+SECTIONS: Mapping[str, str] = {
+    "production": "production",
+    "decomposition": "decomposition",
+    "interpretation": "interpretation",
+    "group": "production",
+}
+_SECTION_LINE = re.compile(r"\s*(production|decomposition|interpretation|group)\b(?!\s*=)")
+
+#: The functions that follow ``@`` in a word (cpfg's ``@O @v @M @R @Ts @Ti @Td``), for the
+#: turtles that read them; ``T`` is followed by one of its own letters.
+AT_FUNCTIONS: Mapping[str, frozenset[str]] = {
+    "O": frozenset(),
+    "v": frozenset(),
+    "M": frozenset(),
+    "R": frozenset(),
+    "T": frozenset("sid"),
+}
+_AT_TURTLES = ("lsys", "abop")
 
 _BLANK = re.compile(r"\s*(?:#.*)?\Z", re.DOTALL)
 _ASSIGN = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*=(?![=>])")
@@ -289,6 +338,9 @@ class _Build(Transformer):
     def expr_only(self, c):
         return c[0]
 
+    def section(self, c):
+        return c
+
     # ---- expressions
     def chain(self, c):
         return _group(c)
@@ -345,7 +397,7 @@ def _parser() -> Lark:
         grammar,
         parser="lalr",
         lexer="contextual",
-        start=["rule", "word", "symbols", "exprs", "expr_only"],
+        start=["rule", "word", "symbols", "exprs", "expr_only", "section"],
         maybe_placeholders=True,
         transformer=_Build(),
     )
@@ -493,6 +545,29 @@ def _modules(items: list[_Item], where: Where, what: str) -> list[tuple[Module, 
     return [(Module(it.symbol, tuple(it.params or ())), it) for it in items]
 
 
+def _check_at(items: list[_Item], where: Where) -> None:
+    """Every ``@`` of a written word followed by a function in :data:`AT_FUNCTIONS`."""
+    want = "@O, @v, @M, @R, @Ts, @Ti or @Td"
+    for k, it in enumerate(items):
+        if it.bracket or it.symbol != "@":
+            continue
+        if it.params is not None:
+            raise where.semantic(
+                f"'@' takes no parameters: they belong to its function; expected {want}",
+                it.params_column,
+            )
+        nxt = items[k + 1] if k + 1 < len(items) else None
+        if nxt is None or nxt.bracket or nxt.symbol not in AT_FUNCTIONS:
+            got = f"'@{nxt.symbol}'" if nxt is not None else "'@' at the end of the word"
+            raise where.semantic(f"unknown @ module {got}; expected {want}", it.column)
+        subs = AT_FUNCTIONS[nxt.symbol]
+        if subs:
+            last = items[k + 2] if k + 2 < len(items) else None
+            if last is None or last.bracket or last.symbol not in subs:
+                got = f"'@{nxt.symbol}{last.symbol}'" if last is not None else f"'@{nxt.symbol}'"
+                raise where.semantic(f"unknown @ module {got}; expected {want}", it.column)
+
+
 def _first_column(line: str) -> int:
     return len(line) - len(line.lstrip()) + 1
 
@@ -611,6 +686,11 @@ class _Reader:
         self.steps: int | None = None
         self.rules: list[Rule] = []
         self.first_rule_line: int | None = None
+        self.at_words: list[tuple[list[_Item], Where]] = []  # checked once the turtle is known
+        self.phase = "production"  # of the rules that follow: set by section headers
+        self.group = 0
+        self.group_expr: Expr | None = None
+        self.depths: dict[str, int] = {}
 
     def read(self, text: str) -> None:
         if text.startswith("\ufeff"):
@@ -619,6 +699,11 @@ class _Reader:
             if _BLANK.match(line):
                 continue
             where = Where(line, lineno, self.filename)
+            if _SECTION_LINE.match(line):
+                if self.first_rule_line is None:
+                    self.first_rule_line = lineno
+                self.section(_parse(line, "section", where), where)
+                continue
             m = _ASSIGN.match(line)
             if m:
                 if self.first_rule_line is not None:
@@ -642,7 +727,34 @@ class _Reader:
                             lead.end() + 1,
                         ) from None
                     raise
-                self.rules.append(_build_rule(parts, where, self.constants))
+                rule = _build_rule(parts, where, self.constants)
+                if self.phase != "production" or self.group:
+                    rule = replace(rule, phase=self.phase, group=self.group)
+                self.rules.append(rule)
+                if any(it.symbol == "@" and not it.bracket for it in parts[-1]):
+                    self.at_words.append((parts[-1], where))
+
+    def section(self, parts, where: Where) -> None:
+        kw, number, _colon = parts
+        name = str(kw)
+        if name == "group":
+            if number is None:
+                raise where.error(
+                    "expected the group's number: 'group 1:'", where.end_column()
+                )
+            v = float(number)
+            if not v.is_integer() or v < 0:
+                raise where.semantic(
+                    f"a group is a whole number >= 0, got {number}", number.column
+                )
+            self.group = int(v)
+        elif number is not None:
+            raise where.error(
+                f"'{name}:' takes no number; expected ':' after {name!r}", number.column
+            )
+        else:
+            self.group = 0
+        self.phase = SECTIONS[name]
 
     def assign(self, m: re.Match, where: Where) -> None:
         name = m.group(1)
@@ -665,6 +777,8 @@ class _Reader:
             items = _parse(padded, "word", where)
             if not items:
                 raise where.error("the axiom is empty; expected a word such as 'F'", value_col)
+            if any(it.symbol == "@" and not it.bracket for it in items):
+                self.at_words.append((items, where))
             axiom = []
             for mod, it in _modules(items, where, "the axiom"):
                 args = tuple(
@@ -687,6 +801,15 @@ class _Reader:
                 self.ignore = names
             else:
                 self.consider = names
+        elif name == "group":
+            expr = _parse(padded, "expr_only", where)
+            _check_vars(
+                expr,
+                {"step", *self.constants},
+                where,
+                _known_hint(["step", *self.constants], "'step' or a global variable"),
+            )
+            self.group_expr = expr
         elif name == "turtle":
             t = _WORD_NAME.match(rest)
             if not t or t.group(1) not in TURTLES:
@@ -706,7 +829,12 @@ class _Reader:
         cols = [value_col if c is None else _skip_spaces(where.line, c) for _, c in parts]
         want = 3 if name in COLOUR_SETTINGS else 1
         if len(parts) != want:
-            if want == 3:
+            if name == "tropism":
+                msg = (
+                    f"'tropism' is a vector: expected 3 components (x, y, z, separated by "
+                    f"commas), got {len(parts)}"
+                )
+            elif want == 3:
                 msg = (
                     f"{name!r} is a colour: expected 3 components (red, green, blue between "
                     f"0 and 1, separated by commas), got {len(parts)}"
@@ -723,6 +851,11 @@ class _Reader:
             self.settings[name] = tuple(values)
         elif name in NUMERIC_SETTINGS:
             self.settings[name] = values[0]
+        elif name in DEPTHS:
+            v = values[0]
+            if not v.is_integer() or v < 1:
+                raise where.semantic(f"{name!r} expected a whole number >= 1, got {v:g}", value_col)
+            self.depths[name] = int(v)
         elif name in ("seed", "steps"):
             digits = _DIGITS.match(padded)
             if digits:  # exact, also beyond 2**53
@@ -736,6 +869,9 @@ class _Reader:
             self.constants[name] = values[0]
 
     def program(self, text: str) -> Program:
+        if self.settings.get("turtle", "lsys") in _AT_TURTLES:
+            for items, where in self.at_words:
+                _check_at(items, where)
         if self.axiom is None:
             lines = text.splitlines()
             line = self.first_rule_line or 1
@@ -761,6 +897,8 @@ class _Reader:
             dialect="lsys",
             name=Path(self.filename).stem if self.filename else None,
             filename=self.filename,
+            group=self.group_expr,
+            **self.depths,
         )
 
 
