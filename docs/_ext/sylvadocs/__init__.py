@@ -150,10 +150,64 @@ class GalleryDirective(_Generated):
         return out
 
 
+class CliDirective(_Generated):
+    """Every sub-command's ``--help``, as argparse prints it."""
+
+    has_titles = True
+
+    def depends_on(self):
+        import sylva.cli
+
+        return [*super().depends_on(), *Path(sylva.cli.__file__).parent.glob("*.py")]
+
+    def lines(self):
+        out = []
+        for name, text in catalog.cli_commands().items():
+            title = f"sylva {name}"
+            out += [f".. _cli-{name}:", "", title, "-" * len(title), "",
+                    ".. code-block:: text", ""] + _indent(text) + [""]
+        return out
+
+
+class ApiDirective(_Generated):
+    """The functions and classes of a module's ``__all__``, from their docstrings."""
+
+    required_arguments = 1
+    has_titles = True
+
+    def lines(self):
+        module = self.arguments[0]
+        functions, classes = catalog.api_names(module)
+        out = [f".. module:: {module}", "", ".. autosummary::", ""]
+        out += [f"   {n}" for n in functions + classes] + [""]
+        for n in functions:
+            out += [f".. autofunction:: {module}.{n}", ""]
+        for n in classes:
+            out += [f".. autoclass:: {module}.{n}", "   :members:", ""]
+        return out
+
+
+class ExampleImageDirective(_Generated):
+    """The gallery picture of one built-in example (``.. sylva-example:: NAME``)."""
+
+    required_arguments = 1
+
+    def lines(self):
+        from sylva.data import find
+
+        name = find(self.arguments[0]).name
+        job = pictures.Job("example", name, pictures.GALLERY_SIZE)
+        return [f".. figure:: {_image(job)}", "   :width: 300", f"   :alt: {name}", "",
+                f"   ``{name}`` (:ref:`in the gallery <{name}>`)", ""]
+
+
 def setup(app):
     app.add_directive("sylva-grammar", GrammarDirective)
     app.add_directive("sylva-turtle-table", TurtleTableDirective)
     app.add_directive("sylva-gallery", GalleryDirective)
+    app.add_directive("sylva-example", ExampleImageDirective)
+    app.add_directive("sylva-cli", CliDirective)
+    app.add_directive("sylva-api", ApiDirective)
     app.connect("builder-inited", _render)
     return {"version": pictures.VERSION, "parallel_read_safe": True,
             "parallel_write_safe": True}

@@ -359,3 +359,80 @@ def gallery_entries() -> list[Entry]:
     from sylva.data import examples
 
     return [Entry(e.name, e.title, e.path) for e in examples()]
+
+
+# ---------------------------------------------------------------------------- command line
+
+
+def cli_commands() -> dict[str, str]:
+    """``{command: its --help text}`` for every ``sylva`` sub-command (argparse's own)."""
+    import argparse
+    import os
+
+    from sylva.cli import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    old = os.environ.get("COLUMNS")
+    os.environ["COLUMNS"] = "92"
+    try:
+        return {name: p.format_help() for name, p in sorted(sub.choices.items())}
+    finally:
+        if old is None:
+            os.environ.pop("COLUMNS", None)
+        else:
+            os.environ["COLUMNS"] = old
+
+
+# ------------------------------------------------------------------------------- the API
+
+#: The modules of the API reference, in order, with a line each.
+API_MODULES = {
+    "sylva": "the curated API: read, write, define and derive L-systems",
+    "sylva.plant": "from an L-system to meshes in one call",
+    "sylva.lsystem": "the language, the programs and the derivation engine",
+    "sylva.turtle": "the 3D turtle and its command tables",
+    "sylva.geometry": "meshes and scenes",
+    "sylva.geometry.exchange": "mesh export (glTF, OBJ, PLY, STL, OpenSCAD, POV-Ray, SVG, USD)",
+    "sylva.render": "offscreen rendering, cameras, lights, animations",
+    "sylva.texture": "procedural textures",
+    "sylva.tree": "trees that grow in time (Weber-Penn species, wind)",
+    "sylva.world": "voxel worlds",
+    "sylva.studio": "the browser workbench",
+    "sylva.data": "the built-in examples",
+}
+
+
+#: The classes each page shows besides the functions (the others are documented where a
+#: function returns or takes them, and in the source).
+API_CLASSES = {
+    "sylva": ("Program", "ModuleString", "Derivation", "SylvaError", "LSystemSyntaxError",
+              "LSystemSemanticError", "GrowthLimitError"),
+    "sylva.plant": ("Plant",),
+    "sylva.geometry": ("Scene", "Mesh", "Material"),
+    "sylva.render": ("Camera", "Sun", "PointLight", "Sky", "Ground"),
+    "sylva.tree": ("Tree", "Wind"),
+    "sylva.world": ("World", "WorldConfig"),
+    "sylva.studio": ("Limits",),
+}
+
+
+def api_names(module: str) -> tuple[list[str], list[str]]:
+    """``(functions, classes)`` a page of the API reference shows.
+
+    The functions of the module's ``__all__`` (for ``sylva.lsystem`` less those that
+    ``sylva`` itself exports) and the classes of :data:`API_CLASSES`.  Constants (tables,
+    defaults) are described by the pages that use them.
+    """
+    import importlib
+    import inspect
+
+    mod = importlib.import_module(module)
+    top = set(importlib.import_module("sylva").__all__) if module == "sylva.lsystem" else set()
+    functions = [n for n in mod.__all__ if n not in top
+                 and callable(getattr(mod, n)) and not inspect.isclass(getattr(mod, n))]
+    classes = list(API_CLASSES.get(module, ()))
+    missing = [c for c in classes if c not in mod.__all__]
+    if missing:
+        raise ValueError(f"{module} does not export {missing}")
+    return functions, classes
