@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import doctest
 import importlib
+import importlib.util
 import pkgutil
 import re
 import sys
@@ -24,8 +25,20 @@ from sylva.lsystem.dialects import DIALECTS
 from sylva.turtle.tables import OPCODE_NAMES, TABLES
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
-sys.path.insert(0, str(DOCS / "_ext"))
-from sylvadocs import catalog  # noqa: E402
+
+
+def _catalog():
+    """``docs/_ext/sylvadocs/catalog.py``, loaded by path: the Sphinx extension around it
+    needs Sphinx, the catalog does not."""
+    spec = importlib.util.spec_from_file_location(
+        "sylvadocs_catalog", DOCS / "_ext" / "sylvadocs" / "catalog.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
+
+
+catalog = _catalog()
 
 OPTIONS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 
