@@ -58,7 +58,7 @@ class _Generated(Directive):
     def depends_on(self) -> list[Path]:
         """Files whose change makes this page be built again."""
         here = Path(__file__).resolve().parent
-        return [here / "catalog.py", here / "pictures.py", Path(catalog.__file__)]
+        return [here / "__init__.py", here / "catalog.py", here / "pictures.py"]
 
     def run(self):
         env = self.state.document.settings.env
@@ -178,7 +178,8 @@ class ApiDirective(_Generated):
     def lines(self):
         module = self.arguments[0]
         functions, classes = catalog.api_names(module)
-        out = [f".. module:: {module}", "", ".. autosummary::", ""]
+        out = [f".. automodule:: {module}", "   :no-members:", "", f".. currentmodule:: {module}",
+               "", ".. rubric:: Contents", "", ".. autosummary::", ""]
         out += [f"   {n}" for n in functions + classes] + [""]
         for n in functions:
             out += [f".. autofunction:: {module}.{n}", ""]
