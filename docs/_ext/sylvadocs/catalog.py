@@ -278,9 +278,14 @@ _DEMO = {
     "BLOCK_FORWARD": "{s}{s}{s}",
     "BLOCK_UP": "{s}{s}{s}",
     "SHRINK": "FF{s}FF{s}FF",
-    "GROW": "x x FF{s}FF{s}FF",
+    "GROW": "xxFF{s}FF{s}FF",
     "RESET_SCALE": "xxFF{s}FF",
     "BUFFER": "FF{s}FF",
+}
+#: Words for one table only (the engine's F steps sideways: its trunks are U).
+_DEMO_TABLE = {
+    ("engine", "PUSH"): "UU{s}+FF]UU",
+    ("engine", "POP"): "UU[+FF{s}UU",
 }
 # rotations are shown at 45 degrees, the engine's at 90
 _SETTINGS = {
@@ -304,7 +309,8 @@ class Row:
     def program(self) -> str:
         """``.lsys`` text whose axiom shows the command (its first symbol)."""
         s = self.symbols[0]
-        word = _DEMO[self.opcode].replace("{s}", _quote(s))
+        demo = _DEMO_TABLE.get((self.table, self.opcode), _DEMO[self.opcode])
+        word = demo.replace("{s}", _quote(s))
         if self.opcode == "BUFFER":
             word = _DEMO["BUFFER"].replace("{s}", "1")
         return f"{_SETTINGS[self.table]}axiom = {word}\n"
