@@ -122,6 +122,10 @@ def test_every_example_has_a_gallery_entry_with_a_working_name():
         assert e.command == f"sylva render {e.name} -o {e.name}.png"
     assert "gallery.rst" in _directives("sylva-gallery")
     assert _in_toctree("gallery.rst")
+    from sylva.texture import PRESETS
+
+    textures = catalog.gallery_textures()
+    assert textures and set(textures) <= set(PRESETS)
 
 
 def test_every_api_module_has_a_page():

@@ -32,6 +32,8 @@ CACHE = Path("_build") / ".sylva-cache"
 def _jobs() -> list[pictures.Job]:
     jobs = [pictures.Job("example", e.name, pictures.GALLERY_SIZE)
             for e in catalog.gallery_entries()]
+    jobs += [pictures.Job("texture", n, pictures.TEXTURE_SIZE)
+             for n in catalog.gallery_textures()]
     for table in ("lsys", "abop", "classic", "engine"):
         jobs += [pictures.Job("turtle", r.program, pictures.TURTLE_SIZE)
                  for r in catalog.turtle_rows(table)]
@@ -147,6 +149,14 @@ class GalleryDirective(_Generated):
                     ".. code-block:: sh", "", f"   {e.command}", "",
                     f".. code-block:: {e.language}", f"   :caption: {e.path.name}", ""]
             out += _indent(text) + [""]
+        out += ["Textures", "--------", "",
+                "Some of the texture presets (:doc:`tutorials/textures`), as ``sylva gallery`` "
+                "renders them; each is ``sylva texture NAME -o NAME.png``.", "",
+                ".. container:: sylva-grid", ""]
+        for name in catalog.gallery_textures():
+            job = pictures.Job("texture", name, pictures.TEXTURE_SIZE)
+            out += [f"   .. figure:: {_image(job)}", f"      :alt: {name}", "",
+                    f"      ``{name}``", ""]
         return out
 
 

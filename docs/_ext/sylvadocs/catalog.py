@@ -360,6 +360,14 @@ class Entry:
         return "text"
 
 
+def gallery_textures() -> tuple[str, ...]:
+    """The texture presets the gallery shows: those ``sylva gallery`` renders."""
+    from sylva.cli.gallery import GALLERY_TEXTURES
+    from sylva.texture import PRESETS
+
+    return tuple(n for n in GALLERY_TEXTURES if n in PRESETS)
+
+
 def gallery_entries() -> list[Entry]:
     """One entry per built-in example, in gallery order."""
     from sylva.data import examples

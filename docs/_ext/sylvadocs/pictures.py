@@ -19,12 +19,13 @@ VERSION = "1"
 
 GALLERY_SIZE = (360, 360)
 TURTLE_SIZE = (120, 120)
+TEXTURE_SIZE = (192, 192)
 
 
 @dataclass(frozen=True)
 class Job:
-    kind: str  # "example" or "turtle"
-    key: str  # the example's name or the program text
+    kind: str  # "example", "turtle" or "texture"
+    key: str  # the example's name, the program text or the texture preset
     size: tuple[int, int]
 
     def filename(self) -> str:
@@ -34,6 +35,11 @@ class Job:
 
             h.update(find(self.key).path.read_bytes())
             stem = self.key
+        elif self.kind == "texture":
+            from sylva.texture import PRESETS
+
+            h.update(repr(sorted(PRESETS[self.key].items())).encode())
+            stem = f"texture-{self.key}"
         else:
             h.update(self.key.encode())
             stem = "turtle"
@@ -65,11 +71,23 @@ def _render_example(name: str, out: Path, size: tuple[int, int]) -> dict:
     return info
 
 
+def _render_texture(name: str, out: Path, size: tuple[int, int]) -> None:
+    from PIL import Image
+
+    from sylva.texture import PRESETS, render
+
+    recipe = dict(PRESETS[name])
+    recipe["size"] = list(size)
+    Image.fromarray(render(recipe)).save(out)
+
+
 def _run(job: Job, folder: str) -> str:
     out = Path(folder) / job.filename()
     tmp = out.with_suffix(".part.png")
     if job.kind == "example":
         _render_example(job.key, tmp, job.size)
+    elif job.kind == "texture":
+        _render_texture(job.key, tmp, job.size)
     else:
         _render_turtle(job.key, tmp, job.size)
     os.replace(tmp, out)
