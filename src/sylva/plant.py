@@ -276,7 +276,7 @@ def plant_texture(
 
     Examples
     --------
-    >>> img = plant_texture("axiom = F\nF -> F[+F]F[-F]F", (32, 48), steps=2)
+    >>> img = plant_texture("axiom = F\\nF -> F[+F]F[-F]F", (32, 48), steps=2)
     >>> img.shape
     (32, 48, 3)
     """

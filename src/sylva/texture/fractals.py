@@ -114,7 +114,7 @@ def julia(shape, c=(-0.8, 0.156), *, center=0.0, width=3.2, maxiter=256, bailout
 
 def burning_ship(shape, *, center=(-0.45, -0.5), width=3.2, maxiter=256, bailout=256.0,
                  smooth=True, dtype=None):
-    """Burning Ship: z <- (|Re z| + i |Im z|)^2 + c, z0 = 0.  Parameters as
+    """Burning Ship: ``z <- (|Re z| + i |Im z|)^2 + c``, ``z0 = 0``.  Parameters as
     :func:`mandelbrot` (the ship's hull points up with the imaginary axis flipped).
 
     Examples
@@ -161,7 +161,7 @@ def barnsley_j1(shape, start=(0.6, 1.1), *, center=0.0, width=4.0, maxiter=149,
 
 
 def in_mandelbrot(c, *, maxiter=1000) -> np.ndarray | bool:
-    """Whether the points ``c`` stay bounded (|z| <= 2) for ``maxiter`` iterations.
+    """Whether the points ``c`` stay bounded (``|z| <= 2``) for ``maxiter`` iterations.
 
     Examples
     --------

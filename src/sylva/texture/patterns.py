@@ -39,7 +39,7 @@ def marble(shape, *, scale=4.0, stripes=4.0, turbulence=2.0, octaves=6, persiste
            lacunarity=2.0, seed=None, tileable=False, time=None, dtype=None):
     """Marble veins: ``0.5 + 0.5 sin(2 pi (stripes * x + turbulence * T(p)))``.
 
-    ``T`` is Perlin's turbulence (sum of |improved noise|, normalised to [0, 1]); with
+    ``T`` is Perlin's turbulence (sum of ``|improved noise|``, normalised to [0, 1]); with
     ``turbulence=0`` the result is pure stripes (seed 003 §4.3, fig. 17).  ``stripes``
     counts stripe periods across the width (rounded to a whole number when tileable).
 

@@ -5,9 +5,9 @@ Every writer takes the thing to write (a :class:`~sylva.geometry.mesh.Scene`, a
 which is meshed with :func:`~sylva.geometry.build.build_mesh` defaults) and a path or a
 file object (binary for ``glb``, ``ply``, ``stl``, ``usd*``; text for the others).
 
-========  ================================================  ======================
-ext       format                                            module
-========  ================================================  ======================
+========  =================================================  ======================
+ext       format                                             module
+========  =================================================  ======================
 glb       binary glTF 2.0 (materials, colours, normals, UV)  :mod:`.gltf`
 gltf      glTF 2.0 JSON with an embedded buffer              :mod:`.gltf`
 obj       Wavefront OBJ + MTL                                :mod:`.obj`
@@ -17,7 +17,7 @@ scad      OpenSCAD polyhedra (seed 001)                      :mod:`.scad`
 pov       POV-Ray 3.7 scene (seed 002)                       :mod:`.pov`
 svg       SVG of 2D systems / flat projections               :mod:`.svg`
 usd[ac]   USD, when ``usd-core`` is installed                :mod:`.usd`
-========  ================================================  ======================
+========  =================================================  ======================
 
 Examples
 --------
