@@ -240,6 +240,13 @@ MEANINGS: dict[object, Command] = {
     "RESET_SCALE": Command("", "Reset the block size to 1."),
     "BUFFER": Command("", "Switch the output buffer (0 wood, 1 leaves, …): later blocks "
                       "get that buffer's material."),
+    "AT": Command("``@O(d)``, ``@v``, ``@M(x,y[,z])``, ``@R(h[,u])``, ``@Ts(e)``, "
+                  "``@Ti(d)``, ``@Td(d)``",
+                  "cpfg's functions, named by the letter after ``@``: ``@O`` draws a "
+                  "sphere of diameter *d*, ``@v`` rolls to vertical (ABOP's ``$``), "
+                  "``@M`` moves to a point without drawing, ``@R`` sets the heading (and "
+                  "up), ``@Ts``/``@Ti``/``@Td`` set, raise and lower the elasticity of "
+                  "tropism for the rest of the branch (cpfg files: ``@Ts(1, e)``)."),
 }
 
 #: A word that shows each opcode's effect (``{s}``: the symbol itself), per table.
@@ -281,6 +288,7 @@ _DEMO = {
     "GROW": "xxFF{s}FF{s}FF",
     "RESET_SCALE": "xxFF{s}FF",
     "BUFFER": "FF{s}FF",
+    "AT": "FF{s}O(0.8)",
 }
 #: Words for one table only (the engine's F steps sideways: its trunks are U).
 _DEMO_TABLE = {
