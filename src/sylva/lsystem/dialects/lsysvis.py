@@ -74,11 +74,12 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Collection, Iterable, Mapping
+from collections.abc import Callable, Collection, Iterable, Mapping
 from contextvars import ContextVar
 from dataclasses import dataclass
 from functools import cache
 from importlib import resources
+from itertools import islice
 from pathlib import Path
 
 from lark import Lark, Token, Transformer
@@ -137,6 +138,13 @@ _BLANK = re.compile(r"\s*(?:#.*)?\Z", re.DOTALL)
 _ASSIGN = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*=(?![=>])")
 _LEADING_NAME = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\b\s*")
 _DIGITS = re.compile(r"\s*(\d+)\s*(?:#.*)?\Z", re.DOTALL)
+#: ``name = number`` (NUMBER or NEG_NUMBER of lsys.lark): the common line, read without Lark.
+_LITERAL_ASSIGN = re.compile(
+    r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*=\s*(-?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(?:#.*)?\Z",
+    re.DOTALL,
+)
+#: Names a plain number cannot be assigned to (they have their own checks and meanings).
+_NOT_PLAIN = (SPECIAL_VARIABLES - set(NUMERIC_SETTINGS)) | {"True", "False"}
 _WORD_NAME = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:#.*)?\Z", re.DOTALL)
 
 _WHERE: ContextVar[Where] = ContextVar("sylva_lsys_where")
@@ -410,20 +418,25 @@ def _translate(e: UnexpectedInput, where: Where) -> LSystemSyntaxError:
 
 
 # --------------------------------------------------------------------------- semantics
-def _check_vars(expr: Expr, known: Collection[str], where: Where, hint: str) -> None:
-    """Raise at the first variable of ``expr`` that is not in ``known``."""
+def _check_vars(expr: Expr, known: Collection[str], where: Where, hint: Callable[[], str]) -> None:
+    """Raise at the first variable of ``expr`` that is not in ``known``.
+
+    ``hint`` builds the end of the message; it is called only when a variable is unknown,
+    so that reading a file with many names stays linear in its length.
+    """
     stack = [expr]
     while stack:
         node = stack.pop()
         if isinstance(node, Var):
             if node.name not in known:
                 col = node.span.column if node.span else 1
-                extra = hint
                 if node.name in SPECIAL_VARIABLES:
                     extra = (
                         f"; {node.name!r} is a special variable (a setting), which expressions "
                         "cannot read; expected a user variable"
                     )
+                else:
+                    extra = hint()
                 raise where.semantic(f"unknown variable {node.name!r}{extra}", col)
         elif isinstance(node, Unary):
             stack.append(node.operand)
@@ -435,11 +448,35 @@ def _check_vars(expr: Expr, known: Collection[str], where: Where, hint: str) -> 
 
 
 def _known_hint(names: Iterable[str], what: str) -> str:
-    names = list(names)
-    if not names:
+    """``; expected WHAT (known here: a, b, …)``, naming at most 12 of ``names``."""
+    shown = list(islice(names, 13))
+    if not shown:
         return f"; expected {what}"
-    shown = ", ".join(names[:12]) + (" …" if len(names) > 12 else "")
-    return f"; expected {what} (known here: {shown})"
+    listed = ", ".join(shown[:12]) + (" …" if len(shown) > 12 else "")
+    return f"; expected {what} (known here: {listed})"
+
+
+class _Names(Collection[str]):
+    """The names of several mappings seen as one collection, without copying them."""
+
+    __slots__ = ("_parts",)
+
+    def __init__(self, *parts: Collection[str]) -> None:
+        self._parts = parts
+
+    def __contains__(self, name: object) -> bool:
+        return any(name in p for p in self._parts)
+
+    def __iter__(self):
+        seen: set[str] = set()
+        for p in self._parts:
+            for name in p:
+                if name not in seen:
+                    seen.add(name)
+                    yield name
+
+    def __len__(self) -> int:
+        return sum(1 for _ in self)
 
 
 def _evaluate(expr: Expr, column: int, where: Where, constants: Mapping[str, float]) -> float:
@@ -447,7 +484,7 @@ def _evaluate(expr: Expr, column: int, where: Where, constants: Mapping[str, flo
         expr,
         constants,
         where,
-        _known_hint(constants, "a variable assigned on an earlier line"),
+        lambda: _known_hint(constants, "a variable assigned on an earlier line"),
     )
     try:
         value = float(evaluate_constant(expr, constants))  # IEEE: 1/0 is inf, checked below
@@ -560,11 +597,10 @@ def _build_rule(parts, where: Where, constants: Collection[str] | None) -> Rule:
     if constants is None:
         known: Collection[str] | None = None
     else:
-        known = set(bindings) | set(constants)
-        hint = _known_hint(
-            [*bindings, *constants],
-            "a parameter of the rule or a global variable",
-        )
+        known = _Names(bindings, constants)
+
+        def hint() -> str:
+            return _known_hint(known, "a parameter of the rule or a global variable")
 
     def check(expr: Expr) -> None:
         if known is not None:
@@ -615,7 +651,17 @@ class _Reader:
     def read(self, text: str) -> None:
         if text.startswith("\ufeff"):
             text = text[1:]
+        settings, constants, assigned = self.settings, self.constants, self.assigned
         for lineno, line in enumerate(text.splitlines(), 1):
+            fast = _LITERAL_ASSIGN.match(line)
+            if fast and self.first_rule_line is None:
+                name = fast.group(1)
+                if name not in assigned and name not in _NOT_PLAIN:
+                    v = float(fast.group(2))
+                    if math.isfinite(v):  # else the full path names the error
+                        assigned[name] = lineno
+                        (settings if name in NUMERIC_SETTINGS else constants)[name] = v
+                        continue
             if _BLANK.match(line):
                 continue
             where = Where(line, lineno, self.filename)
