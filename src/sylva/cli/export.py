@@ -11,6 +11,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ._common import steps_type
+
 __all__ = ["register", "run"]
 
 
@@ -24,11 +26,11 @@ def register(subparsers) -> None:
     p.add_argument("-o", "--output", required=True, metavar="OUT",
                    help="output file; its extension picks the format")  # fmt: skip
     p.add_argument(
-        "-n", "--steps", type=int, default=None, metavar="STEPS",
+        "-n", "--steps", type=steps_type, default=None, metavar="STEPS",
         help="derivation steps (default: the file's own, if any)",
     )  # fmt: skip
     p.add_argument(
-        "--seed", type=int, default=None, metavar="S",
+        "-r", "--seed", type=int, default=None, metavar="S",
         help="random seed for stochastic rules (and the engine turtle's salt)",
     )  # fmt: skip
     p.add_argument(
@@ -49,7 +51,10 @@ def run(args: argparse.Namespace) -> int:
     from ..turtle import interpret
 
     fmt = format_of(args.output)  # fail before deriving when OUT is unusable
+    from ..lsystem.engine import check_steps
+
     program = load(args.file)
+    check_steps(program, args.steps, option="-n")
     word = derive(program, args.steps, seed=args.seed)
     word = render_word(program, word)
     extra = {}

@@ -29,28 +29,31 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import GrowthLimitError, LSystemSemanticError
+from ..errors import GrowthLimitError, LSystemSemanticError, StepsError
 from . import _kernels
-from .ast import Program, Rule
+from ._steps import _FLOOR_ITERATIONS, DEFAULT_MODULE_LIMIT, check_steps
+from .ast import MAX_STEPS, Program, Rule
 from .expr import compile_expr, truth
 from .lstring import CLOSE, ID_DTYPE, OPEN, Alphabet, ModuleString
 from .matching import ignored_table, pattern_match
 
 __all__ = [
     "DEFAULT_MODULE_LIMIT",
+    "MAX_STEPS",
     "Derivation",
+    "check_steps",
     "derive",
     "iterate",
     "render_word",
 ]
 
-DEFAULT_MODULE_LIMIT = 50_000_000
 _MASK = (1 << 64) - 1
 
 
@@ -927,8 +930,20 @@ def derive(
     >>> len(derive(koch, 3))
     148
     """
+    try:
+        n = check_steps(program, steps, limit=limit)
+    except StepsError as exc:
+        if exc.fits is None or exc.fits > _FLOOR_ITERATIONS:
+            raise
+        # fast growth: the steps that fit are few, so keep their word as a step-by-step
+        # derivation that met the limit would
+        d = Derivation(program, seed=seed, limit=limit)
+        with contextlib.suppress(GrowthLimitError):
+            d.advance(exc.fits)
+        exc.word, exc.step = d.word, d.step
+        raise
     d = Derivation(program, seed=seed, limit=limit)
-    return d.advance(_steps(program, steps))
+    return d.advance(n)
 
 
 def iterate(
@@ -939,8 +954,8 @@ def iterate(
     limit: int = DEFAULT_MODULE_LIMIT,
 ) -> Iterator[ModuleString]:
     """Yield the words of steps ``0 … steps`` (step 0 is the axiom)."""
+    n = check_steps(program, steps, limit=limit)
     d = Derivation(program, seed=seed, limit=limit)
-    n = _steps(program, steps)
     yield d.word
     for _ in range(n):
         yield d.advance()

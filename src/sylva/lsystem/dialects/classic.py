@@ -37,7 +37,7 @@ import re
 from pathlib import Path
 
 from ...errors import LSystemSemanticError
-from ..ast import Module, Num, Pattern, Program, Rule, Span
+from ..ast import MAX_STEPS, Module, Num, Pattern, Program, Rule, Span
 from ._diagnostics import Where, char_symbols, join_words
 
 __all__ = ["KEYWORDS", "format", "parse"]
@@ -94,6 +94,7 @@ def parse(text: str, filename: str | None = None) -> Program:
     seen: dict[str, int] = {}
     settings: dict[str, object] = {"turtle": "classic"}
     steps: int | None = None
+    steps_at: Span | None = None
     axiom: tuple[Module, ...] | None = None
     rules: list[Rule] = []
     for lineno, raw in enumerate(text.splitlines(), 1):
@@ -130,6 +131,13 @@ def parse(text: str, filename: str | None = None) -> Program:
             if not n or int(n.group(1)) < 0:
                 raise where.error("expected a whole number of iterations >= 0", value_col)
             steps = int(n.group(1))
+            if steps > MAX_STEPS:
+                raise where.semantic(
+                    f"'iteration' is {steps:.3g}; expected at most {MAX_STEPS:,} derivation "
+                    "steps (sylva.lsystem.MAX_STEPS)",
+                    value_col,
+                )
+            steps_at = Span(lineno, value_col, filename)
         elif keyword in _SETTING:
             x = _FLOAT.match(value)
             if not x:
@@ -156,6 +164,7 @@ def parse(text: str, filename: str | None = None) -> Program:
         rules=tuple(rules),
         settings=settings,
         steps=steps,
+        steps_at=steps_at,
         dialect="classic",
         name=Path(filename).stem if filename else None,
         filename=filename,

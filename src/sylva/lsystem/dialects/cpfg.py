@@ -39,7 +39,7 @@ from __future__ import annotations
 import re
 
 from ...errors import LSystemSyntaxError
-from ..ast import Program
+from ..ast import Program, Span
 from . import lsysvis
 
 __all__ = ["parse"]
@@ -139,6 +139,7 @@ def parse(text: str, filename: str | None = None) -> Program:
     name: str | None = None
     render = False
     ended = False
+    steps_col = 1
     for number, raw in enumerate(lines, start=1):
 
         def where(message: str, column: int = 1, _n=number, _raw=raw) -> LSystemSyntaxError:
@@ -176,6 +177,9 @@ def parse(text: str, filename: str | None = None) -> Program:
                 out.append("")
             elif key == "derivation length":
                 out.append(f"steps = {value}")
+                at = m.start(2) + len(m.group(2)) - len(m.group(2).lstrip())
+                parts[number] = [(0, 0), (8, at)]  # "steps = " is 8 characters
+                steps_col = at + 1
             elif key == "maximum depth":
                 out.append("")
             else:
@@ -196,4 +200,9 @@ def parse(text: str, filename: str | None = None) -> Program:
         raise _relocate(err, original, parts) from None
     settings = dict(program.settings)
     settings.setdefault("turtle", "abop")
-    return program.replace(settings=settings, dialect="cpfg", name=name or program.name)
+    at = program.steps_at
+    if at is not None:
+        at = Span(at.line, steps_col, at.filename)
+    return program.replace(
+        settings=settings, dialect="cpfg", name=name or program.name, steps_at=at
+    )

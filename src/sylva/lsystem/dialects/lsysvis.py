@@ -92,7 +92,20 @@ from lark.exceptions import (
 )
 
 from ...errors import LSystemSemanticError, LSystemSyntaxError, SylvaError
-from ..ast import Binary, Call, Expr, Module, Num, Pattern, Program, Rule, Span, Unary, Var
+from ..ast import (
+    MAX_STEPS,
+    Binary,
+    Call,
+    Expr,
+    Module,
+    Num,
+    Pattern,
+    Program,
+    Rule,
+    Span,
+    Unary,
+    Var,
+)
 from ..expr import FUNCTIONS, evaluate_constant
 from ._diagnostics import Where, describe_expected, join_words
 
@@ -645,6 +658,7 @@ class _Reader:
         self.consider: frozenset[str] | None = None
         self.seed: int | None = None
         self.steps: int | None = None
+        self.steps_at: Span | None = None
         self.rules: list[Rule] = []
         self.first_rule_line: int | None = None
 
@@ -772,12 +786,24 @@ class _Reader:
         elif name in ("seed", "steps"):
             digits = _DIGITS.match(padded)
             if digits:  # exact, also beyond 2**53
-                setattr(self, name, int(digits.group(1)))
-                return
-            v = values[0]
-            if not v.is_integer() or v < 0:
-                raise where.semantic(f"{name!r} expected a whole number >= 0, got {v:g}", value_col)
-            setattr(self, name, int(v))
+                n = int(digits.group(1))
+            else:
+                v = values[0]
+                if not v.is_integer() or v < 0:
+                    raise where.semantic(
+                        f"{name!r} expected a whole number >= 0, got {v:g}", value_col
+                    )
+                n = int(v)
+            if name == "steps":
+                if n > MAX_STEPS:
+                    big = f"{n:,}" if n < 10**12 else f"{float(n):.3g}"
+                    raise where.semantic(
+                        f"'steps' is {big}; expected at most {MAX_STEPS:,} derivation steps "
+                        "(sylva.lsystem.MAX_STEPS)",
+                        value_col,
+                    )
+                self.steps_at = Span(where.lineno, value_col, self.filename)
+            setattr(self, name, n)
         else:
             self.constants[name] = values[0]
 
@@ -803,6 +829,7 @@ class _Reader:
             consider=self.consider,
             settings=self.settings,
             steps=self.steps,
+            steps_at=self.steps_at,
             seed=self.seed,
             dialect="lsys",
             name=Path(self.filename).stem if self.filename else None,
