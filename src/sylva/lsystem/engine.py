@@ -38,6 +38,7 @@ import numpy as np
 
 from ..errors import GrowthLimitError, LSystemSemanticError, StepsError
 from . import _kernels
+from ._memory import _check_limit, block_step_bytes, fast_step_bytes, general_step_bytes
 from ._steps import _FLOOR_ITERATIONS, DEFAULT_MODULE_LIMIT, check_steps
 from .ast import MAX_STEPS, Program, Rule
 from .expr import compile_expr, truth
@@ -67,20 +68,6 @@ def _splitmix(z: int) -> int:
 def step_key(seed: int, step: int, render: bool = False) -> np.uint64:
     """The 64-bit key of the random numbers of one step (a hash of seed and step)."""
     return np.uint64(_splitmix((seed & _MASK) ^ _splitmix(step * 2 + (1 if render else 0))))
-
-
-def _available_memory() -> int | None:
-    try:
-        with open("/proc/meminfo") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except OSError:
-        pass
-    try:
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (ValueError, OSError, AttributeError):
-        return None
 
 
 # ----------------------------------------------------------------------------- compiled rules
@@ -357,26 +344,6 @@ def _compiled(program: Program) -> _Compiled:
     return comp
 
 
-def _check_limit(n_out: int, n_vals: int, limit: int, word: ModuleString, step: int) -> None:
-    if n_out > limit:
-        raise GrowthLimitError(
-            f"step {step + 1} would grow the word from {len(word):,} to {n_out:,} modules, "
-            f"past the limit of {limit:,}; derive fewer steps or raise the limit "
-            "(--limit on the command line)",
-            word=word,
-            step=step,
-        )
-    need = n_out * 20 + n_vals * 8
-    avail = _available_memory()
-    if avail is not None and need > 0.7 * avail:
-        raise GrowthLimitError(
-            f"step {step + 1} would need about {need / 2**30:.1f} GiB for {n_out:,} modules "
-            f"but only {avail / 2**30:.1f} GiB of memory is free; derive fewer steps",
-            word=word,
-            step=step,
-        )
-
-
 def _cut_keep(word: ModuleString) -> np.ndarray | None:
     """The keep-mask of ABOP's cut for ``word``, or None when nothing is cut."""
     cut_id = word.alphabet.get("%")
@@ -407,9 +374,9 @@ def _step_fast(word: ModuleString, rs: _RuleSet, key: np.uint64, limit: int, ste
         total = _kernels.count_table(
             word.ids, key, True, rs.nalt, rs.alt_start, rs.cum_w, rs.alt_succ_len
         )
-        _check_limit(int(total), 0, limit, word, step)
-    elif n * rs.max_len > 10_000_000:
-        _check_limit(0, 0, limit, word, step)  # memory only
+        _check_limit(int(total), fast_step_bytes(n, int(total)), limit, word, step)
+    elif n * rs.max_len > 10_000_000:  # memory only, for the longest outcome
+        _check_limit(0, fast_step_bytes(n, n * rs.max_len), limit, word, step)
     ids = _kernels.rewrite_table(
         word.ids,
         key,
@@ -463,7 +430,8 @@ def _expand_d0l(
         total = sum(int(counts[s]) * new_len[s] for s in reach)
         if total > limit or total > 2_000_000:
             try:
-                _check_limit(total, 0, limit, word, step0 + k)
+                need = block_step_bytes(total, sum(new_len.values()), sum(length.values()))
+                _check_limit(total, need, limit, word, step0 + k)
             except GrowthLimitError as exc:
                 exc.step = k  # steps that still fit
                 exc.args = (str(exc).replace(f"from {len(word):,}", f"from {before:,}"),)
@@ -625,7 +593,9 @@ def _step_general(
     else:
         n_out, n_vals = n, int(word.values.shape[0])
     if n_out > 1_000_000 or n_out > limit:
-        _check_limit(n_out, n_vals, limit, word, step)
+        counts = np.bincount(ids, minlength=len(word.alphabet))
+        need = general_step_bytes(word, rs, counts, n_out, n_vals)
+        _check_limit(n_out, need, limit, word, step)
     if not word.has_params and not pending and not rs.rule_nvals.any():
         new_ids = _kernels.assemble_ids(ids, choice, rs.rule_len, rs.rule_ids_start, rs.rule_ids)
         return ModuleString(word.alphabet, new_ids)
