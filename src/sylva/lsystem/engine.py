@@ -159,6 +159,8 @@ class _RuleSet:
         cond = comp(rule.condition) if rule.condition is not None else None
         weight = comp(rule.weight)
         wc = getattr(weight, "constant", None)
+        if wc is not None and not np.isfinite(wc):
+            raise _rule_error(rule, f"the weight is {wc}; expected a finite number")
         args: list[Callable] = []
         for m in rule.successor:
             args += [comp(a) for a in m.args]
@@ -544,7 +546,10 @@ def _step_general(
                     if cr.weight_const is not None
                     else cr.weight(env, sel.size)
                 )
-                positive = w > 0
+                if not np.isfinite(w).all():
+                    raise _rule_error(cr.rule, f"step {step + 1}: the weight is "
+                                      f"{w[~np.isfinite(w)][0]}; expected a finite number")
+                positive = w > 0  # a weight <= 0: the rule does not apply there
                 if not positive.all():
                     sel = sel[positive]
                     w = w[positive]

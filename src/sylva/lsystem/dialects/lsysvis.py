@@ -106,7 +106,7 @@ from ..ast import (
     Unary,
     Var,
 )
-from ..expr import FUNCTIONS, evaluate_constant
+from ..expr import FUNCTIONS, evaluate_constant, free_variables
 from ._diagnostics import Where, describe_expected, join_words
 
 __all__ = [
@@ -547,6 +547,25 @@ def _first_column(line: str) -> int:
     return len(line) - len(line.lstrip()) + 1
 
 
+def _check_weight(w: Expr, column: int, bindings, constants, where: Where) -> None:
+    """A weight known when the file is read must be a positive finite number (seed 001
+    §2.2: weights are positive).  One that reads the rule's parameters is evaluated per
+    application: where it is 0 or negative the rule does not apply there, and a value that
+    is not a finite number is an error of the derivation."""
+    names = free_variables(w)
+    if names & set(bindings):
+        return
+    if names and not isinstance(constants, Mapping):
+        return  # the values of the globals are not known here
+    value = _evaluate(w, column, where, constants or {})
+    if not value > 0:
+        raise where.semantic(
+            f"the weight is {value:g}; expected a positive number (seed 001 §2.2: every "
+            "rule has a positive weight; to switch a rule off, give it a condition)",
+            column,
+        )
+
+
 def _build_rule(parts, where: Where, constants: Collection[str] | None) -> Rule:
     lctx, pred, rctx, cond, arrow, weight, succ = parts
     bindings: dict[str, int] = {}
@@ -627,6 +646,7 @@ def _build_rule(parts, where: Where, constants: Collection[str] | None) -> Rule:
     if weight is not None:
         w = weight[0]
         check(w)
+        _check_weight(w, weight[1] + 1, bindings, constants, where)
     successor = []
     for m, _ in _modules(succ, where, "the successor"):
         for a in m.args:
