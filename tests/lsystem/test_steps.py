@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from sylva.errors import GrowthLimitError, LSystemSemanticError, StepsError
-from sylva.lsystem import derive, iterate, loads
+from sylva.lsystem import Derivation, derive, iterate, loads
 from sylva.lsystem._steps import growth_floor
 from sylva.lsystem.ast import MAX_STEPS
 from sylva.lsystem.engine import _compiled, check_steps
@@ -43,6 +43,8 @@ def test_an_api_count_above_the_maximum_is_refused_before_deriving():
     assert e.value.fits is None and "at most 100,000" in str(e.value)
     with pytest.raises(StepsError):
         next(iterate(p, MAX_STEPS + 1))
+    with pytest.raises(StepsError):
+        Derivation(p).advance(10**23)
     assert len(derive(p, 50)) == 1
 
 

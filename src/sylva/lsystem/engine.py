@@ -799,8 +799,10 @@ class Derivation:
         )
 
     def advance(self, n: int = 1) -> ModuleString:
-        """Derive ``n`` more steps and return the new current word."""
+        """Derive ``n`` more steps (at most :data:`MAX_STEPS`) and return the new word."""
         n = int(n)
+        if n > MAX_STEPS:
+            raise StepsError(f"{n:.3g} steps: expected at most {MAX_STEPS:,} derivation steps")
         rs = self._compiled.productions
         if n > 1 and self.is_d0l:
             # deterministic, context-free, parameter-free: expand whole blocks at once
