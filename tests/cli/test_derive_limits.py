@@ -88,3 +88,20 @@ def test_dash_r_is_seed(capsys, tmp_path):
     words = {run(capsys, "derive", f, "-r", s)[1] for s in (1, 2, 3)}
     assert len(words) == 3
     assert run(capsys, "derive", f, "-r", 2)[1] == run(capsys, "derive", f, "--seed", 2)[1]
+
+
+def test_export_keep_last_writes_the_last_word_that_fits(capsys, doubling, tmp_path):
+    out = tmp_path / "plant.obj"
+    code, _, err = run(capsys, "export", doubling, "-o", out, "-n", 40, "--limit", 1000)
+    assert code == 2 and "-n 40:" in err and not out.exists()
+    code, _, err = run(capsys, "export", doubling, "-o", out, "-n", 40, "--limit", 1000,
+                       "--keep-last")  # fmt: skip
+    assert code == 0 and out.exists() and "(512 modules," in err
+
+
+def test_export_dash_r_is_seed(capsys, stochastic, tmp_path):
+    (tmp_path / "a").mkdir(), (tmp_path / "b").mkdir()
+    a, b = tmp_path / "a" / "plant.obj", tmp_path / "b" / "plant.obj"
+    assert run(capsys, "export", stochastic, "-o", a, "-n", 6, "-r", 5)[0] == 0
+    assert run(capsys, "export", stochastic, "-o", b, "-n", 6, "--seed", 5)[0] == 0
+    assert a.read_bytes() == b.read_bytes()

@@ -12,7 +12,7 @@ from ..lsystem import DEFAULT_MODULE_LIMIT, Derivation, ModuleString, Program
 from ..lsystem.engine import check_steps
 from ._common import steps_type
 
-__all__ = ["load_program", "register"]
+__all__ = ["derive_keeping", "load_program", "register"]
 
 
 def load_program(source: str, dialect: str | None = None) -> Program:
@@ -102,6 +102,33 @@ def stopped_note(exc: GrowthLimitError, asked: int, word: ModuleString) -> str:
     """How far a derivation the limit stopped got: steps done of those asked, modules."""
     return (f"the derivation stopped after {exc.step} of {asked} steps, with {len(word):,} "
             f"modules: {exc}")  # fmt: skip
+
+
+def derive_keeping(program: Program, steps: int | None, *, seed: int | None, limit: int,
+                   keep_last: bool) -> ModuleString:  # fmt: skip
+    """The word after ``steps`` (``-n``) steps; with ``keep_last``, the word of the last step
+    that fits when the module or memory limit stops the derivation (said on stderr)."""
+    try:
+        n = check_steps(program, steps, limit=limit, option="-n")
+    except StepsError as exc:
+        if not keep_last or exc.fits is None:
+            raise
+        print(f"sylva: note: {exc}\nsylva: note: deriving at most {exc.fits:,} steps "
+              "(--keep-last)", file=sys.stderr)  # fmt: skip
+        n = exc.fits
+    d = Derivation(program, seed=seed, limit=limit)
+    try:
+        d.advance(n)
+    except GrowthLimitError as exc:
+        word = exc.word if exc.word is not None else d.word
+        note = stopped_note(exc, n, word)
+        if not keep_last:
+            raise SylvaError(note + " (--keep-last uses the word of the last step that "
+                             "fits)") from None  # fmt: skip
+        print(f"sylva: note: {note}; using the word of step {exc.step} (--keep-last)",
+              file=sys.stderr)  # fmt: skip
+        return word
+    return d.word
 
 
 def run(args) -> int:

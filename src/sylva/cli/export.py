@@ -41,21 +41,28 @@ def register(subparsers) -> None:
                    help="branch construction (default: tube)")  # fmt: skip
     p.add_argument("--taper", choices=("none", "leonardo"), default="none",
                    help="radii from the turtle, or by Leonardo's rule")  # fmt: skip
+    p.add_argument("--limit", type=int, default=None, metavar="N",
+                   help="stop before a word passes N modules (default 50,000,000)")  # fmt: skip
+    p.add_argument("--keep-last", action="store_true",
+                   help="when the module limit stops the derivation, export the word of the "
+                        "last step that fits")  # fmt: skip
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..geometry.build import build_mesh
     from ..geometry.exchange import format_of, write
-    from ..lsystem import derive, load, render_word
+    from ..lsystem import load, render_word
     from ..turtle import interpret
 
     fmt = format_of(args.output)  # fail before deriving when OUT is unusable
-    from ..lsystem.engine import check_steps
+    from ..lsystem import DEFAULT_MODULE_LIMIT
+    from .derive import derive_keeping
 
     program = load(args.file)
-    check_steps(program, args.steps, option="-n")
-    word = derive(program, args.steps, seed=args.seed)
+    limit = DEFAULT_MODULE_LIMIT if args.limit is None else args.limit
+    word = derive_keeping(program, args.steps, seed=args.seed, limit=limit,
+                          keep_last=args.keep_last)  # fmt: skip
     word = render_word(program, word)
     extra = {}
     if program.turtle == "engine" and "angle_var" not in program.settings:
