@@ -7,11 +7,39 @@ was expected, so that the command line can print them without a traceback.
 
 from __future__ import annotations
 
-__all__ = ["GrowthLimitError", "LSystemSemanticError", "LSystemSyntaxError", "SylvaError"]
+__all__ = [
+    "GrowthLimitError",
+    "LSystemSemanticError",
+    "LSystemSyntaxError",
+    "StepsError",
+    "SylvaError",
+]
 
 
 class SylvaError(Exception):
     """Root of every error sylva raises on bad input or exhausted limits."""
+
+
+def _located(
+    message: str,
+    filename: str | None,
+    line: int | None,
+    column: int | None,
+    source_line: str | None,
+) -> str:
+    """``file:line:column: message``, then the source line and a caret under the column."""
+    where = filename or "<string>"
+    if line is not None:
+        where += f":{line}"
+        if column is not None:
+            where += f":{column}"
+    text = f"{where}: {message}"
+    if source_line is not None:
+        src = source_line.rstrip("\r\n").expandtabs(1)
+        text += "\n    " + src
+        if column is not None:
+            text += "\n    " + " " * max(column - 1, 0) + "^"
+    return text
 
 
 class LSystemSyntaxError(SylvaError, ValueError):
@@ -46,18 +74,7 @@ class LSystemSyntaxError(SylvaError, ValueError):
         super().__init__(self._format())
 
     def _format(self) -> str:
-        where = self.filename
-        if self.line is not None:
-            where += f":{self.line}"
-            if self.column is not None:
-                where += f":{self.column}"
-        text = f"{where}: {self.message}"
-        if self.source_line is not None:
-            src = self.source_line.rstrip("\r\n").expandtabs(1)
-            text += "\n    " + src
-            if self.column is not None:
-                text += "\n    " + " " * max(self.column - 1, 0) + "^"
-        return text
+        return _located(self.message, self.filename, self.line, self.column, self.source_line)
 
     @classmethod
     def at(
@@ -89,3 +106,32 @@ class GrowthLimitError(SylvaError):
         self.word = word
         self.step = step
         super().__init__(message)
+
+
+class StepsError(GrowthLimitError):
+    """A number of derivation steps refused before any step is derived.
+
+    Either more than :data:`~sylva.lsystem.ast.MAX_STEPS`, or more steps than the word can
+    take before it passes the module limit.  :attr:`fits` is an upper bound on the steps that
+    can be derived under the limit (``None`` when only the maximum was passed).  When the
+    count came from a file, the message names its file, line and column.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        fits: int | None = None,
+        filename: str | None = None,
+        line: int | None = None,
+        column: int | None = None,
+        source_line: str | None = None,
+    ) -> None:
+        self.message = message
+        self.fits = fits
+        self.filename = filename
+        self.line = line
+        self.column = column
+        if line is not None:
+            message = _located(message, filename, line, column, source_line)
+        super().__init__(message, word=None, step=0)

@@ -24,6 +24,7 @@ from .geometry.build import build_mesh
 from .geometry.mesh import Scene
 from .geometry.records import Geometry
 from .lsystem import DEFAULT_MODULE_LIMIT, Derivation, ModuleString, Program, load
+from .lsystem.engine import check_steps
 from .turtle import interpret
 
 __all__ = [
@@ -135,7 +136,7 @@ def grow(
     program = resolve(source)
     if seed is None:
         seed = program.seed if program.seed is not None else 1
-    n = steps if steps is not None else (program.steps or 0)
+    n = check_steps(program, steps, limit=limit)
     d = Derivation(program, seed=seed, limit=limit)
     d.advance(n)
     rw = d.render_word()
@@ -170,7 +171,7 @@ def growth_scenes(
     program = resolve(source)
     if seed is None:
         seed = program.seed if program.seed is not None else 1
-    n = steps if steps is not None else (program.steps or 0)
+    n = check_steps(program, steps)
     smooth = substeps > 1 and program.turtle != "engine"
     d = Derivation(program, seed=seed, trace=smooth)
     dd = _detail(program, detail)
@@ -286,7 +287,7 @@ def plant_texture(
     if seed is None:
         seed = program.seed if program.seed is not None else 1
     d = Derivation(program, seed=seed, limit=limit)
-    d.advance(steps if steps is not None else (program.steps or 0))
+    d.advance(check_steps(program, steps, limit=limit))
     geometry = interpret(d.render_word(), program, seed=seed)
     return draw_segments(
         shape, texture_segments(geometry, width=width),

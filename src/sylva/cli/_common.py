@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import math
 
 from ..errors import SylvaError
 
-__all__ = ["add_camera", "add_growth", "camera_for", "parse_size"]
+__all__ = ["add_camera", "add_growth", "camera_for", "parse_size", "steps_type"]
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -22,12 +23,36 @@ def parse_size(text: str) -> tuple[int, int]:
     return w, h
 
 
+def steps_type(text: str) -> int:
+    """``-n``: a whole number of steps from 0 to :data:`~sylva.lsystem.ast.MAX_STEPS`."""
+    from ..lsystem.ast import MAX_STEPS
+
+    try:
+        n = int(text)
+    except ValueError:
+        try:
+            x = float(text)  # 1e23 is a whole number too, and refused for its size below
+        except ValueError:
+            x = math.nan
+        if not x.is_integer():
+            raise argparse.ArgumentTypeError(
+                f"{text!r}: expected a whole number of steps such as 5"
+            ) from None
+        n = int(x)
+    if not 0 <= n <= MAX_STEPS:
+        raise argparse.ArgumentTypeError(
+            f"{text}: expected 0 to {MAX_STEPS:,} derivation steps"
+        )
+    return n
+
+
 def add_growth(p: argparse.ArgumentParser) -> None:
     p.add_argument("file", metavar="FILE",
                    help="an L-system file (any dialect) or a built-in example name")
-    p.add_argument("-n", "--steps", type=int, default=None,
+    p.add_argument("-n", "--steps", type=steps_type, default=None,
                    help="derivation steps (default: the file's own count)")
-    p.add_argument("--seed", type=int, default=None, help="seed of the random choices")
+    p.add_argument("-r", "--seed", type=int, default=None,
+                   help="seed of the random choices (-r as in seed 000)")
     p.add_argument("--detail", type=int, default=None,
                    help="sides around each branch (default: the file's detail, else 8)")
     p.add_argument("--mode", choices=("tube", "prism", "cone"), default="tube",

@@ -7,10 +7,12 @@ import sys
 import time
 from pathlib import Path
 
-from ..errors import SylvaError
+from ..errors import GrowthLimitError, StepsError, SylvaError
 from ..lsystem import DEFAULT_MODULE_LIMIT, Derivation, ModuleString, Program
+from ..lsystem.engine import check_steps
+from ._common import steps_type
 
-__all__ = ["load_program", "register"]
+__all__ = ["derive_keeping", "load_program", "register"]
 
 
 def load_program(source: str, dialect: str | None = None) -> Program:
@@ -34,9 +36,10 @@ def load_program(source: str, dialect: str | None = None) -> Program:
 
 def add_common(p: argparse.ArgumentParser) -> None:
     p.add_argument("file", metavar="FILE", help="an L-system file, or a built-in example name")
-    p.add_argument("-n", "--steps", type=int, default=None,
+    p.add_argument("-n", "--steps", type=steps_type, default=None,
                    help="derivation steps (default: the file's own count, else 0)")
-    p.add_argument("--seed", type=int, default=None, help="seed of the random choices")
+    p.add_argument("-r", "--seed", type=int, default=None,
+                   help="seed of the random choices (-r as in seed 000)")
     p.add_argument("--dialect", choices=["lsys", "classic", "engine", "cpfg"], default=None,
                    help="force the language of FILE (default: detected)")
     p.add_argument("--limit", type=int, default=DEFAULT_MODULE_LIMIT,
@@ -57,6 +60,9 @@ def register(sub) -> None:
                    help="print length, per-symbol counts and branch depth instead of the word")
     p.add_argument("--render", action="store_true",
                    help="print the render word (render rules applied) instead")
+    p.add_argument("--keep-last", action="store_true",
+                   help="when the module limit stops the derivation, print the word of the "
+                        "last step that fits (and say so on stderr) instead of failing")
     p.set_defaults(func=run)
 
 
@@ -92,11 +98,49 @@ def derive_with_progress(d: Derivation, steps: int, each=None) -> None:
                 each(d)
 
 
+def stopped_note(exc: GrowthLimitError, asked: int, word: ModuleString) -> str:
+    """How far a derivation the limit stopped got: steps done of those asked, modules."""
+    return (f"the derivation stopped after {exc.step} of {asked} steps, with {len(word):,} "
+            f"modules: {exc}")  # fmt: skip
+
+
+def derive_keeping(program: Program, steps: int | None, *, seed: int | None, limit: int,
+                   keep_last: bool) -> ModuleString:  # fmt: skip
+    """The word after ``steps`` (``-n``) steps; with ``keep_last``, the word of the last step
+    that fits when the module or memory limit stops the derivation (said on stderr)."""
+    try:
+        n = check_steps(program, steps, limit=limit, option="-n")
+    except StepsError as exc:
+        if not keep_last or exc.fits is None:
+            raise
+        print(f"sylva: note: {exc}\nsylva: note: deriving at most {exc.fits:,} steps "
+              "(--keep-last)", file=sys.stderr)  # fmt: skip
+        n = exc.fits
+    d = Derivation(program, seed=seed, limit=limit)
+    try:
+        d.advance(n)
+    except GrowthLimitError as exc:
+        word = exc.word if exc.word is not None else d.word
+        note = stopped_note(exc, n, word)
+        if not keep_last:
+            raise SylvaError(note + " (--keep-last uses the word of the last step that "
+                             "fits)") from None  # fmt: skip
+        print(f"sylva: note: {note}; using the word of step {exc.step} (--keep-last)",
+              file=sys.stderr)  # fmt: skip
+        return word
+    return d.word
+
+
 def run(args) -> int:
     program = load_program(args.file, args.dialect)
-    steps = args.steps if args.steps is not None else (program.steps or 0)
-    if steps < 0:
-        raise SylvaError("the number of steps (-n) cannot be negative")
+    try:
+        steps = check_steps(program, args.steps, limit=args.limit, option="-n")
+    except StepsError as exc:
+        if not args.keep_last or exc.fits is None:
+            raise
+        print(f"sylva: note: {exc}\nsylva: note: deriving at most {exc.fits:,} steps "
+              "(--keep-last)", file=sys.stderr)  # fmt: skip
+        steps = exc.fits
     d = Derivation(program, seed=args.seed, limit=args.limit)
     out = sys.stdout
 
@@ -108,14 +152,26 @@ def run(args) -> int:
             out.write(w.to_text() + "\n")
 
     t0 = time.perf_counter()
-    if args.each:
-        show(d)
-        derive_with_progress(d, steps, show)
-    else:
-        if steps > 1 and d.is_d0l:
+    try:
+        if args.each:
+            show(d)
+            derive_with_progress(d, steps, show)
+        elif steps > 1 and d.is_d0l:
             d.advance(steps)  # block expansion: all steps at once
         else:
             derive_with_progress(d, steps)
+    except GrowthLimitError as exc:
+        if exc.word is not None:
+            d.word, d.step = exc.word, int(exc.step or 0)
+        note = stopped_note(exc, steps, d.word)
+        if not args.keep_last:
+            raise SylvaError(note + " (--keep-last prints the word of the last step that "
+                             "fits)") from None  # fmt: skip
+        print(f"sylva: note: {note}; printing the word of step {d.step} (--keep-last)",
+              file=sys.stderr)  # fmt: skip
+        if args.each:
+            return 0
+    if not args.each:
         w = d.render_word() if args.render else d.word
         if args.stats:
             out.write(stats_text(w, d.step, time.perf_counter() - t0) + "\n")

@@ -11,6 +11,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ._common import steps_type
+
 __all__ = ["register", "run"]
 
 
@@ -24,11 +26,11 @@ def register(subparsers) -> None:
     p.add_argument("-o", "--output", required=True, metavar="OUT",
                    help="output file; its extension picks the format")  # fmt: skip
     p.add_argument(
-        "-n", "--steps", type=int, default=None, metavar="STEPS",
+        "-n", "--steps", type=steps_type, default=None, metavar="STEPS",
         help="derivation steps (default: the file's own, if any)",
     )  # fmt: skip
     p.add_argument(
-        "--seed", type=int, default=None, metavar="S",
+        "-r", "--seed", type=int, default=None, metavar="S",
         help="random seed for stochastic rules (and the engine turtle's salt)",
     )  # fmt: skip
     p.add_argument(
@@ -39,18 +41,28 @@ def register(subparsers) -> None:
                    help="branch construction (default: tube)")  # fmt: skip
     p.add_argument("--taper", choices=("none", "leonardo"), default="none",
                    help="radii from the turtle, or by Leonardo's rule")  # fmt: skip
+    p.add_argument("--limit", type=int, default=None, metavar="N",
+                   help="stop before a word passes N modules (default 50,000,000)")  # fmt: skip
+    p.add_argument("--keep-last", action="store_true",
+                   help="when the module limit stops the derivation, export the word of the "
+                        "last step that fits")  # fmt: skip
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..geometry.build import build_mesh
     from ..geometry.exchange import format_of, write
-    from ..lsystem import derive, load, render_word
+    from ..lsystem import load, render_word
     from ..turtle import interpret
 
     fmt = format_of(args.output)  # fail before deriving when OUT is unusable
+    from ..lsystem import DEFAULT_MODULE_LIMIT
+    from .derive import derive_keeping
+
     program = load(args.file)
-    word = derive(program, args.steps, seed=args.seed)
+    limit = DEFAULT_MODULE_LIMIT if args.limit is None else args.limit
+    word = derive_keeping(program, args.steps, seed=args.seed, limit=limit,
+                          keep_last=args.keep_last)  # fmt: skip
     word = render_word(program, word)
     extra = {}
     if program.turtle == "engine" and "angle_var" not in program.settings:

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 
 __all__ = [
+    "MAX_STEPS",
     "Binary",
     "Call",
     "Expr",
@@ -32,6 +33,11 @@ __all__ = [
 ]
 
 BRACKETS = frozenset("[]")
+
+#: The most derivation steps sylva derives in one request.  Real systems ask for tens of
+#: steps; a file (``steps``, ``iteration``, ``derivation length``) or ``-n`` asking for more
+#: is refused up front, so that ``steps = 1e23`` is an error and not a run without end.
+MAX_STEPS = 100_000
 
 
 @dataclass(frozen=True, slots=True)
@@ -190,6 +196,8 @@ class Program:
         Which group of productions (tables, ABOP §1.4) each step uses: an expression over
         ``step`` (the number of steps done before it, from 0) and the global constants.
         ``None`` uses group 0 only.
+    steps_at : Span or None
+        Where the source set :attr:`steps` (the start of its value), for errors about it.
     """
 
     axiom: tuple[Module, ...]
@@ -206,6 +214,7 @@ class Program:
     decomposition_depth: int = 1
     interpretation_depth: int = 1
     group: Expr | None = None
+    steps_at: Span | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "axiom", tuple(self.axiom))
@@ -269,4 +278,6 @@ class Program:
         """A copy with some fields changed."""
         from dataclasses import replace
 
+        if "steps" in changes and "steps_at" not in changes:
+            changes["steps_at"] = None  # the new count was not written there
         return replace(self, **changes)

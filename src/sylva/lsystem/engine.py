@@ -29,29 +29,33 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import GrowthLimitError, LSystemSemanticError
+from ..errors import GrowthLimitError, LSystemSemanticError, StepsError
 from . import _kernels
 from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
-from .ast import Program, Rule
+from ._memory import _check_limit, block_step_bytes, fast_step_bytes, general_step_bytes
+from ._steps import _FLOOR_ITERATIONS, DEFAULT_MODULE_LIMIT, check_steps
+from .ast import MAX_STEPS, Program, Rule
 from .expr import compile_expr, truth
 from .lstring import CLOSE, ID_DTYPE, OPEN, Alphabet, ModuleString
 from .matching import ignored_table, pattern_match
 
 __all__ = [
     "DEFAULT_MODULE_LIMIT",
+    "MAX_STEPS",
     "Derivation",
+    "check_steps",
     "derive",
     "iterate",
     "render_word",
 ]
 
-DEFAULT_MODULE_LIMIT = 50_000_000
 _MASK = (1 << 64) - 1
 
 
@@ -65,20 +69,6 @@ def _splitmix(z: int) -> int:
 def step_key(seed: int, step: int, render: bool = False) -> np.uint64:
     """The 64-bit key of the random numbers of one step (a hash of seed and step)."""
     return np.uint64(_splitmix((seed & _MASK) ^ _splitmix(step * 2 + (1 if render else 0))))
-
-
-def _available_memory() -> int | None:
-    try:
-        with open("/proc/meminfo") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except OSError:
-        pass
-    try:
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (ValueError, OSError, AttributeError):
-        return None
 
 
 # ----------------------------------------------------------------------------- compiled rules
@@ -170,6 +160,8 @@ class _RuleSet:
         cond = comp(rule.condition) if rule.condition is not None else None
         weight = comp(rule.weight)
         wc = getattr(weight, "constant", None)
+        if wc is not None and not np.isfinite(wc):
+            raise _rule_error(rule, f"the weight is {wc}; expected a finite number")
         args: list[Callable] = []
         for m in rule.successor:
             args += [comp(a) for a in m.args]
@@ -392,26 +384,6 @@ def _compiled(program: Program) -> _Compiled:
     return comp
 
 
-def _check_limit(n_out: int, n_vals: int, limit: int, word: ModuleString, step: int) -> None:
-    if n_out > limit:
-        raise GrowthLimitError(
-            f"step {step + 1} would grow the word from {len(word):,} to {n_out:,} modules, "
-            f"past the limit of {limit:,}; derive fewer steps or raise the limit "
-            "(--limit on the command line)",
-            word=word,
-            step=step,
-        )
-    need = n_out * 20 + n_vals * 8
-    avail = _available_memory()
-    if avail is not None and need > 0.7 * avail:
-        raise GrowthLimitError(
-            f"step {step + 1} would need about {need / 2**30:.1f} GiB for {n_out:,} modules "
-            f"but only {avail / 2**30:.1f} GiB of memory is free; derive fewer steps",
-            word=word,
-            step=step,
-        )
-
-
 def _cut_keep(word: ModuleString) -> np.ndarray | None:
     """The keep-mask of ABOP's cut for ``word``, or None when nothing is cut."""
     cut_id = word.alphabet.get("%")
@@ -442,9 +414,9 @@ def _step_fast(word: ModuleString, rs: _RuleSet, key: np.uint64, limit: int, ste
         total = _kernels.count_table(
             word.ids, key, True, rs.nalt, rs.alt_start, rs.cum_w, rs.alt_succ_len
         )
-        _check_limit(int(total), 0, limit, word, step)
-    elif n * rs.max_len > 10_000_000:
-        _check_limit(0, 0, limit, word, step)  # memory only
+        _check_limit(int(total), fast_step_bytes(n, int(total)), limit, word, step)
+    elif n * rs.max_len > 10_000_000:  # memory only, for the longest outcome
+        _check_limit(0, fast_step_bytes(n, n * rs.max_len), limit, word, step)
     ids = _kernels.rewrite_table(
         word.ids,
         key,
@@ -498,7 +470,8 @@ def _expand_d0l(
         total = sum(int(counts[s]) * new_len[s] for s in reach)
         if total > limit or total > 2_000_000:
             try:
-                _check_limit(total, 0, limit, word, step0 + k)
+                need = block_step_bytes(total, sum(new_len.values()), sum(length.values()))
+                _check_limit(total, need, limit, word, step0 + k)
             except GrowthLimitError as exc:
                 exc.step = k  # steps that still fit
                 exc.args = (str(exc).replace(f"from {len(word):,}", f"from {before:,}"),)
@@ -614,7 +587,10 @@ def _step_general(
                     if cr.weight_const is not None
                     else cr.weight(env, sel.size)
                 )
-                positive = w > 0
+                if not np.isfinite(w).all():
+                    raise _rule_error(cr.rule, f"step {step + 1}: the weight is "
+                                      f"{w[~np.isfinite(w)][0]}; expected a finite number")
+                positive = w > 0  # a weight <= 0: the rule does not apply there
                 if not positive.all():
                     sel = sel[positive]
                     w = w[positive]
@@ -664,7 +640,9 @@ def _step_general(
     else:
         n_out, n_vals = n, int(word.values.shape[0])
     if n_out > 1_000_000 or n_out > limit:
-        _check_limit(n_out, n_vals, limit, word, step)
+        counts = np.bincount(ids, minlength=len(word.alphabet))
+        need = general_step_bytes(word, rs, counts, n_out, n_vals)
+        _check_limit(n_out, need, limit, word, step)
     if not word.has_params and not pending and not rs.rule_nvals.any():
         new_ids = _kernels.assemble_ids(ids, choice, rs.rule_len, rs.rule_ids_start, rs.rule_ids)
         return ModuleString(word.alphabet, new_ids)
@@ -945,8 +923,10 @@ class Derivation:
         )
 
     def advance(self, n: int = 1) -> ModuleString:
-        """Derive ``n`` more steps and return the new current word."""
+        """Derive ``n`` more steps (at most :data:`MAX_STEPS`) and return the new word."""
         n = int(n)
+        if n > MAX_STEPS:
+            raise StepsError(f"{n:.3g} steps: expected at most {MAX_STEPS:,} derivation steps")
         rs = self._compiled.productions
         if n > 1 and self.is_d0l:
             # deterministic, context-free, parameter-free: expand whole blocks at once
@@ -1073,8 +1053,20 @@ def derive(
     >>> len(derive(koch, 3))
     148
     """
+    try:
+        n = check_steps(program, steps, limit=limit)
+    except StepsError as exc:
+        if exc.fits is None or exc.fits > _FLOOR_ITERATIONS:
+            raise
+        # fast growth: the steps that fit are few, so keep their word as a step-by-step
+        # derivation that met the limit would
+        d = Derivation(program, seed=seed, limit=limit, lineage=lineage)
+        with contextlib.suppress(GrowthLimitError):
+            d.advance(exc.fits)
+        exc.word, exc.step = d.word, d.step
+        raise
     d = Derivation(program, seed=seed, limit=limit, lineage=lineage)
-    return d.advance(_steps(program, steps))
+    return d.advance(n)
 
 
 def iterate(
@@ -1085,8 +1077,8 @@ def iterate(
     limit: int = DEFAULT_MODULE_LIMIT,
 ) -> Iterator[ModuleString]:
     """Yield the words of steps ``0 … steps`` (step 0 is the axiom)."""
+    n = check_steps(program, steps, limit=limit)
     d = Derivation(program, seed=seed, limit=limit)
-    n = _steps(program, steps)
     yield d.word
     for _ in range(n):
         yield d.advance()

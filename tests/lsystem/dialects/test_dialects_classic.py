@@ -12,6 +12,7 @@ from _dialect_examples import (
     rewrite,
 )
 
+from sylva.errors import LSystemSyntaxError
 from sylva.lsystem.ast import Module, Num, Pattern, Span
 from sylva.lsystem.dialects import classic, loads
 
@@ -67,17 +68,48 @@ def test_hilbert_curve():
         assert (len(word), word.count("F")) == (length, segments)
 
 
-def test_keywords_in_any_order_any_case_and_thickness():
-    p = loads("RULE: F -> FF\naxiom:F\nThickness: 2\nangle: 25.7 ; degrees\niteration: 3")
+def test_keywords_in_any_case_and_thickness():
+    p = loads("ITERATION: 3\nangle: 25.7 ; degrees\nThickness: 2\naxiom:F\nRULE: F -> FF")
     assert p.steps == 3
     assert p.settings == {"turtle": "classic", "rot": 25.7, "thickness": 2.0}
     assert p.rules[0].successor == (Module("F"), Module("F"))
 
 
-def test_minimal_file_and_empty_successor():
-    p = classic.parse("axiom: F\nrule: F ->\n")
+@pytest.mark.parametrize(
+    ("text", "line", "words"),
+    [
+        ("RULE: F -> FF\naxiom:F", 2, "'axiom' after 'rule' (line 1)"),
+        ("iteration: 2\naxiom: F\nangle: 30\n", 3, "'angle' after 'axiom' (line 2)"),
+        ("angle: 30\niteration: 2\naxiom: F\n", 2, "'iteration' after 'angle' (line 1)"),
+        ("radius: 1\nreduction: 0.9\naxiom: F\n", 2, "'reduction' after 'radius'"),
+        ("axiom: F\nrule: F -> G\nradius: 1\n", 3, "'radius' after 'rule' (line 2)"),
+    ],
+)
+def test_keywords_out_of_the_thesis_order_are_an_error(text, line, words):
+    # seed 000, Table 3.2: iteration, angle, reduction, radius, axiom, rules
+    with pytest.raises(LSystemSyntaxError) as e:
+        classic.parse(text)
+    assert (e.value.line, e.value.column) == (line, 1) and words in e.value.message
+
+
+@pytest.mark.parametrize("rule", ["rule: F ->", "rule: F ->   ; nothing", "rule:F->"])
+def test_an_empty_successor_is_an_error(rule):
+    # seed 000: "the successor is non-empty (at least one symbol)"
+    with pytest.raises(LSystemSyntaxError) as e:
+        classic.parse(f"axiom: F\n{rule}\n")
+    assert e.value.line == 2 and "the successor is empty" in e.value.message
+    assert e.value.column == rule.index("->") + 3
+
+
+def test_minimal_file():
+    p = classic.parse("axiom: F\nrule: F -> G\n")
     assert p.steps is None and p.settings == {"turtle": "classic"}
-    assert p.rules[0].successor == ()
+
+
+def test_format_refuses_an_empty_successor():
+    p = loads("axiom = F\nF ->\n")
+    with pytest.raises(ValueError, match="empty successor"):
+        classic.format(p)
 
 
 def test_every_printable_character_but_comment_and_quote_is_a_symbol():

@@ -60,7 +60,7 @@ CASES = [
         "expected '->'",
     ),
     ("classic", "iteration: two", 1, 12, LSystemSyntaxError, "whole number"),
-    ("classic", "axiom: A\nangle: 1\nangle: 2", 3, 1, LSystemSemanticError, "already given"),
+    ("classic", "angle: 1\nangle: 2\naxiom: A", 2, 1, LSystemSemanticError, "already given"),
     ("classic", "axiom: A\nrule A -> B", 2, 5, LSystemSyntaxError, "expected ':' after 'rule'"),
     ("classic", "axiom: A\nrules: A -> B", 2, 1, LSystemSyntaxError, "unknown keyword 'rules'"),
     ("classic", "axiom: A\nrule: A -> B]", 2, 13, LSystemSemanticError, "unmatched ']'"),

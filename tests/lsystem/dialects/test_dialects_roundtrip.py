@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from sylva.lsystem.ast import Binary, Call, Module, Num, Pattern, Program, Rule, Unary, Var
 from sylva.lsystem.dialects import dumps, format_expr, load_all, loads, parse_expr
 from sylva.lsystem.dialects.lsysvis import COLOUR_SETTINGS, NUMERIC_SETTINGS, PRECEDENCE
-from sylva.lsystem.expr import FUNCTIONS
+from sylva.lsystem.expr import FUNCTIONS, free_variables
 
 EXAMPLES = {**LSYS, **CLASSIC, **ENGINE}
 
@@ -184,13 +184,17 @@ def rules(draw, constants):
         Module(m.symbol, tuple(rename(a, bound) for a in m.args)) for m in draw(SUCCESSORS)
     )
     condition = draw(st.none() | EXPRS)
+    weight = rename(draw(st.just(Num(1.0)) | EXPRS), bound)
+    if not free_variables(weight) & {n for p in (*left, pred, *right) for n in p.params}:
+        # a weight known when the file is read must be positive (seed 001 §2.2)
+        weight = Num(draw(st.sampled_from([1.0, 2.0, 0.5, 3.25, 1e-9])))
     return Rule(
         predecessor=pred,
         successor=succ,
         left=left,
         right=right,
         condition=None if condition is None else rename(condition, bound),
-        weight=rename(draw(st.just(Num(1.0)) | EXPRS), bound),
+        weight=weight,
         render=draw(st.booleans()),
     )
 

@@ -16,10 +16,13 @@ blank lines are allowed; whitespace inside a word is ignored; every symbol is on
 character and carries no parameters.  Several rules for one symbol choose uniformly among
 themselves (equal weights; the engine makes the choice).
 
-Leniencies (the thesis's Table 3.2 fixes an order): keywords may come in any order and in
-any letter case, ``iteration`` and ``angle`` may be left out, ``thickness`` (Table 3.1) is
-accepted, a successor may be empty.  Each keyword but ``rule`` may appear once.  A symbol is
-any printable character but ``;`` (the comment) and ``"`` (which ``.lsys`` cannot write).
+The keywords come in the order of the thesis's Table 3.2 (``iteration``, ``angle``,
+``reduction``, ``radius``, then ``axiom`` and the rules; ``thickness`` of Table 3.1 goes with
+``radius``) and a successor holds at least one symbol: a file out of order or with an empty
+successor is an error naming the line.  Leniencies: keywords in any letter case, and
+``iteration``, ``angle``, ``reduction`` and ``radius`` may be left out.  Each keyword but
+``rule`` may appear once.  A symbol is any printable character but ``;`` (the comment) and
+``"`` (which ``.lsys`` cannot write).
 
 The program has ``steps = iteration`` and the settings ``turtle = "classic"``, ``rot =
 angle`` and, when given, ``reduction``, ``radius`` and ``thickness``.
@@ -37,7 +40,7 @@ import re
 from pathlib import Path
 
 from ...errors import LSystemSemanticError
-from ..ast import Module, Num, Pattern, Program, Rule, Span
+from ..ast import MAX_STEPS, Module, Num, Pattern, Program, Rule, Span
 from ._diagnostics import Where, char_symbols, join_words
 
 __all__ = ["KEYWORDS", "format", "parse"]
@@ -52,6 +55,9 @@ KEYWORDS: tuple[str, ...] = (
     "axiom",
     "rule",
 )
+#: Each keyword's place in the order of Table 3.2 (thickness, of Table 3.1, beside radius).
+_ORDER = {"iteration": 0, "angle": 1, "reduction": 2, "radius": 3, "thickness": 3, "axiom": 4,
+          "rule": 5}  # fmt: skip
 _SETTING = {"angle": "rot", "reduction": "reduction", "radius": "radius", "thickness": "thickness"}
 _KEYWORD = re.compile(r"\s*([A-Za-z_]+)\s*:")
 _WORD = re.compile(r"\s*([A-Za-z_]+)")
@@ -94,8 +100,10 @@ def parse(text: str, filename: str | None = None) -> Program:
     seen: dict[str, int] = {}
     settings: dict[str, object] = {"turtle": "classic"}
     steps: int | None = None
+    steps_at: Span | None = None
     axiom: tuple[Module, ...] | None = None
     rules: list[Rule] = []
+    last: tuple[str, int] | None = None  # the previous keyword and its line
     for lineno, raw in enumerate(text.splitlines(), 1):
         line = _strip_comment(raw)
         if not line.strip():
@@ -116,6 +124,13 @@ def parse(text: str, filename: str | None = None) -> Program:
             raise where.error(
                 f"unknown keyword {m.group(1)!r}; expected " + join_words(KEYWORDS), first
             )
+        if last is not None and _ORDER[keyword] < _ORDER[last[0]]:
+            raise where.error(
+                f"{keyword!r} after {last[0]!r} (line {last[1]}); expected the order of seed "
+                "000: iteration, angle, reduction, radius, axiom, then the rules",
+                first,
+            )
+        last = (keyword, lineno)
         if keyword != "rule":
             if keyword in seen:
                 raise where.semantic(
@@ -130,6 +145,13 @@ def parse(text: str, filename: str | None = None) -> Program:
             if not n or int(n.group(1)) < 0:
                 raise where.error("expected a whole number of iterations >= 0", value_col)
             steps = int(n.group(1))
+            if steps > MAX_STEPS:
+                raise where.semantic(
+                    f"'iteration' is {steps:.3g}; expected at most {MAX_STEPS:,} derivation "
+                    "steps (sylva.lsystem.MAX_STEPS)",
+                    value_col,
+                )
+            steps_at = Span(lineno, value_col, filename)
         elif keyword in _SETTING:
             x = _FLOAT.match(value)
             if not x:
@@ -156,6 +178,7 @@ def parse(text: str, filename: str | None = None) -> Program:
         rules=tuple(rules),
         settings=settings,
         steps=steps,
+        steps_at=steps_at,
         dialect="classic",
         name=Path(filename).stem if filename else None,
         filename=filename,
@@ -182,6 +205,11 @@ def _rule(value: str, offset: int, value_col: int, where: Where) -> Rule:
     _symbols(pred, value_col - 1, where, "the predecessor")
     succ_offset = arrow_col + 1  # 0-based index just after '->'
     succ = _symbols(after[2:], succ_offset, where, "the successor")
+    if not succ:
+        raise where.error(
+            "the successor is empty; expected at least one symbol after '->' (seed 000)",
+            succ_offset + 1,
+        )
     return Rule(
         predecessor=Pattern(pred),
         successor=tuple(Module(s) for s, _ in succ),
@@ -220,5 +248,7 @@ def format(program: Program) -> str:  # noqa: A001 - the dialect's writer, as DE
             raise ValueError(f"the classic format cannot write the rule {r!r}")
         if r.weight != Num(1.0):
             raise ValueError("the classic format has no rule weights")
+        if not r.successor:
+            raise ValueError("the classic format cannot write an empty successor")
         lines.append(f"rule: {word([Module(r.predecessor.symbol)])} -> {word(r.successor)}")
     return "\n".join(lines) + "\n"

@@ -48,7 +48,7 @@ import math
 import re
 
 from ...errors import LSystemSyntaxError, SylvaError
-from ..ast import Program
+from ..ast import Program, Span
 from ..expr import evaluate_constant
 from . import lsysvis
 
@@ -157,6 +157,7 @@ def parse(text: str, filename: str | None = None) -> Program:
     section = "production"
     depths: dict[str, tuple[str, LSystemSyntaxError]] = {}
     recursive = _homomorphism_has_depth(lines)
+    steps_col = 1
     for number, raw in enumerate(lines, start=1):
 
         def where(message: str, column: int = 1, _n=number, _raw=raw) -> LSystemSyntaxError:
@@ -195,6 +196,9 @@ def parse(text: str, filename: str | None = None) -> Program:
                 out.append("")
             elif key == "derivation length":
                 out.append(f"steps = {value}")
+                at = m.start(2) + len(m.group(2)) - len(m.group(2).lstrip())
+                parts[number] = [(0, 0), (8, at)]  # "steps = " is 8 characters
+                steps_col = at + 1
             elif key == "maximum depth":
                 if section not in _DEPTH_OF:
                     raise where("'maximum depth:' belongs in a decomposition or homomorphism "
@@ -242,8 +246,11 @@ def parse(text: str, filename: str | None = None) -> Program:
                                      filename=at.filename, line=at.line, column=at.column,
                                      source_line=at.source_line)  # fmt: skip
         fields[field] = int(v)
+    at = program.steps_at
+    if at is not None:
+        at = Span(at.line, steps_col, at.filename)
     return program.replace(settings=settings, dialect="cpfg", name=name or program.name,
-                           **fields)  # fmt: skip
+                           steps_at=at, **fields)  # fmt: skip
 
 
 _DEPTH_OF = {"decomposition": "decomposition_depth", "homomorphism": "interpretation_depth"}

@@ -93,11 +93,12 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Collection, Iterable, Mapping
+from collections.abc import Callable, Collection, Iterable, Mapping
 from contextvars import ContextVar
 from dataclasses import dataclass, replace
 from functools import cache
 from importlib import resources
+from itertools import islice
 from pathlib import Path
 
 from lark import Lark, Token, Transformer
@@ -110,8 +111,21 @@ from lark.exceptions import (
 )
 
 from ...errors import LSystemSemanticError, LSystemSyntaxError, SylvaError
-from ..ast import Binary, Call, Expr, Module, Num, Pattern, Program, Rule, Span, Unary, Var
-from ..expr import FUNCTIONS, evaluate_constant
+from ..ast import (
+    MAX_STEPS,
+    Binary,
+    Call,
+    Expr,
+    Module,
+    Num,
+    Pattern,
+    Program,
+    Rule,
+    Span,
+    Unary,
+    Var,
+)
+from ..expr import FUNCTIONS, evaluate_constant, free_variables
 from ._diagnostics import Where, describe_expected, join_words
 
 __all__ = [
@@ -186,6 +200,13 @@ _BLANK = re.compile(r"\s*(?:#.*)?\Z", re.DOTALL)
 _ASSIGN = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*=(?![=>])")
 _LEADING_NAME = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\b\s*")
 _DIGITS = re.compile(r"\s*(\d+)\s*(?:#.*)?\Z", re.DOTALL)
+#: ``name = number`` (NUMBER or NEG_NUMBER of lsys.lark): the common line, read without Lark.
+_LITERAL_ASSIGN = re.compile(
+    r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*=\s*(-?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(?:#.*)?\Z",
+    re.DOTALL,
+)
+#: Names a plain number cannot be assigned to (they have their own checks and meanings).
+_NOT_PLAIN = (SPECIAL_VARIABLES - set(NUMERIC_SETTINGS)) | {"True", "False"}
 _WORD_NAME = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:#.*)?\Z", re.DOTALL)
 
 _WHERE: ContextVar[Where] = ContextVar("sylva_lsys_where")
@@ -462,20 +483,25 @@ def _translate(e: UnexpectedInput, where: Where) -> LSystemSyntaxError:
 
 
 # --------------------------------------------------------------------------- semantics
-def _check_vars(expr: Expr, known: Collection[str], where: Where, hint: str) -> None:
-    """Raise at the first variable of ``expr`` that is not in ``known``."""
+def _check_vars(expr: Expr, known: Collection[str], where: Where, hint: Callable[[], str]) -> None:
+    """Raise at the first variable of ``expr`` that is not in ``known``.
+
+    ``hint`` builds the end of the message; it is called only when a variable is unknown,
+    so that reading a file with many names stays linear in its length.
+    """
     stack = [expr]
     while stack:
         node = stack.pop()
         if isinstance(node, Var):
             if node.name not in known:
                 col = node.span.column if node.span else 1
-                extra = hint
                 if node.name in SPECIAL_VARIABLES:
                     extra = (
                         f"; {node.name!r} is a special variable (a setting), which expressions "
                         "cannot read; expected a user variable"
                     )
+                else:
+                    extra = hint()
                 raise where.semantic(f"unknown variable {node.name!r}{extra}", col)
         elif isinstance(node, Unary):
             stack.append(node.operand)
@@ -487,11 +513,35 @@ def _check_vars(expr: Expr, known: Collection[str], where: Where, hint: str) -> 
 
 
 def _known_hint(names: Iterable[str], what: str) -> str:
-    names = list(names)
-    if not names:
+    """``; expected WHAT (known here: a, b, …)``, naming at most 12 of ``names``."""
+    shown = list(islice(names, 13))
+    if not shown:
         return f"; expected {what}"
-    shown = ", ".join(names[:12]) + (" …" if len(names) > 12 else "")
-    return f"; expected {what} (known here: {shown})"
+    listed = ", ".join(shown[:12]) + (" …" if len(shown) > 12 else "")
+    return f"; expected {what} (known here: {listed})"
+
+
+class _Names(Collection[str]):
+    """The names of several mappings seen as one collection, without copying them."""
+
+    __slots__ = ("_parts",)
+
+    def __init__(self, *parts: Collection[str]) -> None:
+        self._parts = parts
+
+    def __contains__(self, name: object) -> bool:
+        return any(name in p for p in self._parts)
+
+    def __iter__(self):
+        seen: set[str] = set()
+        for p in self._parts:
+            for name in p:
+                if name not in seen:
+                    seen.add(name)
+                    yield name
+
+    def __len__(self) -> int:
+        return sum(1 for _ in self)
 
 
 def _evaluate(expr: Expr, column: int, where: Where, constants: Mapping[str, float]) -> float:
@@ -499,7 +549,7 @@ def _evaluate(expr: Expr, column: int, where: Where, constants: Mapping[str, flo
         expr,
         constants,
         where,
-        _known_hint(constants, "a variable assigned on an earlier line"),
+        lambda: _known_hint(constants, "a variable assigned on an earlier line"),
     )
     try:
         value = float(evaluate_constant(expr, constants))  # IEEE: 1/0 is inf, checked below
@@ -572,6 +622,25 @@ def _first_column(line: str) -> int:
     return len(line) - len(line.lstrip()) + 1
 
 
+def _check_weight(w: Expr, column: int, bindings, constants, where: Where) -> None:
+    """A weight known when the file is read must be a positive finite number (seed 001
+    §2.2: weights are positive).  One that reads the rule's parameters is evaluated per
+    application: where it is 0 or negative the rule does not apply there, and a value that
+    is not a finite number is an error of the derivation."""
+    names = free_variables(w)
+    if names & set(bindings):
+        return
+    if names and not isinstance(constants, Mapping):
+        return  # the values of the globals are not known here
+    value = _evaluate(w, column, where, constants or {})
+    if not value > 0:
+        raise where.semantic(
+            f"the weight is {value:g}; expected a positive number (seed 001 §2.2: every "
+            "rule has a positive weight; to switch a rule off, give it a condition)",
+            column,
+        )
+
+
 def _build_rule(parts, where: Where, constants: Collection[str] | None) -> Rule:
     lctx, pred, rctx, cond, arrow, weight, succ = parts
     bindings: dict[str, int] = {}
@@ -635,11 +704,10 @@ def _build_rule(parts, where: Where, constants: Collection[str] | None) -> Rule:
     if constants is None:
         known: Collection[str] | None = None
     else:
-        known = set(bindings) | set(constants)
-        hint = _known_hint(
-            [*bindings, *constants],
-            "a parameter of the rule or a global variable",
-        )
+        known = _Names(bindings, constants)
+
+        def hint() -> str:
+            return _known_hint(known, "a parameter of the rule or a global variable")
 
     def check(expr: Expr) -> None:
         if known is not None:
@@ -653,6 +721,7 @@ def _build_rule(parts, where: Where, constants: Collection[str] | None) -> Rule:
     if weight is not None:
         w = weight[0]
         check(w)
+        _check_weight(w, weight[1] + 1, bindings, constants, where)
     successor = []
     for m, _ in _modules(succ, where, "the successor"):
         for a in m.args:
@@ -684,6 +753,7 @@ class _Reader:
         self.consider: frozenset[str] | None = None
         self.seed: int | None = None
         self.steps: int | None = None
+        self.steps_at: Span | None = None
         self.rules: list[Rule] = []
         self.first_rule_line: int | None = None
         self.at_words: list[tuple[list[_Item], Where]] = []  # checked once the turtle is known
@@ -695,7 +765,17 @@ class _Reader:
     def read(self, text: str) -> None:
         if text.startswith("\ufeff"):
             text = text[1:]
+        settings, constants, assigned = self.settings, self.constants, self.assigned
         for lineno, line in enumerate(text.splitlines(), 1):
+            fast = _LITERAL_ASSIGN.match(line)
+            if fast and self.first_rule_line is None:
+                name = fast.group(1)
+                if name not in assigned and name not in _NOT_PLAIN:
+                    v = float(fast.group(2))
+                    if math.isfinite(v):  # else the full path names the error
+                        assigned[name] = lineno
+                        (settings if name in NUMERIC_SETTINGS else constants)[name] = v
+                        continue
             if _BLANK.match(line):
                 continue
             where = Where(line, lineno, self.filename)
@@ -859,12 +939,24 @@ class _Reader:
         elif name in ("seed", "steps"):
             digits = _DIGITS.match(padded)
             if digits:  # exact, also beyond 2**53
-                setattr(self, name, int(digits.group(1)))
-                return
-            v = values[0]
-            if not v.is_integer() or v < 0:
-                raise where.semantic(f"{name!r} expected a whole number >= 0, got {v:g}", value_col)
-            setattr(self, name, int(v))
+                n = int(digits.group(1))
+            else:
+                v = values[0]
+                if not v.is_integer() or v < 0:
+                    raise where.semantic(
+                        f"{name!r} expected a whole number >= 0, got {v:g}", value_col
+                    )
+                n = int(v)
+            if name == "steps":
+                if n > MAX_STEPS:
+                    big = f"{n:,}" if n < 10**12 else f"{float(n):.3g}"
+                    raise where.semantic(
+                        f"'steps' is {big}; expected at most {MAX_STEPS:,} derivation steps "
+                        "(sylva.lsystem.MAX_STEPS)",
+                        value_col,
+                    )
+                self.steps_at = Span(where.lineno, value_col, self.filename)
+            setattr(self, name, n)
         else:
             self.constants[name] = values[0]
 
@@ -893,6 +985,7 @@ class _Reader:
             consider=self.consider,
             settings=self.settings,
             steps=self.steps,
+            steps_at=self.steps_at,
             seed=self.seed,
             dialect="lsys",
             name=Path(self.filename).stem if self.filename else None,
