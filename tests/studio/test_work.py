@@ -112,29 +112,28 @@ def test_decode_detects_the_encoding():
     assert decode(text.encode("utf-16")) == text
 
 
-def test_sessions_evict_idle_and_least_recent():
+def test_sessions_are_made_on_request_and_only_idle_ones_are_evicted():
     store = SessionStore(capacity=2, idle_timeout=60)
-    a, b = store.get("a" * 20), store.get("b" * 20)
-    a.last_used -= 10
-    store.get("c" * 20)  # full: the least recently used idle one goes
-    assert "a" * 20 not in store and "b" * 20 in store and a.cancel.is_set()
+    assert store.get("a" * 20) is None and len(store) == 0  # asking makes nothing
+    a, b = store.create(), store.create()
+    assert store.get(a.id) is a and a.id != b.id
+    a.derivation = object()
+    # full of active sessions: the new client is refused, nobody is evicted
+    with pytest.raises(TooManySessions) as exc:
+        store.create()
+    assert 1 <= exc.value.retry_after <= 30
+    assert a.id in store and b.id in store and not a.cancel.is_set()
+    a.last_used -= 61  # a went idle
+    c = store.create()
+    assert a.id not in store and b.id in store and c.id in store
+    assert a.cancel.is_set() and a.derivation is None  # released, memory with it
     b.last_used -= 120
+    b.job = object()  # idle for long, but a job of it is running: kept
+    assert store.evict_idle() == 0 and b.id in store
+    b.job = None
     assert store.evict_idle() == 1 and len(store) == 1
     assert SessionStore.valid_id(SessionStore.new_id())
     assert not SessionStore.valid_id("short") and not SessionStore.valid_id("x" * 20 + ";")
-
-
-def test_sessions_refuse_when_all_are_busy():
-    import asyncio
-
-    async def main():
-        store = SessionStore(capacity=1, idle_timeout=60)
-        s = store.get("a" * 20)
-        async with s.lock:
-            with pytest.raises(TooManySessions):
-                store.get("b" * 20)
-
-    asyncio.run(main())
 
 
 def test_help_tables_follow_the_turtle_tables():
