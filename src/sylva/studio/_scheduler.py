@@ -231,6 +231,7 @@ class Scheduler:
                 job = self._ready.popleft()
                 job.taken = True
             self._slice(job)
+            del job  # an idle worker holds nothing of a session (its mesh, its word)
 
     def _slice(self, job: Job) -> None:
         t0 = time.perf_counter()
@@ -260,4 +261,5 @@ class Scheduler:
                 self._cv.notify()
                 return
             self._next(job.session)
+        job.gen = job.make = None
         self._deliver(job, value, exc)

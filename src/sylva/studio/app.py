@@ -310,6 +310,7 @@ async def info(request: Request) -> JSONResponse:
                      for e in examples()],
         "start_file": studio.start_file,
         "ready": studio.ready.is_set(),
+        "sessions": len(studio.sessions),
         "limits": {"modules": lim.max_modules, "time_cap": lim.time_cap,
                    "steps": lim.max_steps, "text": lim.max_text, "body": lim.max_body,
                    "image_side": lim.max_image_side, "page": lim.page_size},
