@@ -4,8 +4,10 @@ A *job* is a generator that runs in the scheduler's worker threads (never on the
 loop) and ``yield``\\ s between two pieces of its work: two derivation steps, two phases of
 meshing.  A worker runs a job for one *slice* (at least one piece, more while they take
 less than ``quantum`` seconds), then puts it at the back of the queue when other sessions
-wait, and takes the next: the sessions with work are served round robin, so a client
-asking for a small thing is not stuck behind four others building large meshes.
+wait, and takes the next: the sessions with work are served round robin.  A job that is
+expected to be long, or has run for ``heavy_after`` seconds, is *heavy*: heavy jobs never
+hold the last worker, which stays free for small requests, so a client asking for a small
+thing is not stuck behind four others building large meshes.
 
 Each session has at most one job running or ready to run.  A new request from the same
 session supersedes the old one: a job that has not started yet is dropped at once, a
@@ -55,8 +57,12 @@ def run_through(gen: Generator) -> Any:
 class Job:
     """One request's work: ``make()`` gives the generator, called in a worker thread."""
 
-    def __init__(self, session: Session, make: Callable[[Job], Generator], loop) -> None:
+    def __init__(self, session: Session, make: Callable[[Job], Generator], loop,
+                 heavy: bool = False) -> None:
         self.session = session
+        # expected to be long (a large word), or it has been: it may not take the last
+        # free worker, which stays for the small requests
+        self.heavy = heavy
         self.make = make
         self.loop = loop
         self.future: asyncio.Future = loop.create_future()
@@ -84,8 +90,11 @@ class Scheduler:
     """``workers`` threads serving the sessions' jobs round robin."""
 
     def __init__(self, workers: int, *, quantum: float = 0.02, max_wait: float = 20.0,
-                 name: str = "sylva-studio") -> None:
+                 heavy_after: float = 0.1, name: str = "sylva-studio") -> None:
         self.quantum = float(quantum)
+        self.heavy_after = float(heavy_after)
+        self._heavy = 0  # heavy jobs in a slice now
+        self._lanes = max(1, int(workers) - 1)  # the most of them at once
         self.max_wait = float(max_wait)
         self._cv = threading.Condition()
         self._ready: collections.deque[Job] = collections.deque()
@@ -97,9 +106,11 @@ class Scheduler:
             t.start()
 
     # ---------------------------------------------------------------- the event loop side
-    def submit(self, session: Session, make: Callable[[Job], Generator]) -> Job:
-        """Queue a job for ``session``, superseding the one it has (call on the loop)."""
-        job = Job(session, make, asyncio.get_running_loop())
+    def submit(self, session: Session, make: Callable[[Job], Generator], *,
+               heavy: bool = False) -> Job:
+        """Queue a job for ``session``, superseding the one it has (call on the loop);
+        ``heavy``: it is expected to take long."""
+        job = Job(session, make, asyncio.get_running_loop(), heavy)
         with self._cv:
             if self._closed or session.closed:
                 raise Busy("the server is shutting down or the session has ended", 5)
@@ -112,7 +123,7 @@ class Scheduler:
             if active is None:
                 session.job = job
                 self._ready.append(job)
-                self._cv.notify()
+                self._cv.notify_all()
             elif not active.taken:
                 # not started yet: dropped at once
                 self._ready.remove(active)
@@ -120,7 +131,7 @@ class Scheduler:
                     "a newer request of this session replaced this one"))
                 session.job = job
                 self._ready.append(job)
-                self._cv.notify()
+                self._cv.notify_all()
             else:
                 active.stop("superseded")
                 session.next_job = job
@@ -205,7 +216,7 @@ class Scheduler:
         s.job = nxt
         if nxt is not None:
             self._ready.append(nxt)
-            self._cv.notify()
+            self._cv.notify_all()
         s.touch()
 
     def _deliver(self, job: Job, value, exc) -> None:
@@ -224,14 +235,29 @@ class Scheduler:
     def _work(self) -> None:
         while True:
             with self._cv:
-                while not self._ready and not self._closed:
+                while not self._closed and (job := self._pick()) is None:
                     self._cv.wait()
                 if self._closed:
                     return
-                job = self._ready.popleft()
                 job.taken = True
-            self._slice(job)
+                heavy = job.heavy
+                self._heavy += heavy
+            try:
+                self._slice(job)
+            finally:
+                with self._cv:
+                    self._heavy -= heavy
+                    self._cv.notify_all()
             del job  # an idle worker holds nothing of a session (its mesh, its word)
+
+    def _pick(self) -> Job | None:
+        """The first job in line that may run now (lock held): a heavy one only while
+        fewer than all workers but one run heavy jobs."""
+        for i, job in enumerate(self._ready):
+            if not job.heavy or self._heavy < self._lanes:
+                del self._ready[i]
+                return job
+        return None
 
     def _slice(self, job: Job) -> None:
         t0 = time.perf_counter()
@@ -254,11 +280,12 @@ class Scheduler:
             dt = time.perf_counter() - t0
             job.spent += dt
             job._slice_start = None
+            job.heavy = job.heavy or job.spent > self.heavy_after
         with self._cv:
             self._slices.append(dt)
             if not done:
                 self._ready.append(job)
-                self._cv.notify()
+                self._cv.notify_all()
                 return
             self._next(job.session)
         job.gen = job.make = None

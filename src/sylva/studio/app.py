@@ -157,6 +157,8 @@ class _Guard:
 
 # --------------------------------------------------------------------------- the app
 _SUPERSEDED = "a newer request of this session replaced this one"
+# a job on a word of more modules is expected to be long: it waits for a heavy lane
+_HEAVY_WORD = 50_000
 
 
 def _once(fn, *args, **kw):
@@ -211,8 +213,10 @@ class Studio:
             # inside their time cap
             with contextlib.suppress(TimeoutError):
                 await asyncio.wait_for(self.ready.wait(), timeout=600)
+        d = session.derivation
+        heavy = d is not None and len(d.word) > _HEAVY_WORD
         try:
-            job = self.scheduler.submit(session, make)
+            job = self.scheduler.submit(session, make, heavy=heavy)
         except Busy as exc:
             raise ApiError(503, "busy", str(exc), retry_after=exc.retry_after) from None
         try:
