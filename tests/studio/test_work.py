@@ -63,6 +63,25 @@ def test_stop_and_module_cap():
         advance(s, limits.max_steps + 1, limits)
 
 
+def test_meshing_stops_at_the_time_cap_between_phases():
+    from sylva.studio._scheduler import run_through
+    from sylva.studio._work import meshing
+
+    limits = Limits(time_cap=0.5)
+    s = session_of("axiom = F\nF -> F[+F]F\n", limits)
+    advance(s, 3, limits)
+    with pytest.raises(CapError) as exc:
+        run_through(meshing(s, limits, clock=lambda: 0.6))  # the work took 0.6 s so far
+    assert exc.value.kind == "time" and "time cap of 0.5 s" in str(exc.value)
+    assert s.drawn is None
+    s.cancel.set()  # Stop, or a newer request of the session
+    with pytest.raises(CapError) as exc:
+        run_through(meshing(s, limits))
+    assert exc.value.kind == "stopped"
+    s.cancel.clear()
+    assert run_through(meshing(s, limits)).step == 3
+
+
 def test_triangle_cap_lowers_the_sides():
     limits = Limits(max_triangles=2000)
     s = session_of("detail = 25\naxiom = F\nF -> FF\n", limits)

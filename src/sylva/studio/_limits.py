@@ -59,5 +59,5 @@ class Limits:
     max_image_pixels: int = 8192 * 8192
     max_triangles: int = 3_000_000
     workers: int = 4
-    max_wait: float = 20.0
+    max_wait: float = 10.0
     page_size: int = 5000

@@ -89,7 +89,7 @@ class Job:
 class Scheduler:
     """``workers`` threads serving the sessions' jobs round robin."""
 
-    def __init__(self, workers: int, *, quantum: float = 0.02, max_wait: float = 20.0,
+    def __init__(self, workers: int, *, quantum: float = 0.02, max_wait: float = 10.0,
                  heavy_after: float = 0.1, name: str = "sylva-studio") -> None:
         self.quantum = float(quantum)
         self.heavy_after = float(heavy_after)

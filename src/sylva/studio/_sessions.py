@@ -28,6 +28,7 @@ __all__ = ["HEADER", "PAGE_HEADER", "Session", "SessionStore", "TooManySessions"
            "release_memory"]
 
 HEADER = "x-sylva-session"
+_RETRY_FULL = 5  # seconds
 PAGE_HEADER = "x-sylva-page"
 
 
@@ -137,8 +138,10 @@ class SessionStore:
             now = time.monotonic()
             waits = [self.idle_timeout - (now - s.last_used)
                      for s in self._sessions.values() if not s.busy]
-            wait = min(waits) if waits else 5.0
-            retry = int(min(max(math.ceil(wait), 1), 30))
+            # a slot frees when a session idles out or its page is closed (which nobody
+            # can foresee): ask again soon, not at the idle-out
+            wait = min(waits) if waits else _RETRY_FULL
+            retry = int(min(max(math.ceil(wait), 1), _RETRY_FULL))
             raise TooManySessions(
                 f"the server holds {self.capacity} active sessions, its most; "
                 f"try again in {retry} s", retry)
