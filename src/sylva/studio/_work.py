@@ -279,6 +279,12 @@ def word_page(session: Session, start: int, count: int, limits: Limits) -> dict:
 
 
 # --------------------------------------------------------------------------- meshing
+def _tube_triangles(n: int, sides: int) -> int:
+    """Triangles of ``n`` tubes of ``sides`` sides: the wall (2 a side) and the joint to
+    the next segment (1 a side), as the mesh builder makes them, and the end caps."""
+    return 3 * n * sides + 2 * sides
+
+
 def _sides(geometry, limits: Limits) -> int | None:
     """The program's ``detail``, lowered when the mesh would pass the triangle cap."""
     wanted = geometry.detail
@@ -287,9 +293,9 @@ def _sides(geometry, limits: Limits) -> int | None:
         return None
     sides = wanted if wanted is not None else 8
     sides = max(sides, 1)
-    while sides > 3 and 2 * n * sides > limits.max_triangles:
+    while sides > 3 and _tube_triangles(n, sides) > limits.max_triangles:
         sides -= 1
-    if 2 * n * sides > limits.max_triangles:
+    if _tube_triangles(n, sides) > limits.max_triangles:
         raise CapError("modules", f"{n:,} branches need more than the cap of "
                        f"{limits.max_triangles:,} triangles")
     return sides if sides != wanted else wanted
