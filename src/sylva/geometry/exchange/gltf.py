@@ -166,13 +166,15 @@ def write_glb(scene, target: PathOrFile) -> None:
     doc, blob = gltf_document(scene)
     js = json.dumps(doc, separators=(",", ":")).encode("utf-8")
     js += b" " * ((-len(js)) % 4)
-    chunks = struct.pack("<II", len(js), 0x4E4F534A) + js
-    if blob:
-        chunks += struct.pack("<II", len(blob), 0x004E4942) + blob
-    header = struct.pack("<III", 0x46546C67, 2, 12 + len(chunks))
+    total = 12 + 8 + len(js) + (8 + len(blob) if blob else 0)
+    # piece by piece: the buffer (hundreds of MB for a large plant) is not copied again
     with open_target(target, binary=True) as fh:
-        fh.write(header)
-        fh.write(chunks)
+        fh.write(struct.pack("<III", 0x46546C67, 2, total))
+        fh.write(struct.pack("<II", len(js), 0x4E4F534A))
+        fh.write(js)
+        if blob:
+            fh.write(struct.pack("<II", len(blob), 0x004E4942))
+            fh.write(blob)
 
 
 def write_gltf(scene, target: PathOrFile) -> None:
