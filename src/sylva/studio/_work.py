@@ -279,6 +279,22 @@ def word_page(session: Session, start: int, count: int, limits: Limits) -> dict:
 
 
 # --------------------------------------------------------------------------- meshing
+class _Pieces:
+    """A binary file that keeps what is written and joins it once at the end: a large
+    mesh's buffer is not copied into a BytesIO holding the GIL (``bytes.join`` lets the
+    other threads run while it copies)."""
+
+    def __init__(self) -> None:
+        self.parts: list = []
+
+    def write(self, data) -> int:
+        self.parts.append(data)
+        return len(data)
+
+    def getvalue(self) -> bytes:
+        return b"".join(self.parts)
+
+
 def _tube_triangles(n: int, sides: int) -> int:
     """Triangles of ``n`` tubes of ``sides`` sides: the wall (2 a side) and the joint to
     the next segment (1 a side), as the mesh builder makes them, and the end caps."""
@@ -345,7 +361,7 @@ def meshing(session: Session, limits: Limits, clock=None):
     triangles = int(sum(m.n_triangles for m in scene.meshes))
     yield
     turn(f"building {triangles:,} triangles")
-    buf = io.BytesIO()
+    buf = _Pieces()
     write_glb(scene, buf)
     ms = (time.perf_counter() - t0) * 1e3
     drawn = Drawn(step, geometry, sources, scene, buf.getvalue(), triangles, sides, ms)

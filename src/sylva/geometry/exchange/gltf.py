@@ -56,7 +56,8 @@ class _Builder:
 
     def accessor(self, arr: np.ndarray, kind: str, component: int, target: int, minmax=False):
         acc = {
-            "bufferView": self.view(np.ascontiguousarray(arr).tobytes(), target),
+            # a view, not a copy: the one join in blob() copies (and lets other threads run)
+            "bufferView": self.view(memoryview(np.ascontiguousarray(arr)).cast("B"), target),
             "componentType": component,
             "count": int(arr.shape[0]),
             "type": kind,
@@ -68,8 +69,8 @@ class _Builder:
         return len(self.accessors) - 1
 
     def blob(self) -> bytes:
-        data = b"".join(self.chunks)
-        return data + b"\0" * ((-len(data)) % 4)
+        pad = (-self.size) % 4
+        return b"".join(self.chunks + [b"\0" * pad] if pad else self.chunks)
 
 
 def _material_json(mat) -> dict:
