@@ -148,6 +148,11 @@ async def bystander(srv: Server, heavy: int, seconds: float) -> list[tuple[float
             m = await c.request("GET", "/api/mesh")
             assert r.status_code == 200 and m.status_code == 200, (r.text, m.text)
             times.append((t1 - t0, time.monotonic() - t1))
+            if sum(times[-1]) > 1.0:
+                t = r.json()["timings"]
+                print(f"  slow: load {t1 - t0:.2f} s (server: queued {t['queue_ms']:.0f} ms, "
+                      f"worked {t['work_ms']:.0f} ms, answered after "
+                      f"{t['request_ms']:.0f} ms), mesh {times[-1][1]:.2f} s")
             await asyncio.sleep(1.0)
     finally:
         await c.close()

@@ -46,6 +46,7 @@ import gc
 import json
 import math
 import secrets
+import time
 from concurrent.futures import ThreadPoolExecutor
 from importlib import resources
 from pathlib import Path
@@ -54,7 +55,7 @@ from starlette.applications import Starlette
 from starlette.middleware import Middleware
 from starlette.middleware.trustedhost import TrustedHostMiddleware
 from starlette.requests import Request
-from starlette.responses import HTMLResponse, JSONResponse, Response
+from starlette.responses import HTMLResponse, JSONResponse, Response, StreamingResponse
 from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
@@ -220,7 +221,13 @@ class Studio:
         except Busy as exc:
             raise ApiError(503, "busy", str(exc), retry_after=exc.retry_after) from None
         try:
-            return await self.scheduler.result(job)
+            value = await self.scheduler.result(job)
+            # what the request spent waiting for its turns and working (state.timings)
+            done = time.monotonic()
+            session.timings["queue_ms"] = ((job.started or done) - job.submitted) * 1e3
+            session.timings["work_ms"] = job.spent * 1e3
+            session.timings["request_ms"] = (done - job.submitted) * 1e3
+            return value
         except Superseded:
             raise ApiError(409, "superseded", _SUPERSEDED) from None
         except Busy as exc:
@@ -469,12 +476,31 @@ async def _with_mesh(studio: Studio, session: Session, fn=None, *args, **kw):
         raise ApiError(422, exc.kind, str(exc)) from None
 
 
+_CHUNK = 1 << 20
+
+
+def _body(data: bytes, media_type: str, headers: dict) -> Response:
+    """``data`` as the answer; a large one is sent a megabyte at a time, so that the event
+    loop never copies a whole mesh into the socket's buffer at once (holding the GIL while
+    every other client waits)."""
+    if len(data) <= _CHUNK:
+        return Response(data, media_type=media_type, headers=headers)
+    view = memoryview(data)
+
+    async def chunks():
+        for i in range(0, len(view), _CHUNK):
+            yield view[i:i + _CHUNK]
+
+    return StreamingResponse(chunks(), media_type=media_type,
+                             headers={**headers, "content-length": str(len(data))})
+
+
 async def mesh(request: Request) -> Response:
     studio = _studio(request)
     session = studio.session(request)
     _need(session)
     drawn = await _with_mesh(studio, session)
-    return Response(drawn.glb, media_type="model/gltf-binary", headers={
+    return _body(drawn.glb, "model/gltf-binary", {
         "x-sylva-step": str(drawn.step),
         "x-sylva-triangles": str(drawn.triangles),
         "x-sylva-mesh-ms": f"{drawn.mesh_ms:.1f}",
@@ -521,8 +547,7 @@ async def export(request: Request) -> Response:
     data = await _with_mesh(studio, session, _work.export_mesh, session, fmt, studio.limits)
     media = "model/gltf-binary" if fmt == "glb" else "text/plain; charset=utf-8"
     name = _download_name(session, fmt)
-    return Response(data, media_type=media,
-                    headers={"content-disposition": f'attachment; filename="{name}"'})
+    return _body(data, media, {"content-disposition": f'attachment; filename="{name}"'})
 
 
 async def export_png(request: Request) -> Response:
