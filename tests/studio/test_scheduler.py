@@ -135,3 +135,27 @@ def test_stop_ends_the_running_job_and_drops_the_waiting_one():
             sched.close()
 
     assert asyncio.run(main()) == "f stopped"
+
+
+def test_a_job_of_a_session_that_ended_does_not_run():
+    log: list = []
+
+    async def main():
+        sched = Scheduler(1, quantum=0.0)
+        try:
+            gate = threading.Event()
+            hog = sched.submit(session("h"), pieces(log, "h", 1, gate))
+            s = session("s")
+            queued = sched.submit(s, pieces(log, "s", 1))
+            s.release()  # DELETE /api/session, or released while it waited
+            gate.set()
+            await sched.result(hog)
+            with pytest.raises(Superseded):
+                await sched.result(queued)
+            with pytest.raises(Busy):
+                sched.submit(s, pieces(log, "t", 1))
+        finally:
+            sched.close()
+
+    asyncio.run(main())
+    assert ("s", 0) not in log

@@ -265,6 +265,8 @@ class Scheduler:
         done, value, exc = False, None, None
         try:
             if job.gen is None:
+                if job.session.closed:
+                    raise Superseded("the session ended before this request ran")
                 job.started = time.monotonic()
                 job.session.cancel = job.cancel
                 job.gen = job.make(job)
