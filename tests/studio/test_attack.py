@@ -66,6 +66,8 @@ def test_a_full_store_refuses_the_new_client_and_keeps_the_active_ones(workspace
     ("/api/load", b'{"text": "axiom = F\\n", "dialect": 7}'),
     ("/api/load", b"[" * 100_000 + b"]" * 100_000),
     ("/api/load", b'{"text": ' + b'{"a":' * 50_000 + b"1" + b"}" * 50_001),
+    ("/api/load", b'{"text": "axiom = \\ud800\\n"}'),
+    ("/api/file", b'{"path": "a.lsys", "text": "\\udfff"}'),
     ("/api/step", b'{"n": 1e400}'),
     ("/api/step", b'{"n": Infinity}'),
     ("/api/pick", b'{"point": [1e400, 0, 0]}'),
@@ -74,7 +76,8 @@ def test_a_full_store_refuses_the_new_client_and_keeps_the_active_ones(workspace
 def test_bad_json_is_a_400_with_a_message(live, path, body):
     with live.client(timeout=30) as c:
         c.post("/api/load", json={"text": PLANT, "steps": 1})
-        r = c.post(path, content=body, headers={"content-type": "application/json"})
+        method = "PUT" if path == "/api/file" else "POST"
+        r = c.request(method, path, content=body, headers={"content-type": "application/json"})
         assert r.status_code == 400, r.text
         assert r.json()["message"]
 

@@ -274,6 +274,13 @@ async def _json(request: Request) -> dict:
                        + (f": {detail}" if detail else "")) from None
     if not isinstance(data, dict):
         raise ApiError(400, "bad_request", "the body must be a JSON object")
+    try:
+        # a lone surrogate (\ud800) is no text: it could be neither parsed, saved nor
+        # echoed back in an error message
+        json.dumps(data, ensure_ascii=False).encode("utf-8")
+    except UnicodeEncodeError:
+        raise ApiError(400, "bad_request", "the body holds a lone UTF-16 surrogate "
+                       "(such as \\ud800), which is not text") from None
     return data
 
 
