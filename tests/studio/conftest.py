@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import re
 import socket
 import threading
 import time
 from pathlib import Path
 
+import httpx
 import pytest
 
 pytest.importorskip("starlette")
@@ -15,8 +17,36 @@ uvicorn = pytest.importorskip("uvicorn")
 from sylva.studio import Limits, create_app  # noqa: E402
 
 
+def page_token(url: str) -> str:
+    """The token the Studio writes into its page (what the page opens its session with)."""
+    html = httpx.get(url + "/", timeout=30, verify=False).text
+    return re.search(r'<meta name="sylva-page" content="([^"]+)">', html).group(1)
+
+
+def open_session(url: str, token: str | None = None) -> httpx.Response:
+    """``POST /api/session`` as the page does it."""
+    return httpx.post(url + "/api/session", json={}, timeout=30, verify=False,
+                      headers={"x-sylva-page": token or page_token(url)})
+
+
+def session_headers(url: str) -> dict:
+    r = open_session(url)
+    assert r.status_code == 200, r.text
+    return {"x-sylva-session": r.json()["session"]}
+
+
 class LiveServer:
     """uvicorn serving a Studio app in a background thread."""
+
+    def client(self, **kw) -> httpx.Client:
+        """An API client with a session of its own, opened the way the page opens one."""
+        # plain HTTP on the loopback: no TLS context to build (60 ms a client otherwise)
+        return httpx.Client(base_url=self.url, headers=session_headers(self.url),
+                            verify=False, **kw)
+
+    def async_client(self, **kw) -> httpx.AsyncClient:
+        return httpx.AsyncClient(base_url=self.url, headers=session_headers(self.url),
+                                 verify=False, **kw)
 
     def __init__(self, workspace: Path, limits: Limits | None = None) -> None:
         self.workspace = workspace

@@ -25,7 +25,7 @@ A(s) : s > 0.1 -> F(s)[+(angle)A(s*0.6)][-(angle)A(s*0.6)]
 
 @pytest.fixture()
 def client(live):
-    with httpx.Client(base_url=live.url, timeout=30) as c:
+    with live.client(timeout=30) as c:
         yield c
 
 
@@ -218,20 +218,20 @@ def test_step_count_cap(client):
 
 
 def test_no_program_yet(live):
-    with httpx.Client(base_url=live.url) as fresh:
+    with live.client() as fresh:
         r = fresh.post("/api/step", json={"n": 1})
         assert r.status_code == 409 and r.json()["error"] == "no_program"
 
 
 def test_sessions_are_isolated(live):
-    with httpx.Client(base_url=live.url) as a, httpx.Client(base_url=live.url) as b:
+    with live.client() as a, live.client() as b:
         load(a, steps=3)
         load(b, "axiom = X\nX -> XX\n", steps=5)
         assert a.get("/api/state").json()["modules"] == 311
         assert b.get("/api/state").json()["modules"] == 32
-        assert a.cookies.get("sylva_session") != b.cookies.get("sylva_session")
-        # a header names a session too
-        sid = b.cookies.get("sylva_session")
+        assert a.headers["x-sylva-session"] != b.headers["x-sylva-session"]
+        # the header names the session, whatever the connection
+        sid = b.headers["x-sylva-session"]
         with httpx.Client(base_url=live.url) as c:
             r = c.get("/api/state", headers={"x-sylva-session": sid})
             assert r.json()["modules"] == 32
@@ -360,8 +360,7 @@ def test_long_derivation_blocks_nobody_and_stops(live):
 
     # a traced step over 40,000 modules takes milliseconds: 1000 of them take seconds
     slow = "axiom = " + "F" * 40_000 + "\nF -> F\n"
-    with httpx.Client(base_url=live.url, timeout=60) as a, \
-            httpx.Client(base_url=live.url, timeout=60) as b:
+    with live.client(timeout=60) as a, live.client(timeout=60) as b:
         assert load(a, slow).status_code == 200
         assert load(b, PLANT).status_code == 200
         result = {}
@@ -375,7 +374,7 @@ def test_long_derivation_blocks_nobody_and_stops(live):
             # b got its answers while a is still deriving: nobody waited for a's steps
             assert worker.is_alive()
             # Stop, from a's session (a second connection with its id)
-            sid = a.cookies.get("sylva_session")
+            sid = a.headers["x-sylva-session"]
             stop = b.post("/api/stop", headers={"x-sylva-session": sid})
             assert stop.json() == {"stopping": True}
         finally:

@@ -373,6 +373,27 @@ def test_the_app_runs_under_its_csp(browser, live):
         ctx.close()
 
 
+def test_a_released_session_comes_back_with_the_text_and_step(page, live):
+    """The server released the page's session (idle timeout, restart): the next action
+    opens a new one, loads what the page had and goes on; nothing typed is lost."""
+    import httpx
+
+    type_definition(page, PLANT)
+    page.fill("#steps", "3")
+    page.click("#btn-derive")
+    wait_idle(page, 3)
+    sid = page.evaluate("window.studio.session()")
+    assert httpx.delete(live.url + "/api/session", headers={"x-sylva-session": sid}).json() \
+        == {"ended": True}
+    assert httpx.get(live.url + "/api/state",
+                     headers={"x-sylva-session": sid}).status_code == 401
+    page.click("#btn-step")
+    wait_idle(page, 4)
+    assert page.evaluate("window.studio.state.modules") == len(derive(loads(PLANT), 4))
+    assert page.evaluate("window.studio.session()") != sid
+    assert page.evaluate("window.studio.editor.text").rstrip("\n") == PLANT.rstrip("\n")
+
+
 def test_two_tabs_are_two_clients(page):
     type_definition(page, PLANT)
     page.fill("#steps", "3")

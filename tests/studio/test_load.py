@@ -11,7 +11,6 @@ import asyncio
 import io
 import random
 
-import httpx
 import numpy as np
 import pytest
 
@@ -59,12 +58,12 @@ def expected_counts(rules: dict[str, str], steps: int) -> dict[str, int]:
     return {s: int(v[index[s]]) for s in SYMBOLS if v[index[s]]}
 
 
-async def one_client(url: str, k: int) -> dict:
+async def one_client(live, k: int) -> dict:
     rng = random.Random(1000 + k)
     _axiom, rules, steps = make_system(rng)
     text = text_of(rules, rot=15 + k)
     want = expected_counts(rules, steps)
-    async with httpx.AsyncClient(base_url=url, timeout=60) as c:
+    async with live.async_client(timeout=60) as c:
         r = await c.post("/api/load", json={"text": text, "seed": k, "trace": k % 2 == 0})
         assert r.status_code == 200, r.text
         r = await c.post("/api/step", json={"n": steps})
@@ -92,7 +91,7 @@ async def one_client(url: str, k: int) -> dict:
 def test_fifty_concurrent_clients(live):
     async def main():
         return await asyncio.wait_for(
-            asyncio.gather(*(one_client(live.url, k) for k in range(CLIENTS))), timeout=120)
+            asyncio.gather(*(one_client(live, k) for k in range(CLIENTS))), timeout=120)
 
     results = asyncio.run(main())  # bounded: wait_for gives up after 120 s
     assert len(results) == CLIENTS

@@ -63,12 +63,36 @@ def test_stop_and_module_cap():
         advance(s, limits.max_steps + 1, limits)
 
 
+def test_meshing_stops_at_the_time_cap_between_phases():
+    from sylva.studio._scheduler import run_through
+    from sylva.studio._work import meshing
+
+    limits = Limits(time_cap=0.5)
+    s = session_of("axiom = F\nF -> F[+F]F\n", limits)
+    advance(s, 3, limits)
+    with pytest.raises(CapError) as exc:
+        run_through(meshing(s, limits, clock=lambda: 0.6))  # the work took 0.6 s so far
+    assert exc.value.kind == "time" and "time cap of 0.5 s" in str(exc.value)
+    assert s.drawn is None
+    s.cancel.set()  # Stop, or a newer request of the session
+    with pytest.raises(CapError) as exc:
+        run_through(meshing(s, limits))
+    assert exc.value.kind == "stopped"
+    s.cancel.clear()
+    assert run_through(meshing(s, limits)).step == 3
+
+
 def test_triangle_cap_lowers_the_sides():
     limits = Limits(max_triangles=2000)
     s = session_of("detail = 25\naxiom = F\nF -> FF\n", limits)
     advance(s, 6, limits)  # 64 segments
     drawn = mesh(s, limits)
-    assert drawn.sides < 25 and drawn.triangles <= 2000 + 64 * 4
+    assert drawn.sides < 25 and drawn.triangles <= 2000
+    # a branching plant (a joint at every segment): the cap holds, not 1.5x of it
+    b = session_of("detail = 25\naxiom = F\nF -> F[+F]F[-F]F\n", limits)
+    advance(b, 3, limits)  # 125 segments
+    drawn_b = mesh(b, limits)
+    assert 1000 < drawn_b.triangles <= 2000
     page = word_page(s, 60, 10, limits)
     assert page["start"] == 60 and page["modules"] == ["F"] * 4
 
@@ -112,29 +136,28 @@ def test_decode_detects_the_encoding():
     assert decode(text.encode("utf-16")) == text
 
 
-def test_sessions_evict_idle_and_least_recent():
+def test_sessions_are_made_on_request_and_only_idle_ones_are_evicted():
     store = SessionStore(capacity=2, idle_timeout=60)
-    a, b = store.get("a" * 20), store.get("b" * 20)
-    a.last_used -= 10
-    store.get("c" * 20)  # full: the least recently used idle one goes
-    assert "a" * 20 not in store and "b" * 20 in store and a.cancel.is_set()
+    assert store.get("a" * 20) is None and len(store) == 0  # asking makes nothing
+    a, b = store.create(), store.create()
+    assert store.get(a.id) is a and a.id != b.id
+    a.derivation = object()
+    # full of active sessions: the new client is refused, nobody is evicted
+    with pytest.raises(TooManySessions) as exc:
+        store.create()
+    assert 1 <= exc.value.retry_after <= 30
+    assert a.id in store and b.id in store and not a.cancel.is_set()
+    a.last_used -= 61  # a went idle
+    c = store.create()
+    assert a.id not in store and b.id in store and c.id in store
+    assert a.cancel.is_set() and a.derivation is None  # released, memory with it
     b.last_used -= 120
+    b.job = object()  # idle for long, but a job of it is running: kept
+    assert store.evict_idle() == 0 and b.id in store
+    b.job = None
     assert store.evict_idle() == 1 and len(store) == 1
     assert SessionStore.valid_id(SessionStore.new_id())
     assert not SessionStore.valid_id("short") and not SessionStore.valid_id("x" * 20 + ";")
-
-
-def test_sessions_refuse_when_all_are_busy():
-    import asyncio
-
-    async def main():
-        store = SessionStore(capacity=1, idle_timeout=60)
-        s = store.get("a" * 20)
-        async with s.lock:
-            with pytest.raises(TooManySessions):
-                store.get("b" * 20)
-
-    asyncio.run(main())
 
 
 def test_help_tables_follow_the_turtle_tables():

@@ -28,15 +28,21 @@ class Limits:
     max_url : int
         Bytes in the path and query string of a request.
     max_sessions : int
-        Clients held at once; the least recently used idle one is evicted to make room.
+        Clients held at once.  An active one is never evicted for a new one: when all
+        are active, a new client is refused (``503`` with ``Retry-After``).
     idle_timeout : float
-        Seconds after which an idle session is evicted.
+        Seconds without a request after which a session is released, with its words and
+        meshes (the page opens a new one and loads its text again when it comes back).
     max_image_side, max_image_pixels : int
         Size of exported PNG images.
     max_triangles : int
         Triangles in a mesh: a larger one is built with fewer sides per branch.
     workers : int
-        Worker threads deriving and meshing at once (requests beyond wait their turn).
+        Worker threads deriving and meshing at once; the sessions with work take turns on
+        them, one step or meshing phase at a time.
+    max_wait : float
+        Seconds a request may wait for its first turn; past that it is answered ``503``
+        with ``Retry-After`` (so every request gets an answer).
     page_size : int
         The most modules one page of the word view holds.
     """
@@ -48,9 +54,10 @@ class Limits:
     max_text: int = 256 * 1024
     max_url: int = 4096
     max_sessions: int = 64
-    idle_timeout: float = 1800.0
+    idle_timeout: float = 900.0
     max_image_side: int = 8192
     max_image_pixels: int = 8192 * 8192
     max_triangles: int = 3_000_000
     workers: int = 4
+    max_wait: float = 10.0
     page_size: int = 5000

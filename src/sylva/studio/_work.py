@@ -23,6 +23,7 @@ from ..lsystem import Derivation, detect, loads
 from ..lsystem.dialects import format_rule
 from ..lsystem.lstring import format_number, format_symbol
 from ._limits import Limits
+from ._scheduler import run_through
 from ._sessions import Session
 
 __all__ = [
@@ -30,11 +31,13 @@ __all__ = [
     "CapError",
     "Drawn",
     "advance",
+    "advancing",
     "back",
     "camera_hint",
     "export_mesh",
     "load_program",
     "mesh",
+    "meshing",
     "pick",
     "render_png",
     "trace_module",
@@ -148,21 +151,31 @@ def _estimate(session: Session, n_now: int) -> float:
     return dt * n_now / before
 
 
-def advance(session: Session, n: int, limits: Limits) -> dict:
-    """Derive ``n`` steps of the session's derivation, one at a time, under the time cap.
+def _clock():
+    """Seconds since now, for work run outside the scheduler."""
+    t0 = time.perf_counter()
+    return lambda: time.perf_counter() - t0
 
-    Raises :class:`CapError` (with the steps done so far kept) when the cap is hit, the
-    client pressed Stop, or the module cap refuses a step.
+
+def advancing(session: Session, n: int, limits: Limits, clock=None):
+    """Derive ``n`` steps of the session's derivation, one at a time, under the time cap;
+    a generator that yields after each step (the scheduler's turns).
+
+    ``clock()`` gives the seconds of work spent so far (the scheduler's count of worker
+    time; by default the time since the start).  Raises :class:`CapError` (with the steps
+    done so far kept) when the cap is hit, the client pressed Stop or sent a newer
+    request, or the module cap refuses a step.
     """
     d = session.derivation
     if n < 0 or n > limits.max_steps:
         raise CapError("steps", f"ask for 0 to {limits.max_steps} steps at a time, not {n}")
+    clock = clock or _clock()
     t0 = time.perf_counter()
     done = 0
     for _ in range(n):
         if session.cancel.is_set():
             raise CapError("stopped", f"stopped after {done} of {n} steps (step {d.step})")
-        elapsed = time.perf_counter() - t0
+        elapsed = clock()
         est = _estimate(session, len(d.word))
         if done and elapsed >= limits.time_cap:
             raise CapError("time", f"the time cap of {limits.time_cap:g} s per request was "
@@ -180,8 +193,15 @@ def advance(session: Session, n: int, limits: Limits) -> dict:
                            f"is {limits.max_modules:,}; {done} of {n} steps done)") from None
         session.last_step = (time.perf_counter() - ts, before, len(d.word))
         done += 1
+        session.timings["derive_ms"] = (time.perf_counter() - t0) * 1e3
+        yield
     session.timings["derive_ms"] = (time.perf_counter() - t0) * 1e3
     return {"done": done}
+
+
+def advance(session: Session, n: int, limits: Limits) -> dict:
+    """:func:`advancing` run through in the calling thread."""
+    return run_through(advancing(session, n, limits))
 
 
 def back(session: Session) -> None:
@@ -259,6 +279,28 @@ def word_page(session: Session, start: int, count: int, limits: Limits) -> dict:
 
 
 # --------------------------------------------------------------------------- meshing
+class _Pieces:
+    """A binary file that keeps what is written and joins it once at the end: a large
+    mesh's buffer is not copied into a BytesIO holding the GIL (``bytes.join`` lets the
+    other threads run while it copies)."""
+
+    def __init__(self) -> None:
+        self.parts: list = []
+
+    def write(self, data) -> int:
+        self.parts.append(data)
+        return len(data)
+
+    def getvalue(self) -> bytes:
+        return b"".join(self.parts)
+
+
+def _tube_triangles(n: int, sides: int) -> int:
+    """Triangles of ``n`` tubes of ``sides`` sides: the wall (2 a side) and the joint to
+    the next segment (1 a side), as the mesh builder makes them, and the end caps."""
+    return 3 * n * sides + 2 * sides
+
+
 def _sides(geometry, limits: Limits) -> int | None:
     """The program's ``detail``, lowered when the mesh would pass the triangle cap."""
     wanted = geometry.detail
@@ -267,16 +309,21 @@ def _sides(geometry, limits: Limits) -> int | None:
         return None
     sides = wanted if wanted is not None else 8
     sides = max(sides, 1)
-    while sides > 3 and 2 * n * sides > limits.max_triangles:
+    while sides > 3 and _tube_triangles(n, sides) > limits.max_triangles:
         sides -= 1
-    if 2 * n * sides > limits.max_triangles:
+    if _tube_triangles(n, sides) > limits.max_triangles:
         raise CapError("modules", f"{n:,} branches need more than the cap of "
                        f"{limits.max_triangles:,} triangles")
     return sides if sides != wanted else wanted
 
 
-def mesh(session: Session, limits: Limits) -> Drawn:
-    """Interpret the current (render) word and build its mesh as GLB bytes (cached)."""
+def meshing(session: Session, limits: Limits, clock=None):
+    """Interpret the current (render) word and build its mesh as GLB bytes (cached); a
+    generator that yields between the phases (render word, turtle, mesh, GLB).
+
+    Between two phases it stops with :class:`CapError` when the client pressed Stop or
+    sent a newer request, or when ``clock()`` (seconds of work so far) passed the time cap.
+    """
     from ..geometry.build import build_mesh
     from ..geometry.exchange import write_glb
     from ..turtle import interpret
@@ -284,7 +331,19 @@ def mesh(session: Session, limits: Limits) -> Drawn:
     d, p = session.derivation, session.program
     if session.drawn is not None and session.drawn.step == d.step:
         return session.drawn
+    clock = clock or _clock()
+    step = d.step
     t0 = time.perf_counter()
+    session.drawn = None  # the old mesh goes before the new one is built
+
+    def turn(done: str):
+        if session.cancel.is_set():
+            raise CapError("stopped", f"meshing step {step} was stopped after {done}")
+        if clock() > limits.time_cap:
+            raise CapError("time", f"meshing step {step} passed the time cap of "
+                           f"{limits.time_cap:g} s per request after {done}; lower the "
+                           "detail or derive fewer steps")
+
     try:
         if d.trace:
             rw, sources = d.render_word_sources()
@@ -292,17 +351,28 @@ def mesh(session: Session, limits: Limits) -> Drawn:
             rw, sources = d.render_word(), None
     except GrowthLimitError as exc:
         raise CapError("modules", f"the render rules would pass the module cap: {exc}") from None
+    yield
+    turn(f"the render word ({len(rw):,} modules)")
     geometry = interpret(rw, p, seed=d.seed)
+    yield
+    turn(f"the turtle ({geometry.n_segments:,} branches)")
     sides = _sides(geometry, limits)
     scene = build_mesh(geometry, detail=sides)
-    buf = io.BytesIO()
-    write_glb(scene, buf)
     triangles = int(sum(m.n_triangles for m in scene.meshes))
+    yield
+    turn(f"building {triangles:,} triangles")
+    buf = _Pieces()
+    write_glb(scene, buf)
     ms = (time.perf_counter() - t0) * 1e3
-    drawn = Drawn(d.step, geometry, sources, scene, buf.getvalue(), triangles, sides, ms)
+    drawn = Drawn(step, geometry, sources, scene, buf.getvalue(), triangles, sides, ms)
     session.drawn = drawn
     session.timings["mesh_ms"] = ms
     return drawn
+
+
+def mesh(session: Session, limits: Limits) -> Drawn:
+    """:func:`meshing` run through in the calling thread."""
+    return run_through(meshing(session, limits))
 
 
 def export_mesh(session: Session, fmt: str, limits: Limits) -> bytes:

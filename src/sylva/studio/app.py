@@ -4,6 +4,10 @@ API (all under ``/api``; JSON unless said otherwise; errors are ``{"error": kind
 "message": text, ...}`` with a 4xx/5xx status):
 
 =======================  =============================================================
+``POST session``         with the page's token in ``X-Sylva-Page``: a new session,
+                         ``{session}``, sent back in ``X-Sylva-Session`` by every call
+                         below but ``info``, ``help`` and ``example``
+``DELETE session``       the page is closed: its work stops, its memory is released
 ``GET  info``            dialects, limits, the built-in examples, the start-up file
 ``GET  help?turtle=``    the symbol table and the special variables of a command table
 ``POST load``            ``{text, dialect?, seed?, filename?, overrides?, steps?, trace?}``:
@@ -24,17 +28,25 @@ API (all under ``/api``; JSON unless said otherwise; errors are ``{"error": kind
 ``GET  example?name=``   a built-in example's text
 =======================  =============================================================
 
-Every derivation, mesh and render runs in a worker thread, never on the event loop; each
-request is capped in time and modules, bodies and URLs are capped in size, each client has
-its own session, and user text is only ever parsed.
+Every derivation, mesh and render runs in a worker thread of the fair scheduler
+(:mod:`._scheduler`), never on the event loop: each session has one job at a time (a newer
+request supersedes it, ``409 superseded``), the sessions take turns step by step, and a
+request that cannot get a turn soon is answered ``503`` with ``Retry-After``.  Each job is
+capped in worker time, modules and triangles; bodies and URLs are capped in size; a bad
+body (not JSON, too deep, numbers out of range) is a ``400``; each client has its own
+session, made only by the page, never evicted while active; and user text is only ever
+parsed.
 """
 
 from __future__ import annotations
 
 import asyncio
 import contextlib
+import gc
 import json
 import math
+import secrets
+import time
 from concurrent.futures import ThreadPoolExecutor
 from importlib import resources
 from pathlib import Path
@@ -43,7 +55,7 @@ from starlette.applications import Starlette
 from starlette.middleware import Middleware
 from starlette.middleware.trustedhost import TrustedHostMiddleware
 from starlette.requests import Request
-from starlette.responses import FileResponse, JSONResponse, Response
+from starlette.responses import HTMLResponse, JSONResponse, Response, StreamingResponse
 from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
@@ -51,7 +63,15 @@ from ..errors import LSystemSyntaxError, SylvaError
 from . import _work
 from ._help import help_tables
 from ._limits import Limits
-from ._sessions import COOKIE, HEADER, Session, SessionStore, TooManySessions
+from ._scheduler import Busy, Scheduler, Superseded
+from ._sessions import (
+    HEADER,
+    PAGE_HEADER,
+    Session,
+    SessionStore,
+    TooManySessions,
+    release_memory,
+)
 from ._workspace import Workspace, WorkspaceError
 
 __all__ = ["create_app", "static_dir"]
@@ -74,11 +94,11 @@ def _error(status: int, kind: str, message: str, **extra) -> JSONResponse:
 
 # --------------------------------------------------------------------------- middleware
 class _Guard:
-    """Size limits on URLs and bodies, a same-origin check on writes, and the session id.
+    """Size limits on URLs and bodies, a same-origin check on writes, and the session token.
 
     The body is read here (at most ``max_body`` bytes) and replayed to the app, so no
-    handler ever sees more.  A client without a valid session id gets a new one in a
-    cookie.
+    handler ever sees more.  The session token comes from the ``X-Sylva-Session`` header
+    only: no session is made here (see ``POST /api/session``).
     """
 
     def __init__(self, app, limits: Limits) -> None:
@@ -132,112 +152,146 @@ class _Guard:
             return await receive()
 
         sid = headers.get(HEADER)
-        if not SessionStore.valid_id(sid):
-            sid = None
-            for part in headers.get("cookie", "").split(";"):
-                k, _, v = part.strip().partition("=")
-                if k == COOKIE and SessionStore.valid_id(v):
-                    sid = v
-        fresh = sid is None
-        if fresh:
-            sid = SessionStore.new_id()
-        scope.setdefault("state", {})["sid"] = sid
-
-        async def send_with_cookie(message):
-            if fresh and message["type"] == "http.response.start":
-                cookie = f"{COOKIE}={sid}; Path=/; HttpOnly; SameSite=Strict"
-                message.setdefault("headers", []).append(
-                    (b"set-cookie", cookie.encode("latin-1")))
-            await send(message)
-
-        return await self.app(scope, replay, send_with_cookie)
+        scope.setdefault("state", {})["sid"] = sid if SessionStore.valid_id(sid) else None
+        return await self.app(scope, replay, send)
 
 
 # --------------------------------------------------------------------------- the app
+_SUPERSEDED = "a newer request of this session replaced this one"
+# a job on a word of more modules is expected to be long: it waits for a heavy lane
+_HEAVY_WORD = 50_000
+
+
+def _once(fn, *args, **kw):
+    """A job of one piece: ``fn(*args, **kw)``."""
+
+    def make(job):
+        def gen():
+            return fn(*args, **kw)
+            yield  # pragma: no cover - makes this a generator
+
+        return gen()
+
+    return make
+
+
 class Studio:
-    """The state of one server: sessions, workspace, limits and the worker pools."""
+    """The state of one server: sessions, workspace, limits, the scheduler and pools."""
 
     def __init__(self, workspace: Workspace, limits: Limits, start_file: str | None) -> None:
         self.workspace = workspace
         self.limits = limits
         self.start_file = start_file
         self.sessions = SessionStore(limits.max_sessions, limits.idle_timeout)
-        self.pool = ThreadPoolExecutor(limits.workers, thread_name_prefix="sylva-studio")
+        self.scheduler = Scheduler(limits.workers, max_wait=limits.max_wait)
+        # small, quick work beside the jobs: file listings, reads and saves, word pages
+        self.pool = ThreadPoolExecutor(2, thread_name_prefix="sylva-studio-io")
         # one thread owns the GL context of the offscreen renderer
         self.gl = ThreadPoolExecutor(1, thread_name_prefix="sylva-studio-gl")
-        self.slots = asyncio.Semaphore(limits.workers)
         self.ready = asyncio.Event()  # set once the kernels are compiled (warm-up)
+        # written into the page: only a client that read the page can open a session
+        self.page_token = secrets.token_urlsafe(24)
 
     def close(self) -> None:
         self.sessions.close()
+        self.scheduler.close()
         self.pool.shutdown(wait=True, cancel_futures=True)
         self.gl.shutdown(wait=True, cancel_futures=True)
 
     def session(self, request: Request) -> Session:
-        try:
-            return self.sessions.get(request.scope["state"]["sid"])
-        except TooManySessions as exc:
-            raise ApiError(503, "busy", str(exc)) from None
+        s = self.sessions.get(request.scope["state"].get("sid"))
+        if s is None:
+            raise ApiError(401, "session", "this page has no session on the server (it "
+                           "ended after being idle, or the server restarted); the page "
+                           "opens a new one with POST /api/session")
+        return s
 
-    async def run(self, session: Session, fn, *args, pool=None, **kw):
-        """Run ``fn`` in a worker thread holding the session's lock, under the time cap.
-
-        The work goes on in its thread when the cap passes (Python cannot kill a thread),
-        but the client is answered, and the session stays locked until it ends.
-        """
-        cap = self.limits.time_cap
+    async def run(self, session: Session, make):
+        """Run the job ``make(job)`` (a generator) for ``session`` through the fair
+        scheduler and return its value; a newer request of the session supersedes it."""
         if not self.ready.is_set():
             # the first requests wait for the one-off compilation instead of paying for it
             # inside their time cap
             with contextlib.suppress(TimeoutError):
                 await asyncio.wait_for(self.ready.wait(), timeout=600)
+        d = session.derivation
+        heavy = d is not None and len(d.word) > _HEAVY_WORD
         try:
-            await asyncio.wait_for(session.lock.acquire(), timeout=cap)
-        except TimeoutError:
-            raise ApiError(409, "busy", "this session is still working on an earlier "
-                           "request; press Stop or wait") from None
-        loop = asyncio.get_running_loop()
-
-        async def work():
-            try:
-                async with self.slots:
-                    return await loop.run_in_executor(pool or self.pool, lambda: fn(*args, **kw))
-            finally:
-                session.lock.release()
-                session.touch()
-
-        session.cancel.clear()
-        task = asyncio.ensure_future(work())
-        # a task that outlives its request still has its outcome collected
-        task.add_done_callback(lambda t: t.cancelled() or t.exception())
+            job = self.scheduler.submit(session, make, heavy=heavy)
+        except Busy as exc:
+            raise ApiError(503, "busy", str(exc), retry_after=exc.retry_after) from None
         try:
-            return await asyncio.wait_for(asyncio.shield(task), timeout=cap * 1.5 + 2.0)
-        except TimeoutError:
-            session.cancel.set()
-            raise ApiError(503, "time", f"the request passed the time cap of {cap:g} s; it "
-                           "is being stopped") from None
+            value = await self.scheduler.result(job)
+            # what the request spent waiting for its turns and working (state.timings)
+            done = time.monotonic()
+            session.timings["queue_ms"] = ((job.started or done) - job.submitted) * 1e3
+            session.timings["work_ms"] = job.spent * 1e3
+            session.timings["request_ms"] = (done - job.submitted) * 1e3
+            return value
+        except Superseded:
+            raise ApiError(409, "superseded", _SUPERSEDED) from None
+        except Busy as exc:
+            raise ApiError(503, "busy", str(exc), retry_after=exc.retry_after) from None
+        except _work.CapError as exc:
+            if job.reason == "superseded":
+                raise ApiError(409, "superseded", f"{_SUPERSEDED} ({exc})") from None
+            raise
+
+    async def light(self, fn, *args):
+        """Quick work (files, a word page) in the small pool, off the event loop."""
+        return await asyncio.get_running_loop().run_in_executor(self.pool, fn, *args)
+
+
+def _release() -> None:
+    gc.collect()
+    release_memory()
 
 
 def _studio(request: Request) -> Studio:
     return request.app.state.studio
 
 
+def _finite(text: str) -> float:
+    v = float(text)
+    if not math.isfinite(v):
+        raise ValueError(f"the number {text[:40]} is out of range")
+    return v
+
+
+def _constant(name: str):
+    raise ValueError(f"{name} is not a JSON number")
+
+
 async def _json(request: Request) -> dict:
+    body = await request.body()
     try:
-        data = json.loads(await request.body() or b"{}")
-    except (ValueError, UnicodeDecodeError):
-        raise ApiError(400, "bad_request", "the body is not JSON") from None
+        data = json.loads(body or b"{}", parse_float=_finite, parse_constant=_constant)
+    except RecursionError:
+        raise ApiError(400, "bad_request", "the JSON body is nested too deeply") from None
+    except (ValueError, UnicodeDecodeError) as exc:
+        detail = str(exc) if "range" in str(exc) or "JSON number" in str(exc) else ""
+        raise ApiError(400, "bad_request", "the body is not valid JSON"
+                       + (f": {detail}" if detail else "")) from None
     if not isinstance(data, dict):
         raise ApiError(400, "bad_request", "the body must be a JSON object")
+    try:
+        # a lone surrogate (\ud800) is no text: it could be neither parsed, saved nor
+        # echoed back in an error message
+        json.dumps(data, ensure_ascii=False).encode("utf-8")
+    except UnicodeEncodeError:
+        raise ApiError(400, "bad_request", "the body holds a lone UTF-16 surrogate "
+                       "(such as \\ud800), which is not text") from None
     return data
 
 
 def _int(value, name: str, lo: int, hi: int) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
         raise ApiError(400, "bad_request", f"{name} must be an integer")
+    if isinstance(value, float) and not (math.isfinite(value) and value.is_integer()):
+        raise ApiError(400, "bad_request", f"{name} must be an integer, not {value!r}")
     try:
         v = int(value)
-    except ValueError:
+    except (ValueError, OverflowError):
         raise ApiError(400, "bad_request", f"{name} must be an integer") from None
     if not lo <= v <= hi:
         raise ApiError(400, "bad_request", f"{name} must be in [{lo}, {hi}]")
@@ -253,9 +307,9 @@ async def _state_response(studio: Studio, session: Session, status: int = 200, *
     return JSONResponse({**_work.state(session), **extra}, status_code=status)
 
 
-async def _derive(studio: Studio, session: Session, n: int) -> JSONResponse:
+async def _derive(studio: Studio, session: Session, make) -> JSONResponse:
     try:
-        await studio.run(session, _work.advance, session, n, studio.limits)
+        await studio.run(session, make)
     except _work.CapError as exc:
         return JSONResponse({"error": exc.kind, "message": str(exc),
                              "state": _work.state(session)}, status_code=422)
@@ -273,6 +327,8 @@ async def info(request: Request) -> JSONResponse:
         "examples": [{"name": e.name, "title": e.title, "file": e.path.name}
                      for e in examples()],
         "start_file": studio.start_file,
+        "ready": studio.ready.is_set(),
+        "sessions": len(studio.sessions),
         "limits": {"modules": lim.max_modules, "time_cap": lim.time_cap,
                    "steps": lim.max_steps, "text": lim.max_text, "body": lim.max_body,
                    "image_side": lim.max_image_side, "page": lim.page_size},
@@ -281,6 +337,33 @@ async def info(request: Request) -> JSONResponse:
 
 async def help_(request: Request) -> JSONResponse:
     return JSONResponse(help_tables(request.query_params.get("turtle", "lsys")))
+
+
+async def new_session(request: Request) -> JSONResponse:
+    """``POST /api/session``: a session for a client that read this server's page."""
+    studio = _studio(request)
+    token = request.headers.get(PAGE_HEADER, "")
+    if not secrets.compare_digest(token.encode("latin-1", "replace"),
+                                  studio.page_token.encode("ascii")):
+        raise ApiError(403, "page", "a session is opened by the Studio's own page: send the "
+                       f"token of its <meta name=\"sylva-page\"> in the {PAGE_HEADER} header")
+    try:
+        s = studio.sessions.create()
+    except TooManySessions as exc:
+        raise ApiError(503, "busy", str(exc), retry_after=exc.retry_after) from None
+    return JSONResponse({"session": s.id, "header": HEADER,
+                         "idle_timeout": studio.limits.idle_timeout})
+
+
+async def end_session(request: Request) -> JSONResponse:
+    """``DELETE /api/session``: the page is closed; its work stops and its memory goes."""
+    studio = _studio(request)
+    sid = request.scope["state"].get("sid")
+    s = studio.sessions.get(sid)
+    if s is not None:
+        studio.scheduler.stop(s)
+        studio.sessions.drop(sid)
+    return JSONResponse({"ended": s is not None})
 
 
 async def load(request: Request) -> JSONResponse:
@@ -293,6 +376,8 @@ async def load(request: Request) -> JSONResponse:
         raise ApiError(413, "too_large",
                        f"the definition is longer than {studio.limits.max_text:,} characters")
     dialect = data.get("dialect") or None
+    if dialect is not None and not isinstance(dialect, str):
+        raise ApiError(400, "bad_request", "dialect must be a string")
     seed = data.get("seed")
     seed = None if seed in (None, "") else _int(seed, "seed", 0, 2**63 - 1)
     steps = _int(data.get("steps", 0), "steps", 0, studio.limits.max_steps)
@@ -302,26 +387,27 @@ async def load(request: Request) -> JSONResponse:
         raise ApiError(400, "bad_request", "overrides must map global names to numbers")
     trace = bool(data.get("trace", True))
     session = studio.session(request)
+    limits = studio.limits
 
-    def parse():
+    def make(job):
         program = _work.load_program(text, dialect=dialect, filename=filename,
                                      overrides=overrides)
-        d = _work.new_derivation(program, seed=seed, limits=studio.limits, trace=trace)
+        d = _work.new_derivation(program, seed=seed, limits=limits, trace=trace)
         session.program, session.derivation = program, d
         session.text, session.filename = text, filename
         session.overrides = {k: v for k, v in overrides.items() if k in program.constants}
         session.drawn, session.last_step = None, None
         session.timings = {}
+        if steps:
+            yield
+            yield from _work.advancing(session, steps, limits, job.used)
 
     try:
-        await studio.run(session, parse)
+        return await _derive(studio, session, make)
     except LSystemSyntaxError as exc:
         return JSONResponse(_work.syntax_error_payload(exc), status_code=400)
     except SylvaError as exc:
         return _error(400, "invalid", str(exc))
-    if steps:
-        return await _derive(studio, session, steps)
-    return await _state_response(studio, session)
 
 
 async def step(request: Request) -> JSONResponse:
@@ -330,14 +416,15 @@ async def step(request: Request) -> JSONResponse:
     n = _int(data.get("n", 1), "n", 0, studio.limits.max_steps)
     session = studio.session(request)
     _need(session)
-    return await _derive(studio, session, n)
+    return await _derive(studio, session, lambda job: _work.advancing(
+        session, n, studio.limits, job.used))
 
 
 async def back(request: Request) -> JSONResponse:
     studio = _studio(request)
     session = studio.session(request)
     _need(session)
-    await studio.run(session, _work.back, session)
+    await studio.run(session, _once(_work.back, session))
     return await _state_response(studio, session)
 
 
@@ -350,14 +437,14 @@ async def reset(request: Request) -> JSONResponse:
         session.derivation.reset()
         session.last_step = None
 
-    await studio.run(session, do)
+    await studio.run(session, _once(do))
     return await _state_response(studio, session)
 
 
 async def stop(request: Request) -> JSONResponse:
-    session = _studio(request).session(request)
-    session.cancel.set()
-    return JSONResponse({"stopping": session.busy})
+    studio = _studio(request)
+    session = studio.session(request)
+    return JSONResponse({"stopping": studio.scheduler.stop(session)})
 
 
 async def state(request: Request) -> JSONResponse:
@@ -374,23 +461,53 @@ async def word(request: Request) -> JSONResponse:
     q = request.query_params
     start = _int(q.get("start", 0), "start", 0, 2**62)
     count = _int(q.get("count", 500), "count", 1, studio.limits.page_size)
-    page = await studio.run(session, _work.word_page, session, start, count, studio.limits)
+    # a page is quick and reads an immutable word: it does not wait for the session's job
+    page = await studio.light(_work.word_page, session, start, count, studio.limits)
     return JSONResponse(page)
 
 
-async def _mesh(studio: Studio, session: Session) -> _work.Drawn:
+def _after_mesh(session: Session, limits: Limits, fn=None, *args, **kw):
+    """A job that builds the mesh (in turns) and then does ``fn(*args, **kw)``."""
+
+    def make(job):
+        drawn = yield from _work.meshing(session, limits, job.used)
+        return drawn if fn is None else fn(*args, **kw)
+
+    return make
+
+
+async def _with_mesh(studio: Studio, session: Session, fn=None, *args, **kw):
     try:
-        return await studio.run(session, _work.mesh, session, studio.limits)
+        return await studio.run(session, _after_mesh(session, studio.limits, fn, *args, **kw))
     except _work.CapError as exc:
         raise ApiError(422, exc.kind, str(exc)) from None
+
+
+_CHUNK = 1 << 20
+
+
+def _body(data: bytes, media_type: str, headers: dict) -> Response:
+    """``data`` as the answer; a large one is sent a megabyte at a time, so that the event
+    loop never copies a whole mesh into the socket's buffer at once (holding the GIL while
+    every other client waits)."""
+    if len(data) <= _CHUNK:
+        return Response(data, media_type=media_type, headers=headers)
+    view = memoryview(data)
+
+    async def chunks():
+        for i in range(0, len(view), _CHUNK):
+            yield view[i:i + _CHUNK]
+
+    return StreamingResponse(chunks(), media_type=media_type,
+                             headers={**headers, "content-length": str(len(data))})
 
 
 async def mesh(request: Request) -> Response:
     studio = _studio(request)
     session = studio.session(request)
     _need(session)
-    drawn = await _mesh(studio, session)
-    return Response(drawn.glb, media_type="model/gltf-binary", headers={
+    drawn = await _with_mesh(studio, session)
+    return _body(drawn.glb, "model/gltf-binary", {
         "x-sylva-step": str(drawn.step),
         "x-sylva-triangles": str(drawn.triangles),
         "x-sylva-mesh-ms": f"{drawn.mesh_ms:.1f}",
@@ -408,11 +525,8 @@ async def pick(request: Request) -> JSONResponse:
         raise ApiError(400, "bad_request", "point must be [x, y, z]")
     session = studio.session(request)
     _need(session)
-    try:
-        return JSONResponse(await studio.run(session, _work.pick, session, point,
-                                             studio.limits))
-    except _work.CapError as exc:
-        raise ApiError(422, exc.kind, str(exc)) from None
+    return JSONResponse(await _with_mesh(studio, session, _work.pick, session, point,
+                                         studio.limits))
 
 
 async def module(request: Request) -> JSONResponse:
@@ -420,11 +534,8 @@ async def module(request: Request) -> JSONResponse:
     index = _int(request.query_params.get("index", ""), "index", 0, 2**62)
     session = studio.session(request)
     _need(session)
-    try:
-        return JSONResponse(await studio.run(session, _work.trace_module, session, index,
-                                             studio.limits))
-    except _work.CapError as exc:
-        raise ApiError(422, exc.kind, str(exc)) from None
+    return JSONResponse(await _with_mesh(studio, session, _work.trace_module, session, index,
+                                         studio.limits))
 
 
 def _download_name(session: Session, ext: str) -> str:
@@ -438,14 +549,12 @@ async def export(request: Request) -> Response:
     fmt = request.path_params["fmt"]
     session = studio.session(request)
     _need(session)
-    try:
-        data = await studio.run(session, _work.export_mesh, session, fmt, studio.limits)
-    except _work.CapError as exc:
-        raise ApiError(422, exc.kind, str(exc)) from None
+    if fmt not in ("glb", "obj"):
+        raise ApiError(400, "invalid", f"unknown export format {fmt!r}; expected glb or obj")
+    data = await _with_mesh(studio, session, _work.export_mesh, session, fmt, studio.limits)
     media = "model/gltf-binary" if fmt == "glb" else "text/plain; charset=utf-8"
     name = _download_name(session, fmt)
-    return Response(data, media_type=media,
-                    headers={"content-disposition": f'attachment; filename="{name}"'})
+    return _body(data, media, {"content-disposition": f'attachment; filename="{name}"'})
 
 
 async def export_png(request: Request) -> Response:
@@ -475,14 +584,17 @@ async def export_png(request: Request) -> Response:
     clean["target"] = [float(x) for x in t]
     session = studio.session(request)
     _need(session)
-    await _mesh(studio, session)
-    bg = _work.state(session).get("background")
+    limits = studio.limits
+
+    def render():
+        bg = _work.state(session).get("background")
+        # the GL context lives in its own thread: the job waits there for the picture
+        return studio.gl.submit(
+            _work.render_png, session, limits, width=width, height=height, camera=clean,
+            focus=bool(data.get("focus")), background=bg).result()
+
     try:
-        png = await studio.run(session, _work.render_png, session, studio.limits, width=width,
-                               height=height, camera=clean, focus=bool(data.get("focus")),
-                               background=bg, pool=studio.gl)
-    except _work.CapError as exc:
-        raise ApiError(422, exc.kind, str(exc)) from None
+        png = await _with_mesh(studio, session, render)
     except SylvaError as exc:
         raise ApiError(503, "render", f"the server cannot render images: {exc}") from None
     name = _download_name(session, "png")
@@ -492,15 +604,16 @@ async def export_png(request: Request) -> Response:
 
 async def files(request: Request) -> JSONResponse:
     studio = _studio(request)
-    listing = await asyncio.get_running_loop().run_in_executor(studio.pool, studio.workspace.list)
+    studio.session(request)
+    listing = await studio.light(studio.workspace.list)
     return JSONResponse({"root": studio.workspace.root.name, "files": listing})
 
 
 async def file_get(request: Request) -> JSONResponse:
     studio = _studio(request)
+    studio.session(request)
     path = request.query_params.get("path")
-    text = await asyncio.get_running_loop().run_in_executor(
-        studio.pool, studio.workspace.read, path, studio.limits.max_text * 4)
+    text = await studio.light(studio.workspace.read, path, studio.limits.max_text * 4)
     return JSONResponse({"path": path, "text": text})
 
 
@@ -513,10 +626,10 @@ async def file_put(request: Request) -> JSONResponse:
     if len(text) > studio.limits.max_text:
         raise ApiError(413, "too_large",
                        f"the definition is longer than {studio.limits.max_text:,} characters")
+    studio.session(request)
     ws = studio.workspace
-    rel = await asyncio.get_running_loop().run_in_executor(
-        studio.pool, lambda: ws.write(data.get("path"), text,
-                                      overwrite=bool(data.get("overwrite"))))
+    rel = await studio.light(lambda: ws.write(data.get("path"), text,
+                                              overwrite=bool(data.get("overwrite"))))
     return JSONResponse({"path": rel, "saved": len(text)})
 
 
@@ -537,9 +650,16 @@ _CSP = ("default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'
         "base-uri 'none'; frame-ancestors 'none'")
 
 
+def _page(token: str) -> str:
+    html = (static_dir() / "index.html").read_text(encoding="utf-8")
+    meta = f'<meta name="sylva-page" content="{token}">'
+    return html.replace('<meta charset="utf-8">', '<meta charset="utf-8">\n' + meta, 1)
+
+
 async def index(request: Request) -> Response:
-    return FileResponse(static_dir() / "index.html", headers={
-        "cache-control": "no-cache",
+    studio = _studio(request)
+    return HTMLResponse(_page(studio.page_token), headers={
+        "cache-control": "no-store",
         "content-security-policy": _CSP,
         "x-content-type-options": "nosniff",
         "referrer-policy": "no-referrer",
@@ -548,7 +668,10 @@ async def index(request: Request) -> Response:
 
 # --------------------------------------------------------------------------- errors
 async def _api_error(request: Request, exc: ApiError) -> JSONResponse:
-    return _error(exc.status, exc.kind, exc.message, **exc.extra)
+    response = _error(exc.status, exc.kind, exc.message, **exc.extra)
+    if "retry_after" in exc.extra:
+        response.headers["retry-after"] = str(exc.extra["retry_after"])
+    return response
 
 
 async def _workspace_error(request: Request, exc: WorkspaceError) -> JSONResponse:
@@ -596,6 +719,8 @@ def create_app(
     limits = limits or Limits()
     studio = Studio(Workspace(workspace), limits, start_file)
     api = [
+        Route("/session", new_session, methods=["POST"]),
+        Route("/session", end_session, methods=["DELETE"]),
         Route("/info", info),
         Route("/help", help_),
         Route("/load", load, methods=["POST"]),
@@ -628,8 +753,10 @@ def create_app(
 
         async def evict():
             while True:
-                await asyncio.sleep(min(60.0, limits.idle_timeout / 2))
-                studio.sessions.evict_idle()
+                await asyncio.sleep(min(30.0, max(limits.idle_timeout / 4, 0.05)))
+                if studio.sessions.evict_idle():
+                    # the words and meshes of the sessions that went: back to the system
+                    await studio.light(_release)
 
         janitor = asyncio.ensure_future(evict())
         try:

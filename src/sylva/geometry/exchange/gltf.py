@@ -56,7 +56,8 @@ class _Builder:
 
     def accessor(self, arr: np.ndarray, kind: str, component: int, target: int, minmax=False):
         acc = {
-            "bufferView": self.view(np.ascontiguousarray(arr).tobytes(), target),
+            # a view, not a copy: the one join in blob() copies (and lets other threads run)
+            "bufferView": self.view(memoryview(np.ascontiguousarray(arr)).cast("B"), target),
             "componentType": component,
             "count": int(arr.shape[0]),
             "type": kind,
@@ -68,8 +69,8 @@ class _Builder:
         return len(self.accessors) - 1
 
     def blob(self) -> bytes:
-        data = b"".join(self.chunks)
-        return data + b"\0" * ((-len(data)) % 4)
+        pad = (-self.size) % 4
+        return b"".join(self.chunks + [b"\0" * pad] if pad else self.chunks)
 
 
 def _material_json(mat) -> dict:
@@ -103,7 +104,10 @@ def gltf_document(scene) -> tuple[dict, bytes]:
     for mesh in scene.meshes:
         if mesh.n_triangles == 0:
             continue
-        used = np.unique(mesh.indices)
+        # the sorted vertices in use, by a mask: np.unique sorts or hashes every index
+        mask = np.zeros(mesh.n_vertices, dtype=bool)
+        mask[mesh.indices.reshape(-1)] = True
+        used = np.flatnonzero(mask)
         # write only the vertices the triangles use (unused ones are validator warnings)
         remap = None
         if used.size != mesh.n_vertices:
@@ -165,13 +169,15 @@ def write_glb(scene, target: PathOrFile) -> None:
     doc, blob = gltf_document(scene)
     js = json.dumps(doc, separators=(",", ":")).encode("utf-8")
     js += b" " * ((-len(js)) % 4)
-    chunks = struct.pack("<II", len(js), 0x4E4F534A) + js
-    if blob:
-        chunks += struct.pack("<II", len(blob), 0x004E4942) + blob
-    header = struct.pack("<III", 0x46546C67, 2, 12 + len(chunks))
+    total = 12 + 8 + len(js) + (8 + len(blob) if blob else 0)
+    # piece by piece: the buffer (hundreds of MB for a large plant) is not copied again
     with open_target(target, binary=True) as fh:
-        fh.write(header)
-        fh.write(chunks)
+        fh.write(struct.pack("<III", 0x46546C67, 2, total))
+        fh.write(struct.pack("<II", len(js), 0x4E4F534A))
+        fh.write(js)
+        if blob:
+            fh.write(struct.pack("<II", len(blob), 0x004E4942))
+            fh.write(blob)
 
 
 def write_gltf(scene, target: PathOrFile) -> None:

@@ -29,30 +29,90 @@ const app = {
 window.studio = app;  // for tests and the console
 
 // ------------------------------------------------------------------------- server
-// Each tab is its own client: a random session id kept for the tab's life.
-function tabSession() {
-  let sid = sessionStorage.getItem("sylva-session");
-  if (!sid) {
-    const bytes = crypto.getRandomValues(new Uint8Array(18));
-    sid = btoa(String.fromCharCode(...bytes)).replace(/\+/g, "-").replace(/\//g, "_");
-    sessionStorage.setItem("sylva-session", sid);
-  }
-  return sid;
-}
-const SESSION = tabSession();
+// Each page is its own client.  The server writes a token into its page; with it the page
+// opens a session (POST /api/session) and names it in a header on every call, which no
+// other site can send.  A session the server released (idle, or a restart) is opened again
+// and given the page's last definition and step back, so nothing typed is lost.
+const PAGE_TOKEN = document.querySelector('meta[name="sylva-page"]')?.content || "";
+let SESSION = null;
+let opening = null;
+const sleep = (ms) => new Promise((ok) => setTimeout(ok, ms));
+const retryAfter = (res) => Math.min(Math.max(Number(res.headers.get("retry-after")) || 5, 1), 30);
 
-async function api(path, { method = "GET", json, raw = false } = {}) {
-  const opts = { method, headers: { "x-sylva-session": SESSION } };
+async function openSession() {
+  for (;;) {
+    const res = await fetch("/api/session", {
+      method: "POST", body: "{}",
+      headers: { "x-sylva-page": PAGE_TOKEN, "content-type": "application/json" },
+    });
+    if (res.ok) {
+      SESSION = (await res.json()).session;
+      return SESSION;
+    }
+    if (res.status !== 503) throw new Error(`the server refused a session (${res.status})`);
+    const wait = retryAfter(res);
+    message(`The server is full; trying again in ${wait} s`, "error");
+    await sleep(wait * 1000);
+  }
+}
+
+function session() {
+  if (!opening) opening = openSession().catch((e) => { opening = null; throw e; });
+  return opening;
+}
+
+// The session was released: open a new one and load what the page had loaded.
+async function reopen() {
+  SESSION = null;
+  opening = null;
+  await session();
+  if (app.loadedText != null && app.state) {
+    await call("load", { method: "POST",
+      json: loadRequest({ text: app.loadedText, steps: app.state.step }) });
+  }
+}
+
+async function call(path, { method = "GET", json } = {}) {
+  const opts = { method, headers: { "x-sylva-session": await session() } };
   if (json !== undefined) {
     opts.body = JSON.stringify(json);
     opts.headers["content-type"] = "application/json";
   }
-  const res = await fetch("/api/" + path, opts);
+  return fetch("/api/" + path, opts);
+}
+
+async function api(path, { method = "GET", json, raw = false } = {}) {
+  let res;
+  for (let attempt = 0; ; attempt++) {
+    res = await call(path, { method, json });
+    if (res.status === 401 && attempt === 0) {
+      const data = await res.clone().json().catch(() => null);
+      if (data && data.error === "session") { await reopen(); continue; }
+    }
+    if (res.status === 503 && res.headers.has("retry-after") && attempt < 3) {
+      const wait = retryAfter(res);
+      message(`The server is busy; trying again in ${wait} s`);
+      await sleep(wait * 1000);
+      continue;
+    }
+    break;
+  }
   if (raw && res.ok) return { ok: true, status: res.status, res };
   let data = null;
   try { data = await res.json(); } catch { data = { error: "http", message: res.statusText }; }
   return { ok: res.ok, status: res.status, data };
 }
+
+app.session = () => SESSION;  // for tests
+
+// the page is closed: its session's work stops and its memory goes at once
+window.addEventListener("pagehide", () => {
+  if (SESSION) {
+    // kept: a page brought back from the history gets 401 and opens a new one
+    fetch("/api/session", { method: "DELETE", keepalive: true,
+      headers: { "x-sylva-session": SESSION } }).catch(() => {});
+  }
+});
 
 function message(text, kind = "") {
   const el = $("#st-message");
