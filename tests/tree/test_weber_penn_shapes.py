@@ -296,7 +296,7 @@ def test_leaf_outlines(width):
 def test_leaf_shape_names_and_errors():
     assert leaf_shape_index("oval") == 1 and leaf_shape_index("Hex") == 6
     assert leaf_shape_index(" 4 ") == 4
-    for bad in (7, -1, "leafy", 1.5):
+    for bad in (10, -1, "leafy", 1.5):
         with pytest.raises(ValueError):
             leaf_shape_index(bad)
 

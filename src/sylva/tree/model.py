@@ -50,7 +50,7 @@ class Tree:
     """
 
     def __init__(self, config="quaking_aspen", *, seed: int | None = None,
-                 materials: MaterialDatabase | None = None) -> None:
+                 materials: MaterialDatabase | None = None, quality: float = 1.0) -> None:
         if isinstance(config, ParameterManager):
             pm = config
             if seed is not None and seed != pm.seed:
@@ -77,6 +77,16 @@ class Tree:
         self.bark_material = g.text("BarkMaterial", default="bark")
         self.leaf_material = g.text("LeafMaterial", default="leaf")
         self.default_age = g.float("Age", default=30.0).value
+        if not 0.0 < quality <= 1.0:
+            raise ValueError(f"quality must be in (0, 1], got {quality}")
+        self.quality = float(quality)
+        # the young tree: juvenile branches on the trunk's clear base, shed as it grows, and
+        # leaves on young shoots below the leaf level (see sylva.tree.weber_penn)
+        self.juvenile_branches = g.float("JuvenileBranches", default=1.0).value
+        self.shed_time = g.float("ShedTime", default=2.0).value
+        self.juvenile_leaf_life = g.float("JuvenileLeafLife", default=3.0).value
+        self.juvenile_leaf_spacing = g.float("JuvenileLeafSpacing", default=0.35).value
+        self.juvenile_trunk_leaves = bool(g.int("JuvenileTrunkLeaves", default=1))
         self.prune = (
             g.float("PruneWidth", default=0.5).value,
             g.float("PruneWidthPeak", default=0.5).value,

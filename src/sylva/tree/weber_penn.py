@@ -13,8 +13,9 @@ Growth in time is our design (the thesis's §4.2.5 is not in the seed):
 
 * every stem elongates as ``L(t) = L · f((t − t₀)/GrowTime)`` with the cubic ``f`` of
   :class:`~sylva.tree.events.TimeFunction`, and thickens as
-  ``r(t) = r · (0.08 + 0.92 · f((t − t₀)/ThickenTime))``; the growing stem is the mature
-  curve cut at ``L(t)``, tapering to its current tip;
+  ``r(t) = r · min(0.08 + 0.92 · g((t − t₀)/ThickenTime), max(L(t)/L, 0.02))`` (no thicker
+  for its length than the mature stem); the growing stem is the mature curve cut at
+  ``L(t)``, tapering to its current tip;
 * a bud at arc length ``o`` breaks — an event ``"bud"`` creates the child stem — at the time
   the parent reaches ``o``, plus ``BudDelay``; a segment split is an event ``"split"`` at
   the time the stem reaches the split point, which attaches the clones to the primary slot;
@@ -244,9 +245,14 @@ class StemPlan:
 
     def __init__(self, tree, level: int, length: float, radius: float, birth: float,
                  rng: np.random.Generator, offset: float = 0.0, parent_length: float = 0.0,
-                 n_children: float = 0.0, n_leaves: float = 0.0) -> None:
+                 n_children: float = 0.0, n_leaves: float = 0.0, shed: float | None = None,
+                 parent_plan: StemPlan | None = None) -> None:
         pm = tree.params
         self.tree = tree
+        # a juvenile branch (and everything on it) is shed: from time ``shed`` it retracts
+        # over ``tree.shed_time`` years (see :meth:`life_at`); None for the lasting tree
+        self.shed = shed
+        self.parent_plan = parent_plan
         self.level = level
         self.length = max(float(length), 1e-4)
         self.radius = max(float(radius), 1e-4)
@@ -291,7 +297,25 @@ class StemPlan:
         return self.length / self.curve_res
 
     def length_at(self, t: float) -> float:
-        return self.length * float(self.growth((t - self.birth) / self.grow_time))
+        grown = self.length * float(self.growth((t - self.birth) / self.grow_time))
+        if self.shed is None:
+            return grown
+        return min(grown, self.length * self.life_at(t))
+
+    def life_at(self, t: float) -> float:
+        """The part (0…1) of a shed stem that is left at time ``t`` (1 for a lasting stem).
+
+        The juvenile branch itself retracts from its tip linearly over ``ShedTime`` years
+        from ``shed``; a stem on it keeps the part of itself that its parent still has
+        beyond the stem's offset, so the whole subtree goes continuously, tips first.
+        """
+        if self.shed is None:
+            return 1.0
+        pp = self.parent_plan
+        if pp is None or pp.shed is None:
+            return min(max(1.0 - (t - self.shed) / max(self.tree.shed_time, 1e-6), 0.0), 1.0)
+        left = pp.life_at(t) * pp.length - self.offset
+        return min(max(left / max(pp.length - self.offset, 1e-9), 0.0), 1.0)
 
     def time_at_length(self, s):
         """The global time this stem reaches arc length ``s`` (a float or an array)."""
@@ -300,7 +324,10 @@ class StemPlan:
         return float(out) if np.ndim(out) == 0 else out
 
     def thickness_at(self, t: float) -> float:
-        return 0.08 + 0.92 * float(self.thickening((t - self.birth) / self.thicken_time))
+        # never thicker, for its length, than the mature stem: a seedling is a thin stem
+        thick = 0.08 + 0.92 * float(self.thickening((t - self.birth) / self.thicken_time))
+        grown = float(self.growth((t - self.birth) / self.grow_time))
+        return min(thick, max(grown, 0.02))
 
     def profile(self, s: np.ndarray, current: float) -> np.ndarray:
         """Relative radius at arc lengths ``s`` of a stem ``current`` long (taper + flare).
@@ -426,8 +453,12 @@ class Branch(Component):
         self.primary.set_transform(self._matrix(P[m], F[m]))
         # -- children (buds) and leaves along this run -----------------------------------------
         self.buds = self._plan_children(rng)
+        self.n_lasting = len(self.buds)  # buds past this index grow juvenile branches
+        self.buds += self._plan_juvenile()
         self.leaf_arc, self.leaf_frame, self.leaf_size = self._plan_leaves(rng)
         self.leaf_birth = np.asarray(plan.time_at_length(self.leaf_arc)) + tree.leaf_delay
+        self.leaf_death = np.full(len(self.leaf_arc), np.inf)
+        self._plan_juvenile_leaves()
         self._joints: np.ndarray | None = None
         self._seg_joints: np.ndarray | None = None
         self._mature_rows = np.zeros(0, np.int64)
@@ -487,13 +518,31 @@ class Branch(Component):
 
     def _plan_children(self, rng) -> list[tuple]:
         plan, tree = self.plan, self.plan.tree
-        pm = tree.params
         lv = plan.level
         if lv + 1 >= tree.levels or plan.n_children <= 0:
             return []
         per_len = self.share * plan.n_children / max(plan.length - plan.base_length, 1e-9)
         lo = max(self.arc0, plan.base_length)
-        hi = self.arc1
+        return self._bud_run(rng, per_len, lo, self.arc1)
+
+    def _plan_juvenile(self) -> list[tuple]:
+        """Buds of the juvenile branches on the trunk's clear base (``JuvenileBranches`` of
+        the crown's density); they are grown and shed while the tree is young."""
+        plan, tree = self.plan, self.plan.tree
+        if plan.level != 0 or tree.levels < 2 or tree.juvenile_branches <= 0 \
+                or plan.base_length <= 0 or plan.n_children <= 0:
+            return []
+        rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *self.key, 11])
+        per_len = tree.juvenile_branches * self.share * plan.n_children / max(
+            plan.length - plan.base_length, 1e-9)
+        lo = max(self.arc0, 0.04 * plan.length)
+        return self._bud_run(rng, per_len, lo, min(self.arc1, plan.base_length))
+
+    def _bud_run(self, rng, per_len: float, lo: float, hi: float) -> list[tuple]:
+        """``(arc, rotation, down angle)`` of the buds on ``[lo, hi]`` of this run."""
+        plan, tree = self.plan, self.plan.tree
+        pm = tree.params
+        lv = plan.level
         if hi <= lo:
             return []
         want = per_len * (hi - lo)
@@ -502,14 +551,16 @@ class Branch(Component):
             return []
         rot = pm.float("Rotate", level=lv + 1, default=140.0)
         down = pm.float("DownAngle", level=lv + 1, default=45.0)
-        phi = rng.uniform(0.0, 360.0)
+        phi0 = phi = rng.uniform(0.0, 360.0)
+        side = 1.0
         out = []
         for i in range(n):
             s = lo + (i + rng.uniform(0.25, 0.75)) / n * (hi - lo)
             if rot.value >= 0:
                 phi += rot.sample(rng)
-            else:
-                phi += 180.0 + rng.uniform(-1, 1) * abs(rot.deviation)
+            else:  # the paper's negative nRotate: alternately ±(180 + nRotate ± nRotateV)
+                side = -side
+                phi = phi0 + side * (180.0 + rot.value + rng.uniform(-1, 1) * abs(rot.deviation))
             if down.deviation >= 0:
                 theta = down.sample(rng)
             else:  # the paper's special mode for a negative nDownAngleV
@@ -552,15 +603,70 @@ class Branch(Component):
         arcs = self.arc0 + (np.arange(n) + rng.uniform(0.2, 0.8, n)) / n * (self.arc1 - self.arc0)
         if rot.value >= 0:
             steps = rot.value + rng.uniform(-1, 1, n) * abs(rot.deviation)
-        else:
-            steps = np.full(n, 180.0)
-        phi = np.radians(rng.uniform(0, 360) + np.cumsum(steps))
+            phi = np.radians(rng.uniform(0, 360) + np.cumsum(steps))
+        else:  # two ranks: alternately ±(180 + nRotate) (a pinnate frond, a fern)
+            sides = np.where(np.arange(n) % 2 == 0, 1.0, -1.0)
+            a = 180.0 + rot.value + rng.uniform(-1, 1, n) * abs(rot.deviation)
+            phi = np.radians(rng.uniform(0, 360) + sides * a)
         theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
         twist = np.radians(rng.uniform(-30, 30, n))  # a petiole twist
         _, _, f = self._where_many(arcs)
         frames = f @ _ry_many(phi) @ _rx_many(theta) @ _ry_many(twist)
         sizes = scale.value + rng.uniform(-1, 1, n) * abs(scale.deviation)
         return arcs, frames, sizes
+
+    def _plan_juvenile_leaves(self) -> None:
+        """Leaves on the young shoots of a stem below the leaf level: every stretch of it
+        carries leaves for ``JuvenileLeafLife`` years after it grows (a young tree's buds have
+        leaves before they have branches), then they fade over a year; all are gone by the
+        species' ``Age`` (or shed with their branch)."""
+        plan, tree = self.plan, self.plan.tree
+        if plan.level >= tree.levels - 1 or tree.juvenile_leaf_life <= 0:
+            return
+        if plan.level == 0 and not tree.juvenile_trunk_leaves:
+            return
+        scale = tree.params.float("LeafScale", default=0.2)
+        spacing = max(tree.juvenile_leaf_spacing * scale.value, 1e-3)
+        n = int((self.arc1 - self.arc0) / spacing)
+        if n <= 0:
+            return
+        rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *self.key, 13])
+        arcs = self.arc0 + (np.arange(n) + rng.uniform(0.2, 0.8, n)) * spacing
+        birth = np.asarray(plan.time_at_length(arcs), np.float64) + tree.leaf_delay
+        death = np.minimum(birth + tree.juvenile_leaf_life, tree.default_age - 1.0)
+        keep = death > birth + 0.5 * tree.leaf_unfold
+        if not np.any(keep):
+            return
+        arcs, birth, death = arcs[keep], birth[keep], death[keep]
+        n = len(arcs)
+        pm = tree.params
+        rot = pm.float("Rotate", level=tree.levels, default=137.5)
+        down = pm.float("DownAngle", level=tree.levels, default=45.0)
+        phi = np.radians(rng.uniform(0, 360) + np.cumsum(
+            np.full(n, rot.value if rot.value >= 0 else 137.5)))
+        theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
+        _, _, f = self._where_many(arcs)
+        frames = f @ _ry_many(phi) @ _rx_many(theta)
+        sizes = scale.value + rng.uniform(-1, 1, n) * abs(scale.deviation)
+        self.leaf_arc = np.concatenate([self.leaf_arc, arcs])
+        self.leaf_frame = np.concatenate([self.leaf_frame, frames])
+        self.leaf_size = np.concatenate([self.leaf_size, sizes])
+        self.leaf_birth = np.concatenate([self.leaf_birth, birth])
+        self.leaf_death = np.concatenate([self.leaf_death, death])
+
+    def leaf_sizes_at(self, t: float) -> np.ndarray:
+        """Blade length of every planned leaf at time ``t`` (0: not out, or fallen): they
+        unfold over ``LeafUnfold`` years, juvenile ones fade in their last year, and leaves
+        of a retracting (shed) stem shrink as its tip comes back to them."""
+        tree = self.plan.tree
+        age = (t - self.leaf_birth) / max(tree.leaf_unfold, 1e-6)
+        size = self.leaf_size * np.clip(age, 0.0, 1.0) ** 0.7
+        size = size * np.clip(self.leaf_death - t, 0.0, 1.0)
+        size[self.leaf_birth > t] = 0.0
+        if self.plan.shed is not None:
+            room = self.current_length - self.leaf_arc
+            size = np.minimum(size, np.maximum(room, 0.0))
+        return size
 
     # -- events --------------------------------------------------------------------------------
     def schedule_own(self, sim) -> None:
@@ -576,6 +682,11 @@ class Branch(Component):
             self._spawn_child(event.data, event.time, sim)
         elif event.kind == "split":
             self._spawn_continuations(event.time, sim)
+        elif event.kind == "shed":  # a juvenile branch has gone: it leaves the graph
+            child = event.data
+            child.detach()
+            for c in child.walk():
+                c.simulation = None
 
     def _spawn_child(self, i: int, t: float, sim) -> None:
         plan, tree = self.plan, self.plan.tree
@@ -593,7 +704,17 @@ class Branch(Component):
         key = (*self.key, 1, i)
         rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *key, 7])
         lmax = pm.float("Length", level=lv, default=0.5).sample(rng)
-        if plan.level == 0:
+        shed = plan.shed
+        if i >= self.n_lasting:
+            # a juvenile branch: as long as a crown-base branch of the tree scaled down to
+            # the trunk length at which this bud is the crown base (the crown base of a
+            # young tree lags: at 0.6 BaseSize); it is shed from then on
+            young = min(s / max(0.6 * tree.base_size, 1e-9), plan.length)
+            length = young * lmax * shape_ratio(tree.shape, 1.0, tree.prune)
+            shed = min(plan.time_at_length(young), tree.default_age - tree.shed_time - 0.5)
+            if shed <= t + 0.5 or shed + tree.shed_time <= sim.target:
+                return  # it would be gone before it is seen: not grown at all
+        elif plan.level == 0:
             span = max(plan.length - plan.base_length, 1e-9)
             length = plan.length * lmax * shape_ratio(tree.shape, (plan.length - s) / span,
                                                        tree.prune)
@@ -607,8 +728,15 @@ class Branch(Component):
 
         def plan_of(length: float) -> StemPlan:
             rng.bit_generator.state = state  # the same draws for every trial length
-            return self._child_plan(lv, length, s, lmax, r_here, t, rng)
+            return self._child_plan(lv, length, s, lmax, r_here, t, rng, shed)
 
+        if shed is not None:
+            child = Branch(plan_of(length), 0, np.eye(3), key, parent_world=world)
+            self.attach(child, slot)
+            child.schedule_own(sim)
+            if plan.shed is None:  # the juvenile branch itself: it goes when it is gone
+                sim.schedule(self, max(shed + tree.shed_time, sim.time), "shed", child)
+            return
         if tree.prune_ratio > 0.0:
             pruned = _pruned_length(plan_of, length, key, world)
             length = tree.prune_ratio * pruned + (1.0 - tree.prune_ratio) * length
@@ -619,7 +747,7 @@ class Branch(Component):
         child.schedule_own(sim)
 
     def _child_plan(self, lv: int, length: float, s: float, lmax: float, r_here: float,
-                    t: float, rng) -> StemPlan:
+                    t: float, rng, shed: float | None = None) -> StemPlan:
         """The plan of a child ``length`` long at arc length ``s`` (born at ``t``)."""
         plan, tree = self.plan, self.plan.tree
         pm = tree.params
@@ -637,8 +765,13 @@ class Branch(Component):
             n_leaves = tree.leaves * shape_ratio(4, s / plan.length) * tree.leaf_density
             if tree.leaf_arrangement == "fan":
                 n_leaves = tree.leaves * tree.leaf_density
+        if lv >= 2 and lv == tree.levels - 1:
+            n_leaves /= tree.quality  # fewer twigs (quality < 1) carry the same foliage
+        if lv >= 1 and lv == tree.levels - 2:
+            n_children *= tree.quality
         return StemPlan(tree, lv, length, radius, t, rng, offset=s, parent_length=plan.length,
-                        n_children=n_children, n_leaves=n_leaves)
+                        n_children=n_children, n_leaves=n_leaves, shed=shed,
+                        parent_plan=plan if shed is not None else None)
 
     def _spawn_continuations(self, t: float, sim) -> None:
         if self.k1 >= self.plan.curve_res:
@@ -749,11 +882,10 @@ class Branch(Component):
         self._seg_joints = self._joints[self._mature_rows]
         # leaves out by now
         if len(self.leaf_arc):
-            t = self._t
-            out = self.leaf_birth <= t
+            sizes = self.leaf_sizes_at(self._t)
+            out = sizes > 0.0
             if np.any(out):
-                age = (t - self.leaf_birth[out]) / max(tree.leaf_unfold, 1e-6)
-                size = self.leaf_size[out] * np.clip(age, 0.0, 1.0) ** 0.7
+                size = sizes[out]
                 i, pos, _ = self._where_many(self.leaf_arc[out])
                 jn = self._seg_joints[np.minimum(i, len(self._seg_joints) - 1)]
                 turtle.leaves(pos, self.leaf_frame[out], size, tree.leaf_width,
