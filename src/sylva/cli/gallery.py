@@ -81,6 +81,17 @@ def _animations(out: Path) -> list[dict]:
     return made
 
 
+def _tree_sheet(out: Path) -> list[dict]:
+    """The contact sheet of every tree species at three ages (``sylva tree --sheet``)."""
+    from ._tree_sheet import contact_sheet
+
+    t = time.perf_counter()
+    contact_sheet(log=lambda line: print(line, file=sys.stderr)).save(out / "tree-species.png")
+    return [dict(file="tree-species.png",
+                 title="every tree species at 15 %, 40 % and 100 % of its age, one scale",
+                 seconds=time.perf_counter() - t)]
+
+
 GALLERY_TEXTURES = (
     "arabescato-marble", "beech-wood", "pink-granite", "oak-bark", "leaf-blade", "lawn",
     "worley-a", "ridged-terrain", "warped-marble", "seahorse-valley", "julia-dendrite",
@@ -157,6 +168,8 @@ def make(out: str | Path, size=(800, 800), only: str | None = None,
               f"{r['render']:6.2f}s", file=sys.stderr)
     anims = _animations(out) if animations and only is None else []
     textures = _textures(out) if only is None else []
+    if only is None and animations:  # the tree sheet is heavy too (about a minute)
+        textures += _tree_sheet(out)
     (out / "index.html").write_text(_page(rows, anims + textures), encoding="utf-8")
     print(f"sylva: wrote {out / 'index.html'} ({len(rows)} examples, {len(anims)} animations, "
           f"{len(textures)} textures)", file=sys.stderr)
