@@ -1,7 +1,7 @@
 """The contact sheet of ``sylva tree --sheet``: every species at three ages, one scale.
 
 Each species gets a cell of three side views (orthographic, the same metres per pixel in
-every tile): young (15 % of its ``Age``), half grown (40 %) and mature (its ``Age``), on a
+every tile): a quarter of its ``Age``, half of it and mature (its ``Age``), on a
 ground line with a height scale.  The trees are grown at ``quality`` (fewer twigs carrying
 the same foliage, :class:`~sylva.tree.Tree`), which keeps the sheet quick.
 """
@@ -16,12 +16,12 @@ from PIL import Image, ImageDraw
 
 __all__ = ["AGES", "contact_sheet"]
 
-AGES = (0.15, 0.4, 1.0)
+AGES = (0.25, 0.5, 1.0)
 """The three ages of the sheet, as fractions of each species' ``Age``."""
 
 
 def contact_sheet(species: Sequence[str] | None = None, *, tile=(150, 230), columns: int = 4,
-                  height: float | None = None, seed: int = 0, quality: float = 0.5,
+                  height: float | None = None, seed: int = 0, quality: float = 0.3,
                   log=None) -> Image.Image:
     """Render the contact sheet.
 

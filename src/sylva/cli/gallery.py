@@ -88,7 +88,7 @@ def _tree_sheet(out: Path) -> list[dict]:
     t = time.perf_counter()
     contact_sheet(log=lambda line: print(line, file=sys.stderr)).save(out / "tree-species.png")
     return [dict(file="tree-species.png",
-                 title="every tree species at 15 %, 40 % and 100 % of its age, one scale",
+                 title="every tree species at 25 %, 50 % and 100 % of its age, one scale",
                  seconds=time.perf_counter() - t)]
 
 

@@ -46,7 +46,8 @@ class Likeness:
     expected_width_ratio : float
         The envelope's width / height: with pruning ``2 · PruneWidth · Scale / height``;
         without, ``2 · max`` over the trunk of the reach of its branches laid straight at
-        their down angle (``Length₁ · L₀ · ShapeRatio · sin DownAngle``), over ``height``.
+        their down angle (``Length₁ · L₀ · ShapeRatio · sin DownAngle``), over ``height``;
+        for a palm, the span of its rosette envelope.
     iou : float
         Intersection over union of the side silhouette and the envelope outline, the
         envelope's width set to the measured crown's (the shape is what is compared).
@@ -62,15 +63,16 @@ class Likeness:
     envelope: np.ndarray
 
 
-def _points(tree) -> np.ndarray:
+def _points(tree) -> tuple[np.ndarray, float]:
     geo = tree.geometry()
     pts = [geo.joint_matrix[:, :3, 3]]
+    trunk_top = float(pts[0][geo.joint_level == 0, 1].max()) if len(pts[0]) else 0.0
     if geo.n_leaves:
         live = geo.leaf_size > 0
         f, s, p = geo.leaf_frame[live], geo.leaf_size[live], geo.leaf_pos[live]
         for a in (0.5, 1.0):  # the blade's middle and tip
             pts.append(p + f[:, :, 1] * (a * s)[:, None])
-    return np.concatenate(pts)
+    return np.concatenate(pts), trunk_top
 
 
 def side_mask(points: np.ndarray, extent: tuple[float, float, float], n: int = 64) -> np.ndarray:
@@ -120,16 +122,17 @@ def _expected_half_width(tree, trunk_len: float) -> float:
     return best
 
 
-def envelope_mask(tree, height: float, half_width: float, extent, n: int = 64) -> np.ndarray:
+def envelope_mask(tree, height: float, half_width: float, extent, n: int = 64,
+                  trunk_top: float | None = None) -> np.ndarray:
     """``bool[n, n]``: the envelope outline of ``tree`` (see the module docstring) for a tree
     ``height`` tall whose crown is ``half_width`` wide at its widest, on the grid of
-    :func:`side_mask`."""
+    :func:`side_mask`; ``trunk_top`` (default ``height``) is where a palm's trunk ends."""
     half, y0, _ = extent
     cell = 2.0 * half / n
     y = y0 + (np.arange(n) + 0.5) * cell
     x = -half + (np.arange(n) + 0.5) * cell
     if tree.base_size >= 0.8 and tree.levels >= 2:
-        return _rosette_mask(tree, height, x, y)
+        return _rosette_mask(tree, height if trunk_top is None else trunk_top, x, y)
     if tree.prune_ratio > 0:
         st = tree.scale_tree * tree.zscale
         ratio = (st - y) / (st * max(1.0 - tree.base_size, 1e-9))
@@ -144,25 +147,39 @@ def envelope_mask(tree, height: float, half_width: float, extent, n: int = 64) -
     return np.abs(x)[None, :] <= w[:, None]
 
 
-def _rosette_mask(tree, height: float, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+def _rosette_mask(tree, trunk_top: float, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """A palm's envelope (``BaseSize`` >= 0.8: the crown is a rosette at the top): the fronds
-    laid straight at their down angle from their place on the trunk, filled across."""
+    laid out at their down angle, bent by their ``Curve`` (and ``CurveBack``), from their
+    place on the trunk, with a fan palm's fan (``LeafScale``) round each tip, filled
+    across."""
     pm = tree.params
     l1 = pm.float("Length", level=1, default=0.5).value
     down = pm.float("DownAngle", level=1, default=45.0)
     trunk = tree.root.plan.length
     base = tree.base_size * trunk
-    top = height - 0.0
     lo = np.full(len(y), np.inf)
     hi = np.full(len(y), -np.inf)
+    curve = pm.float("Curve", level=1, default=0.0).value
+    back = pm.float("CurveBack", level=1, default=0.0).value
+    t = np.linspace(0.0, 1.0, 51)
+    # the frond's direction along it: Curve over its length (the first half Curve and the
+    # second CurveBack when CurveBack is set), as the stems are drawn
+    bend = np.where(t < 0.5, 2.0 * curve * t, curve + 2.0 * back * (t - 0.5)) if back \
+        else curve * t
     for r in np.linspace(0.0, 1.0, 21):
         length = l1 * trunk * shape_ratio(tree.shape, r, tree.prune)
         theta = down.value if down.deviation >= 0 else \
             down.value + down.deviation * (1.0 - 2.0 * shape_ratio(0, r))
-        ys = (trunk - r * (trunk - base)) * tree.zscale * top / max(trunk * tree.zscale, 1e-9)
-        t = np.linspace(0.0, 1.0, 50)
-        px = t * length * abs(np.sin(np.radians(theta)))
-        py = ys + t * length * np.cos(np.radians(theta))
+        ys = (trunk - r * (trunk - base)) * trunk_top / max(trunk, 1e-9)
+        a = np.radians(np.abs(theta + bend))
+        step = length / (len(t) - 1)
+        px = np.concatenate([[0.0], np.cumsum(np.sin(a[1:]) * step)])
+        py = ys + np.concatenate([[0.0], np.cumsum(np.cos(a[1:]) * step)])
+        if tree.leaf_arrangement == "fan":  # the fan of leaves spreads round the tip
+            reach = pm.float("LeafScale", default=0.2).value
+            c = np.linspace(0.0, 2.0 * np.pi, 24)
+            px = np.concatenate([px, px[-1] + reach * np.abs(np.cos(c))])
+            py = np.concatenate([py, py[-1] + reach * np.sin(c)])
         iy = np.searchsorted(y, py)
         for a, b in zip(iy, px, strict=True):
             if 0 <= a < len(y):
@@ -173,7 +190,7 @@ def _rosette_mask(tree, height: float, x: np.ndarray, y: np.ndarray) -> np.ndarr
 
 def likeness(tree, n: int = 64) -> Likeness:
     """Compare a grown tree's side silhouette with its envelope (see :class:`Likeness`)."""
-    pts = _points(tree)
+    pts, trunk_top = _points(tree)
     height = float(pts[:, 1].max())
     x = pts[:, 0] - np.median(pts[:, 0])
     pts = np.column_stack([x, pts[:, 1], pts[:, 2]])
@@ -194,10 +211,11 @@ def likeness(tree, n: int = 64) -> Likeness:
     trunk_len = tree.root.plan.length
     exp_w = (_expected_half_width(tree, trunk_len) if tree.prune_ratio <= 0
              else tree.prune[0] * tree.scale_tree)
-    env = envelope_mask(tree, height, half_w, ext, n)
+    env = envelope_mask(tree, height, half_w, ext, n, trunk_top)
     expected_base = tree.base_size * trunk_len * tree.zscale / height
-    if tree.base_size >= 0.8 and np.any(env):  # a rosette: its lowest frond tips
+    if tree.base_size >= 0.8 and np.any(env):  # a rosette: its lowest frond tips, its span
         expected_base = (ext[1] + int(np.argmax(env.any(1))) * cell) / height
+        exp_w = float(cols[env.any(0)].max()) + 0.5 * cell
     inter = np.count_nonzero(mask & env)
     union = np.count_nonzero(mask | env)
     return Likeness(
