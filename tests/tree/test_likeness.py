@@ -23,9 +23,6 @@ Tolerances, and why:
 A palm (``BaseSize`` >= 0.8) is a rosette of fronds at the top of a bare trunk: its envelope
 is its fronds laid out at their down angle and curvature (and a fan palm's fans).
 
-``acer`` does not meet it yet: tree-gen's maple splits its trunk 1.5 times a segment, which
-in sylva's model makes a hundred trunk clones whose forked mass droops far outside shape 4.
-It is an expected failure, kept visible.
 """
 
 import numpy as np
@@ -34,7 +31,7 @@ import pytest
 from sylva.tree import Tree, species_names
 from sylva.tree.likeness import likeness
 
-NOT_YET = {"acer"}
+NOT_YET: set[str] = set()  # species that do not meet it yet (xfail, kept visible)
 
 
 def test_the_library_has_the_sapling_and_arbaro_set():

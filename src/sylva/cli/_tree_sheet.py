@@ -21,7 +21,7 @@ AGES = (0.25, 0.5, 1.0)
 
 
 def contact_sheet(species: Sequence[str] | None = None, *, tile=(150, 230), columns: int = 4,
-                  height: float | None = None, seed: int = 0, quality: float = 0.3,
+                  height: float | None = None, seed: int = 0, quality: float = 0.5,
                   log=None) -> Image.Image:
     """Render the contact sheet.
 
