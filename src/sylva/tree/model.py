@@ -106,8 +106,26 @@ class Tree:
         self.thickening = TimeFunction(g.text("ThickenCurve", default="sqrt"))
         self.reset()
 
+    def pf(self, name: str, level: int | None = None, default: float | None = None):
+        """``params.float(name, level=level, default=default)``, remembered until the next
+        :meth:`reset` (the stems ask for the same few thousand times)."""
+        key = ("f", name, level, default)
+        p = self._pcache.get(key)
+        if p is None:
+            p = self._pcache[key] = self.params.float(name, level=level, default=default)
+        return p
+
+    def pi(self, name: str, level: int | None = None, default: int | None = None) -> int:
+        """``params.int`` remembered like :meth:`pf`."""
+        key = ("i", name, level, default)
+        p = self._pcache.get(key)
+        if p is None:
+            p = self._pcache[key] = self.params.int(name, level=level, default=default)
+        return p
+
     def reset(self) -> None:
         """Back to time 0: a fresh trunk bud and simulation."""
+        self._pcache: dict = {}
         rng = np.random.default_rng([self.seed & 0xFFFFFFFF, 0])
         self.root = make_trunk(self, rng)
         self.simulation = Simulation(self.root)

@@ -70,11 +70,14 @@ import math
 
 import numpy as np
 
+from ._kernels import bend_stem
 from .components import Component
 
 __all__ = ["Branch", "StemPlan", "envelope", "make_trunk", "shape_ratio", "stem_profile"]
 
 _SIDES = (14, 9, 6, 4, 3)
+_ZERO3 = np.zeros(3)
+_EYE4 = np.eye(4)
 _MAX_NODES = 32  # a periodic taper with more nodes per stem is drawn as Taper 2
 _NODE_RINGS = 6  # rings per node of a periodic taper
 
@@ -247,7 +250,6 @@ class StemPlan:
                  rng: np.random.Generator, offset: float = 0.0, parent_length: float = 0.0,
                  n_children: float = 0.0, n_leaves: float = 0.0, shed: float | None = None,
                  parent_plan: StemPlan | None = None) -> None:
-        pm = tree.params
         self.tree = tree
         # a juvenile branch (and everything on it) is shed: from time ``shed`` it retracts
         # over ``tree.shed_time`` years (see :meth:`life_at`); None for the lasting tree
@@ -263,22 +265,22 @@ class StemPlan:
         self.n_leaves = n_leaves
         lv = level
         default_grow = (12.0, 5.0, 2.0, 1.0, 0.6)[min(lv, 4)]
-        self.grow_time = max(pm.float("GrowTime", level=lv, default=default_grow).value, 1e-3)
+        self.grow_time = max(tree.pf("GrowTime", level=lv, default=default_grow).value, 1e-3)
         self.thicken_time = max(
-            pm.float("ThickenTime", level=lv, default=2.5 * self.grow_time).value, 1e-3
+            tree.pf("ThickenTime", level=lv, default=2.5 * self.grow_time).value, 1e-3
         )
-        self.bud_delay = max(pm.float("BudDelay", level=lv, default=0.3).value, 0.0)
-        self.taper = float(np.clip(pm.float("Taper", level=lv, default=1.0).value, 0.0, 3.0))
+        self.bud_delay = max(tree.pf("BudDelay", level=lv, default=0.3).value, 0.0)
+        self.taper = float(np.clip(tree.pf("Taper", level=lv, default=1.0).value, 0.0, 3.0))
         # the periodic taper is drawn where its nodes (one per stem diameter) can be seen
         self.taper_drawn = self.taper
         if self.taper > 2.0 and self.length / (2.0 * self.radius) > _MAX_NODES:
             self.taper_drawn = 2.0
-        self.curve_res = max(1, pm.int("CurveRes", level=lv, default=3))
-        self.sides = max(3, pm.int("Sides", level=lv, default=_SIDES[min(lv, 4)]))
+        self.curve_res = max(1, tree.pi("CurveRes", level=lv, default=3))
+        self.sides = max(3, tree.pi("Sides", level=lv, default=_SIDES[min(lv, 4)]))
         self.growth = tree.growth
         self.thickening = tree.thickening
-        curve = pm.float("Curve", level=lv, default=0.0)
-        back = pm.float("CurveBack", level=lv, default=0.0).value
+        curve = tree.pf("Curve", level=lv, default=0.0)
+        back = tree.pf("CurveBack", level=lv, default=0.0).value
         res = self.curve_res
         base = np.full(res, curve.value / res)
         if back:
@@ -286,10 +288,10 @@ class StemPlan:
             base = np.where(np.arange(res) < res / 2.0, curve.value / half, back / half)
         jitter = rng.uniform(-1.0, 1.0, res) * abs(curve.deviation) / res
         self.curve = np.radians(base + jitter)
-        self.flare = pm.float("Flare", default=0.0).value if level == 0 else 0.0
-        self.lobes = pm.int("Lobes", default=0) if level == 0 else 0
-        self.lobe_depth = pm.float("LobeDepth", default=0.0).value if level == 0 else 0.0
-        self.base_length = pm.float("BaseSize", default=0.0).value * self.length if level == 0 \
+        self.flare = tree.pf("Flare", default=0.0).value if level == 0 else 0.0
+        self.lobes = tree.pi("Lobes", default=0) if level == 0 else 0
+        self.lobe_depth = tree.pf("LobeDepth", default=0.0).value if level == 0 else 0.0
+        self.base_length = tree.pf("BaseSize", default=0.0).value * self.length if level == 0 \
             else 0.0
 
     @property
@@ -402,17 +404,16 @@ class Branch(Component):
         tree = plan.tree
         self.rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *key])
         rng = self.rng
-        pm = tree.params
         res = plan.curve_res
         seg = plan.seg_length
         lv = plan.level
         # -- splits: error-diffused nSegSplits (0BaseSplits at the trunk's first segment) ----
-        seg_splits = pm.float("SegSplits", level=lv, default=0.0).value
+        seg_splits = tree.pf("SegSplits", level=lv, default=0.0).value
         k1, n_split, err = res, 0, split_error
         for k in range(k0, res - 1):
             want = seg_splits
             if lv == 0 and k == 0:
-                want = float(pm.int("BaseSplits", default=0))
+                want = float(tree.pi("BaseSplits", default=0))
             if want <= 0:
                 continue
             if lv == 0 and k == 0:
@@ -431,8 +432,8 @@ class Branch(Component):
         F = np.empty((m + 1, 3, 3))
         P = np.zeros((m + 1, 3))
         F[0] = frame
-        attraction = pm.float("AttractionUp", default=0.0).value if lv >= 2 else 0.0
-        self._clearance = pm.float("GroundClearance", default=0.15).value
+        attraction = tree.pf("AttractionUp", default=0.0).value if lv >= 2 else 0.0
+        self._clearance = tree.pf("GroundClearance", default=0.15).value
         up_local = None
         if attraction and parent_world is not None:
             up_local = parent_world[:3, :3].T @ np.array([0.0, 1.0, 0.0])
@@ -450,7 +451,7 @@ class Branch(Component):
         self.frames = F
         self.arc0 = k0 * seg
         self.arc1 = k1 * seg
-        self.primary.set_transform(self._matrix(P[m], F[m]))
+        self.primary.set_transform(self._matrix(P[m], F[m]), self._inverse(P[m], F[m]))
         # -- children (buds) and leaves along this run -----------------------------------------
         self.buds = self._plan_children(rng)
         self.n_lasting = len(self.buds)  # buds past this index grow juvenile branches
@@ -468,7 +469,18 @@ class Branch(Component):
         self.current_thickness = 0.0
 
     def _bend(self, F, P, curve, seg, up_local, attraction, parent_world) -> None:
-        """The segment loop with attraction up and ground clearance (fills F[1:], P[1:])."""
+        """The segment loop with attraction up and ground clearance (fills F[1:], P[1:]);
+        compiled (:func:`~sylva.tree._kernels.bend_stem`), :meth:`_bend_py` is the same loop
+        in Python."""
+        has_up = up_local is not None
+        has_world = parent_world is not None
+        bend_stem(F, P, np.ascontiguousarray(curve, np.float64), float(seg), has_up,
+                  np.asarray(up_local if has_up else _ZERO3, np.float64), float(attraction),
+                  has_world, np.asarray(parent_world if has_world else _EYE4, np.float64),
+                  float(self._clearance))
+
+    def _bend_py(self, F, P, curve, seg, up_local, attraction, parent_world) -> None:
+        """The segment loop of :meth:`_bend` in Python (the reference of the kernel)."""
         for i in range(len(curve)):
             f = F[i] @ _rx(curve[i])
             if up_local is not None:
@@ -497,6 +509,14 @@ class Branch(Component):
         m = np.eye(4)
         m[:3, :3] = f
         m[:3, 3] = p
+        return m
+
+    @staticmethod
+    def _inverse(p: np.ndarray, f: np.ndarray) -> np.ndarray:
+        """The inverse of :meth:`_matrix` (``f`` is a rotation: its transpose inverts it)."""
+        m = np.eye(4)
+        m[:3, :3] = f.T
+        m[:3, 3] = -(f.T @ p)
         return m
 
     def _where(self, s: float) -> tuple[int, np.ndarray, np.ndarray]:
@@ -541,7 +561,6 @@ class Branch(Component):
     def _bud_run(self, rng, per_len: float, lo: float, hi: float) -> list[tuple]:
         """``(arc, rotation, down angle)`` of the buds on ``[lo, hi]`` of this run."""
         plan, tree = self.plan, self.plan.tree
-        pm = tree.params
         lv = plan.level
         if hi <= lo:
             return []
@@ -549,8 +568,8 @@ class Branch(Component):
         n = int(math.floor(want + rng.uniform()))
         if n <= 0:
             return []
-        rot = pm.float("Rotate", level=lv + 1, default=140.0)
-        down = pm.float("DownAngle", level=lv + 1, default=45.0)
+        rot = tree.pf("Rotate", level=lv + 1, default=140.0)
+        down = tree.pf("DownAngle", level=lv + 1, default=45.0)
         phi0 = phi = rng.uniform(0.0, 360.0)
         side = 1.0
         out = []
@@ -575,15 +594,14 @@ class Branch(Component):
         empty = (np.zeros(0), np.zeros((0, 3, 3)), np.zeros(0))
         if plan.level != tree.levels - 1 or plan.n_leaves <= 0:
             return empty
-        pm = tree.params
         lv = plan.level + 1
-        scale = pm.float("LeafScale", default=0.2)
+        scale = tree.pf("LeafScale", default=0.2)
         fan = tree.leaf_arrangement == "fan"
         if fan:
             if self.k1 < plan.curve_res:
                 return empty  # the fan sits at the tip of the stem
             n = int(round(plan.n_leaves))
-            spread = math.radians(pm.float("FanAngle", default=150.0).value)
+            spread = math.radians(tree.pf("FanAngle", default=150.0).value)
             tip = self.frames[-1]
             out_f = []
             for i in range(n):
@@ -598,8 +616,8 @@ class Branch(Component):
         n = int(math.floor(want + rng.uniform()))
         if n <= 0:
             return empty
-        rot = pm.float("Rotate", level=lv, default=137.5)
-        down = pm.float("DownAngle", level=lv, default=45.0)
+        rot = tree.pf("Rotate", level=lv, default=137.5)
+        down = tree.pf("DownAngle", level=lv, default=45.0)
         arcs = self.arc0 + (np.arange(n) + rng.uniform(0.2, 0.8, n)) / n * (self.arc1 - self.arc0)
         if rot.value >= 0:
             steps = rot.value + rng.uniform(-1, 1, n) * abs(rot.deviation)
@@ -639,9 +657,8 @@ class Branch(Component):
             return
         arcs, birth, death = arcs[keep], birth[keep], death[keep]
         n = len(arcs)
-        pm = tree.params
-        rot = pm.float("Rotate", level=tree.levels, default=137.5)
-        down = pm.float("DownAngle", level=tree.levels, default=45.0)
+        rot = tree.pf("Rotate", level=tree.levels, default=137.5)
+        down = tree.pf("DownAngle", level=tree.levels, default=45.0)
         phi = np.radians(rng.uniform(0, 360) + np.cumsum(
             np.full(n, rot.value if rot.value >= 0 else 137.5)))
         theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
@@ -690,11 +707,10 @@ class Branch(Component):
 
     def _spawn_child(self, i: int, t: float, sim) -> None:
         plan, tree = self.plan, self.plan.tree
-        pm = tree.params
         s, phi, theta = self.buds[i]
         _, p, f = self._where(s)
         child_frame = f @ _ry(phi) @ _rx(theta)
-        slot = self.add_slot(self._matrix(p, child_frame))
+        slot = self.add_slot(self._matrix(p, child_frame), self._inverse(p, child_frame))
         slot.space(tree.seed).set_float("ParentLength", plan.length)
         slot.space(tree.seed).set_float("Offset", s)
         r_here = plan.radius * float(plan.profile(np.array([s]), plan.length)[0])
@@ -703,7 +719,7 @@ class Branch(Component):
         lv = plan.level + 1
         key = (*self.key, 1, i)
         rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *key, 7])
-        lmax = pm.float("Length", level=lv, default=0.5).sample(rng)
+        lmax = tree.pf("Length", level=lv, default=0.5).sample(rng)
         shed = plan.shed
         if i >= self.n_lasting:
             # a juvenile branch: as long as a crown-base branch of the tree scaled down to
@@ -750,10 +766,9 @@ class Branch(Component):
                     t: float, rng, shed: float | None = None) -> StemPlan:
         """The plan of a child ``length`` long at arc length ``s`` (born at ``t``)."""
         plan, tree = self.plan, self.plan.tree
-        pm = tree.params
         radius = plan.radius * (length / plan.length) ** tree.ratio_power
         radius = min(radius, 0.95 * r_here)
-        branches = pm.float("Branches", level=lv + 1, default=0.0).value
+        branches = tree.pf("Branches", level=lv + 1, default=0.0).value
         if lv + 1 >= tree.levels:
             n_children = 0.0
         elif plan.level == 0:
@@ -933,12 +948,11 @@ def _pruned_length(plan_of, length: float, key: tuple, world: np.ndarray) -> flo
 
 def make_trunk(tree, rng: np.random.Generator) -> Branch:
     """The level-0 stem of ``tree`` (its length and radius drawn from the fixed values)."""
-    pm = tree.params
-    scale = pm.float("Scale", default=10.0).fixed
-    length0 = pm.float("Length", level=0, default=1.0).fixed * scale
-    radius0 = length0 * pm.float("Ratio", default=0.02).value * pm.float(
+    scale = tree.pf("Scale", default=10.0).fixed
+    length0 = tree.pf("Length", level=0, default=1.0).fixed * scale
+    radius0 = length0 * tree.pf("Ratio", default=0.02).value * tree.pf(
         "Scale0", default=1.0).fixed
-    n_children = pm.float("Branches", level=1, default=0.0).value if tree.levels > 1 else 0.0
+    n_children = tree.pf("Branches", level=1, default=0.0).value if tree.levels > 1 else 0.0
     n_leaves = tree.leaves * tree.leaf_density if tree.levels == 1 else 0.0
     plan = StemPlan(tree, 0, length0, radius0, 0.0, rng, n_children=n_children,
                     n_leaves=n_leaves)
