@@ -92,6 +92,8 @@ KEYS: dict[str, Key] = {
     "JuvenileBranches": _k(G, "float", 0, 10, doc="branches on a young trunk's bare base, "
                                                   "relative to the crown's density"),
     "ShedTime": _k(G, "float", 0, 100, open_lo=True, doc="years a juvenile branch takes to go"),
+    "JuvenileLag": _k(G, "float", 0, 1, open_lo=True,
+                      doc="a young tree's crown base, in BaseSize (1: no lag, palms)"),
     "JuvenileLeafLife": _k(G, "float", 0, 100, doc="years young shoots keep their leaves"),
     "JuvenileLeafSpacing": _k(G, "float", 0, 100, open_lo=True,
                               doc="their spacing, in LeafScale"),

@@ -84,6 +84,7 @@ class Tree:
         # leaves on young shoots below the leaf level (see sylva.tree.weber_penn)
         self.juvenile_branches = g.float("JuvenileBranches", default=1.0).value
         self.shed_time = g.float("ShedTime", default=2.0).value
+        self.juvenile_lag = g.float("JuvenileLag", default=0.6).value
         self.juvenile_leaf_life = g.float("JuvenileLeafLife", default=3.0).value
         self.juvenile_leaf_spacing = g.float("JuvenileLeafSpacing", default=0.35).value
         self.juvenile_trunk_leaves = bool(g.int("JuvenileTrunkLeaves", default=1))

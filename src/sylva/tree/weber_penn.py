@@ -76,6 +76,8 @@ from .components import Component
 __all__ = ["Branch", "StemPlan", "envelope", "make_trunk", "shape_ratio", "stem_profile"]
 
 _SIDES = (14, 9, 6, 4, 3)
+_GROW = (12.0, 5.0, 2.0, 1.0, 0.6)  # default GrowTime per level
+LEAF_FALL = 0.5  # years a shed branch takes to drop its leaves, before its wood goes
 _ZERO3 = np.zeros(3)
 _EYE4 = np.eye(4)
 _MAX_NODES = 32  # a periodic taper with more nodes per stem is drawn as Taper 2
@@ -264,7 +266,7 @@ class StemPlan:
         self.n_children = n_children
         self.n_leaves = n_leaves
         lv = level
-        default_grow = (12.0, 5.0, 2.0, 1.0, 0.6)[min(lv, 4)]
+        default_grow = _GROW[min(lv, 4)]
         self.grow_time = max(tree.pf("GrowTime", level=lv, default=default_grow).value, 1e-3)
         self.thicken_time = max(
             tree.pf("ThickenTime", level=lv, default=2.5 * self.grow_time).value, 1e-3
@@ -307,15 +309,17 @@ class StemPlan:
     def life_at(self, t: float) -> float:
         """The part (0…1) of a shed stem that is left at time ``t`` (1 for a lasting stem).
 
-        The juvenile branch itself retracts from its tip linearly over ``ShedTime`` years
-        from ``shed``; a stem on it keeps the part of itself that its parent still has
-        beyond the stem's offset, so the whole subtree goes continuously, tips first.
+        The juvenile branch drops its leaves over :data:`LEAF_FALL` years from ``shed``,
+        then retracts from its tip linearly over ``ShedTime`` years; a stem on it keeps the
+        part of itself that its parent still has beyond the stem's offset, so the whole
+        subtree goes continuously, tips first.
         """
         if self.shed is None:
             return 1.0
         pp = self.parent_plan
         if pp is None or pp.shed is None:
-            return min(max(1.0 - (t - self.shed) / max(self.tree.shed_time, 1e-6), 0.0), 1.0)
+            gone = (t - self.shed - LEAF_FALL) / max(self.tree.shed_time, 1e-6)
+            return min(max(1.0 - gone, 0.0), 1.0)
         left = pp.life_at(t) * pp.length - self.offset
         return min(max(left / max(pp.length - self.offset, 1e-9), 0.0), 1.0)
 
@@ -556,10 +560,13 @@ class Branch(Component):
         per_len = tree.juvenile_branches * self.share * plan.n_children / max(
             plan.length - plan.base_length, 1e-9)
         lo = max(self.arc0, 0.04 * plan.length)
-        return self._bud_run(rng, per_len, lo, min(self.arc1, plan.base_length))
+        return self._bud_run(rng, per_len, lo, min(self.arc1, plan.base_length), juvenile=True)
 
-    def _bud_run(self, rng, per_len: float, lo: float, hi: float) -> list[tuple]:
-        """``(arc, rotation, down angle)`` of the buds on ``[lo, hi]`` of this run."""
+    def _bud_run(self, rng, per_len: float, lo: float, hi: float,
+                 juvenile: bool = False) -> list[tuple]:
+        """``(arc, rotation, down angle)`` of the buds on ``[lo, hi]`` of this run (a
+        juvenile branch takes the down angle of mid-crown, where it stands most of its
+        life)."""
         plan, tree = self.plan, self.plan.tree
         lv = plan.level
         if hi <= lo:
@@ -584,7 +591,7 @@ class Branch(Component):
                 theta = down.sample(rng)
             else:  # the paper's special mode for a negative nDownAngleV
                 span = max(plan.length - plan.base_length, 1e-9)
-                sr = shape_ratio(0, (plan.length - s) / span)
+                sr = shape_ratio(0, 0.5 if juvenile else (plan.length - s) / span)
                 theta = down.value + down.deviation * (1.0 - 2.0 * sr)
             out.append((s, math.radians(phi), math.radians(theta)))
         return out
@@ -673,16 +680,15 @@ class Branch(Component):
 
     def leaf_sizes_at(self, t: float) -> np.ndarray:
         """Blade length of every planned leaf at time ``t`` (0: not out, or fallen): they
-        unfold over ``LeafUnfold`` years, juvenile ones fade in their last year, and leaves
-        of a retracting (shed) stem shrink as its tip comes back to them."""
+        unfold over ``LeafUnfold`` years, juvenile ones fade in their last year, and a shed
+        branch's leaves fall (shrink) over half a year before its wood retracts."""
         tree = self.plan.tree
         age = (t - self.leaf_birth) / max(tree.leaf_unfold, 1e-6)
         size = self.leaf_size * np.clip(age, 0.0, 1.0) ** 0.7
         size = size * np.clip(self.leaf_death - t, 0.0, 1.0)
         size[self.leaf_birth > t] = 0.0
-        if self.plan.shed is not None:
-            room = self.current_length - self.leaf_arc
-            size = np.minimum(size, np.maximum(room, 0.0))
+        if self.plan.shed is not None:  # a shed branch drops its leaves before it goes
+            size = size * min(max(1.0 - (t - self.plan.shed) / LEAF_FALL, 0.0), 1.0)
         return size
 
     # -- events --------------------------------------------------------------------------------
@@ -722,13 +728,28 @@ class Branch(Component):
         lmax = tree.pf("Length", level=lv, default=0.5).sample(rng)
         shed = plan.shed
         if i >= self.n_lasting:
-            # a juvenile branch: as long as a crown-base branch of the tree scaled down to
-            # the trunk length at which this bud is the crown base (the crown base of a
-            # young tree lags: at 0.6 BaseSize); it is shed from then on
-            young = min(s / max(0.6 * tree.base_size, 1e-9), plan.length)
-            length = young * lmax * shape_ratio(tree.shape, 1.0, tree.prune)
-            shed = min(plan.time_at_length(young), tree.default_age - tree.shed_time - 0.5)
-            if shed <= t + 0.5 or shed + tree.shed_time <= sim.target:
+            # a juvenile branch: as long as a branch of the tree scaled down to the trunk
+            # length at which this bud is the crown base (a young tree's crown base lags:
+            # at JuvenileLag · BaseSize); it is shed from then on
+            lag_base = max(tree.juvenile_lag * tree.base_size, 1e-9)
+            young = min(s / lag_base, plan.length)
+            # over its life it stands from mid-crown down to the crown base of that tree
+            length = young * lmax * max(shape_ratio(tree.shape, r, tree.prune)
+                                        for r in (0.5, 0.6, 0.7, 0.8, 0.9, 1.0))
+            if tree.prune_ratio > 0:  # a pruned crown is only PruneWidth wide
+                length *= 1.0 - tree.prune_ratio + tree.prune_ratio * min(tree.prune[0], 1.0)
+            # it stands grown for at least ShedTime years, and is gone by the species' Age;
+            # the buds above the one that is the crown base when the trunk is grown go one
+            # after another from then until the last moment (not all at once)
+            grow = tree.pf("GrowTime", level=lv, default=_GROW[min(lv, 4)]).value
+            last = tree.default_age - tree.shed_time - LEAF_FALL - 0.5
+            natural = plan.time_at_length(young)
+            s_full = lag_base * plan.length
+            if s > s_full and last > natural:
+                span = max(plan.base_length - s_full, 1e-9)
+                natural += (s - s_full) / span * (last - natural)
+            shed = min(max(natural, t + grow + tree.shed_time), last)
+            if shed <= t + 0.25 or shed + LEAF_FALL + tree.shed_time <= sim.target:
                 return  # it would be gone before it is seen: not grown at all
         elif plan.level == 0:
             span = max(plan.length - plan.base_length, 1e-9)
@@ -751,7 +772,8 @@ class Branch(Component):
             self.attach(child, slot)
             child.schedule_own(sim)
             if plan.shed is None:  # the juvenile branch itself: it goes when it is gone
-                sim.schedule(self, max(shed + tree.shed_time, sim.time), "shed", child)
+                sim.schedule(self, max(shed + LEAF_FALL + tree.shed_time, sim.time), "shed",
+                             child)
             return
         if tree.prune_ratio > 0.0:
             pruned = _pruned_length(plan_of, length, key, world)
