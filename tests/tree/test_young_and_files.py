@@ -90,3 +90,20 @@ def test_user_species_are_listed_and_found(tmp_path, monkeypatch, capsys):
     assert "my_elm" in out and "[user:" in out and "quaking_aspen" in out
     assert main(["tree", "--example"]) == 0
     assert "JuvenileTrunkLeaves" in capsys.readouterr().out
+
+
+def test_autumn_and_winter_are_a_parameter_away():
+    summer = Tree("quaking_aspen", seed=2, quality=0.3).grow(12.0)
+    autumn = Tree("quaking_aspen", seed=2, quality=0.3, season="autumn").grow(12.0)
+    winter = Tree("quaking_aspen", seed=2, quality=0.3, season="winter").grow(12.0)
+    n = summer.stats()["leaves"]
+    assert n > 100 and autumn.stats()["leaves"] == n and winter.stats()["leaves"] == 0
+    names = [m.name for m in autumn.mesh().mesh.materials]
+    assert "leaf.autumn" in names and "leaf.aspen" not in names
+    # the wood is the same tree in every season
+    assert np.array_equal(summer.geometry().joint_matrix, winter.geometry().joint_matrix)
+    # an evergreen keeps its needles
+    pine = Tree("scots_pine", seed=2, quality=0.3, season="winter").grow(20.0)
+    assert pine.stats()["leaves"] > 100
+    with pytest.raises(ValueError, match="season"):
+        Tree("quaking_aspen", season="monsoon")

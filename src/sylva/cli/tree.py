@@ -5,6 +5,7 @@ Examples::
     sylva tree --list                                    # shipped and user species
     sylva tree --example > my_tree.txt                   # the annotated species file
     sylva tree --sheet -o sheet.png                      # every species at three ages
+    sylva tree silver_birch -o birch.png --season autumn # autumn colours (winter: bare)
     sylva tree quaking_aspen -o aspen.glb --age 30 --seed 4
     sylva tree black_oak -o oak.png                      # a rendered image
     sylva tree weeping_willow -o willow.pov              # POV-Ray scene (mesh2)
@@ -63,6 +64,8 @@ def register(subparsers) -> None:
                    help="frames per second (default 24 for wind, 12 for growth)")
     p.add_argument("--size", default="640x640", metavar="WxH", help="image/video size")
     p.add_argument("--no-leaves", action="store_true", help="leave the leaves out")
+    p.add_argument("--season", choices=("spring", "summer", "autumn", "winter"), default=None,
+                   help="show a deciduous tree in this season (default: the species' Season)")
     p.set_defaults(func=run)
 
 
@@ -102,7 +105,7 @@ def run(args: argparse.Namespace) -> int:
         raise SylvaError("tree: expected an output file (-o OUT)")
     out = Path(args.out)
     ext = out.suffix.lower()
-    tree = Tree(args.species, seed=args.seed)
+    tree = Tree(args.species, seed=args.seed, season=args.season)
     age = tree.default_age if args.age is None else args.age
     if age <= 0:
         raise SylvaError(f"--age: expected a positive age in years, got {age}")

@@ -89,6 +89,10 @@ KEYS: dict[str, Key] = {
     "GroundClearance": _k(G, "float", 0, 100, doc="metres a drooping stem keeps off the ground"),
     "GrowthCurve": _k(G, "choice", choices=("cubic", "linear", "sqrt"), doc="elongation in time"),
     "ThickenCurve": _k(G, "choice", choices=("cubic", "linear", "sqrt"), doc="thickening"),
+    "Season": _k(G, "choice", choices=("spring", "summer", "autumn", "winter"),
+                 doc="the season the tree is shown in"),
+    "Deciduous": _k(G, "bool", doc="whether its leaves change with the season"),
+    "AutumnMaterial": _k(G, "text", doc="the leaves' material in autumn"),
     "JuvenileBranches": _k(G, "float", 0, 10, doc="branches on a young trunk's bare base, "
                                                   "relative to the crown's density"),
     "ShedTime": _k(G, "float", 0, 100, open_lo=True, doc="years a juvenile branch takes to go"),

@@ -25,7 +25,10 @@ from .parameters import ParameterManager
 from .species import load_species
 from .weber_penn import Branch, envelope, make_trunk
 
-__all__ = ["Tree"]
+__all__ = ["SEASONS", "Tree"]
+
+SEASONS = ("spring", "summer", "autumn", "winter")
+"""The values of ``Season`` (and of ``Tree(season=...)``, ``sylva tree --season``)."""
 
 
 class Tree:
@@ -40,6 +43,13 @@ class Tree:
         Everything random (fixed random values, per-stem draws) follows from it.
     materials : MaterialDatabase, optional
         Default: :meth:`MaterialDatabase.default`.
+    quality : float, optional
+        (0, 1]: the stems of the last level (levels >= 3) are thinned to this fraction and
+        each carries ``1 / quality`` times the leaves (the foliage stays, the twigs go): a
+        quicker tree with the same silhouette, for previews and tests.
+    season : {"spring", "summer", "autumn", "winter"}, optional
+        Overrides the species' ``Season``: a ``Deciduous`` tree's leaves are at 60 % in
+        spring, in ``AutumnMaterial`` in autumn and gone in winter.
 
     Attributes
     ----------
@@ -50,7 +60,8 @@ class Tree:
     """
 
     def __init__(self, config="quaking_aspen", *, seed: int | None = None,
-                 materials: MaterialDatabase | None = None, quality: float = 1.0) -> None:
+                 materials: MaterialDatabase | None = None, quality: float = 1.0,
+                 season: str | None = None) -> None:
         if isinstance(config, ParameterManager):
             pm = config
             if seed is not None and seed != pm.seed:
@@ -76,6 +87,19 @@ class Tree:
         self.leaf_unfold = g.float("LeafUnfold", default=0.3).value
         self.bark_material = g.text("BarkMaterial", default="bark")
         self.leaf_material = g.text("LeafMaterial", default="leaf")
+        # the season: a deciduous tree's leaves are small in spring, turn to AutumnMaterial
+        # in autumn and are gone in winter; an evergreen keeps its own all year
+        self.season = season if season is not None else g.text("Season", default="summer")
+        if self.season not in SEASONS:
+            raise ValueError(f"season must be one of {', '.join(SEASONS)}, got {self.season!r}")
+        self.deciduous = bool(g.int("Deciduous", default=1))
+        self.autumn_material = g.text("AutumnMaterial", default="leaf.autumn")
+        self.season_leaf_scale = 1.0
+        self.season_leaf_material = self.leaf_material
+        if self.deciduous:
+            self.season_leaf_scale = {"spring": 0.6, "winter": 0.0}.get(self.season, 1.0)
+            if self.season == "autumn":
+                self.season_leaf_material = self.autumn_material
         self.default_age = g.float("Age", default=30.0).value
         if not 0.0 < quality <= 1.0:
             raise ValueError(f"quality must be in (0, 1], got {quality}")

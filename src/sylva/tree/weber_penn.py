@@ -689,7 +689,7 @@ class Branch(Component):
         size[self.leaf_birth > t] = 0.0
         if self.plan.shed is not None:  # a shed branch drops its leaves before it goes
             size = size * min(max(1.0 - (t - self.plan.shed) / LEAF_FALL, 0.0), 1.0)
-        return size
+        return size * tree.season_leaf_scale
 
     # -- events --------------------------------------------------------------------------------
     def schedule_own(self, sim) -> None:
@@ -926,7 +926,7 @@ class Branch(Component):
                 i, pos, _ = self._where_many(self.leaf_arc[out])
                 jn = self._seg_joints[np.minimum(i, len(self._seg_joints) - 1)]
                 turtle.leaves(pos, self.leaf_frame[out], size, tree.leaf_width,
-                              tree.leaf_material, jn)
+                              tree.season_leaf_material, jn)
 
 
 def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray) -> float | None:
