@@ -107,3 +107,19 @@ def test_autumn_and_winter_are_a_parameter_away():
     assert pine.stats()["leaves"] > 100
     with pytest.raises(ValueError, match="season"):
         Tree("quaking_aspen", season="monsoon")
+
+
+def test_leaves_of_a_level_take_their_own_parameters():
+    """The leaves on stems of level n read LeafScale, LeafMaterial… from [level n+1]: here
+    the young trunk's shoots (level 1's leaves) get another material and size than the
+    crown's (level 3's)."""
+    text, _ = species_text("quaking_aspen")
+    own = '[level 1]\nLeafMaterial = "leaf.birch"\nLeafScale = 0.3\n'
+    mine = text.replace("[level 1]\n", own, 1)
+    check_species(mine, "mine.txt")
+    young = Tree(ParameterManager.from_text(mine, seed=4)).grow(3.0)
+    geo = young.geometry()
+    assert set(geo.leaf_material) == {"leaf.birch"}  # only the trunk's shoots have leaves
+    assert geo.leaf_size.max() > 0.25
+    old = Tree(ParameterManager.from_text(mine, seed=4), quality=0.3).grow(30.0).geometry()
+    assert set(old.leaf_material) == {"leaf.aspen"}  # the crown's, at maturity

@@ -27,7 +27,7 @@ INF = math.inf
 
 @dataclass(frozen=True)
 class Key:
-    """One species key: ``scope`` "global" or "level", ``kind`` "int", "float", "text",
+    """One species key: ``scope`` "global", "level" or "both", ``kind`` "int", "float", "text",
     "choice" or "bool"; ``lo``/``hi`` the closed range (``open_lo``: ``lo`` itself is out);
     ``dev`` whether a ``± deviation`` is allowed; ``choices`` for text choices."""
 
@@ -45,7 +45,7 @@ def _k(scope, kind, lo=-INF, hi=INF, *, open_lo=False, dev=False, choices=(), do
     return Key(scope, kind, lo, hi, open_lo, dev, choices, doc)
 
 
-G, L = "global", "level"
+G, L, B = "global", "level", "both"  # both: [global], or a level for its own leaves
 KEYS: dict[str, Key] = {
     # -- identity
     "Name": _k(G, "text", doc="the species' name"),
@@ -68,8 +68,8 @@ KEYS: dict[str, Key] = {
     "LeafShape": _k(G, "choice", 0, 9, choices=("blade", "ellipse", "disc", "triangle", "palm",
                                                "square", "hexagon", "needles", "oak", "ovate"),
                     doc="0…9 or a name (sylva.tree.meshing.LEAF_SHAPES)"),
-    "LeafScale": _k(G, "float", 0, 10, open_lo=True, dev=True, doc="leaf length (m)"),
-    "LeafScaleX": _k(G, "float", 0, 10, open_lo=True, doc="leaf width / length"),
+    "LeafScale": _k(B, "float", 0, 10, open_lo=True, dev=True, doc="leaf length (m)"),
+    "LeafScaleX": _k(B, "float", 0, 10, open_lo=True, doc="leaf width / length"),
     "AttractionUp": _k(G, "float", -10, 10, doc="bend toward (>0) or away from the sky"),
     "PruneRatio": _k(G, "float", 0, 1, doc="how much of the pruning to apply"),
     "PruneWidth": _k(G, "float", 0, 5, open_lo=True, doc="envelope half-width / Scale"),
@@ -85,14 +85,14 @@ KEYS: dict[str, Key] = {
                           doc="'fan': the leaves fan out at the stem's tip (the paper's Leaves<0)"),
     "FanAngle": _k(G, "float", 0, 360, doc="spread of a fan of leaves (degrees)"),
     "BarkMaterial": _k(G, "text", doc="material name (sylva.tree.materials)"),
-    "LeafMaterial": _k(G, "text", doc="material name"),
+    "LeafMaterial": _k(B, "text", doc="material name"),
     "GroundClearance": _k(G, "float", 0, 100, doc="metres a drooping stem keeps off the ground"),
     "GrowthCurve": _k(G, "choice", choices=("cubic", "linear", "sqrt"), doc="elongation in time"),
     "ThickenCurve": _k(G, "choice", choices=("cubic", "linear", "sqrt"), doc="thickening"),
     "Season": _k(G, "choice", choices=("spring", "summer", "autumn", "winter"),
                  doc="the season the tree is shown in"),
     "Deciduous": _k(G, "bool", doc="whether its leaves change with the season"),
-    "AutumnMaterial": _k(G, "text", doc="the leaves' material in autumn"),
+    "AutumnMaterial": _k(B, "text", doc="the leaves' material in autumn"),
     "JuvenileBranches": _k(G, "float", 0, 10, doc="branches on a young trunk's bare base, "
                                                   "relative to the crown's density"),
     "ShedTime": _k(G, "float", 0, 100, open_lo=True, doc="years a juvenile branch takes to go"),
@@ -198,7 +198,7 @@ def check_species(text: str, filename: str | None = None) -> None:
                      "`sylva tree --example`", e.line, 1 + text.splitlines()[e.line - 1].find(
                          e.name))
             where = "a [level N] block" if key.scope == L else "the [global] block"
-            if (key.scope == L) != in_level:
+            if key.scope != B and (key.scope == L) != in_level:
                 fail(f"{e.name} belongs in {where}", e.line, e.column)
             _check_value(key, e, fail)
             if name == "Levels":

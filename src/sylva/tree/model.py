@@ -148,6 +148,22 @@ class Tree:
             p = self._pcache[key] = self.params.int(name, level=level, default=default)
         return p
 
+    def leaf_style(self, level: int) -> tuple[float, str]:
+        """``(LeafScaleX, material)`` of the leaves on the stems of ``level - 1``: each leaf
+        is a component of its level, so ``[level N]`` may set ``LeafScaleX``, ``LeafMaterial``
+        and ``AutumnMaterial`` (``LeafScale`` too) for its own leaves, else ``[global]``'s
+        apply; the material is the season's."""
+        key = ("style", level)
+        style = self._pcache.get(key)
+        if style is None:
+            g = self.params
+            width = g.float("LeafScaleX", level=level, default=1.0).value
+            material = g.text("LeafMaterial", level=level, default=self.leaf_material)
+            if self.deciduous and self.season == "autumn":
+                material = g.text("AutumnMaterial", level=level, default=self.autumn_material)
+            style = self._pcache[key] = (width, material)
+        return style
+
     def reset(self) -> None:
         """Back to time 0: a fresh trunk bud and simulation."""
         self._pcache: dict = {}

@@ -602,7 +602,7 @@ class Branch(Component):
         if plan.level != tree.levels - 1 or plan.n_leaves <= 0:
             return empty
         lv = plan.level + 1
-        scale = tree.pf("LeafScale", default=0.2)
+        scale = tree.pf("LeafScale", level=lv, default=0.2)
         fan = tree.leaf_arrangement == "fan"
         if fan:
             if self.k1 < plan.curve_res:
@@ -650,7 +650,7 @@ class Branch(Component):
             return
         if plan.level == 0 and not tree.juvenile_trunk_leaves:
             return
-        scale = tree.params.float("LeafScale", default=0.2)
+        scale = tree.pf("LeafScale", level=plan.level + 1, default=0.2)
         spacing = max(tree.juvenile_leaf_spacing * scale.value, 1e-3)
         n = int((self.arc1 - self.arc0) / spacing)
         if n <= 0:
@@ -925,8 +925,8 @@ class Branch(Component):
                 size = sizes[out]
                 i, pos, _ = self._where_many(self.leaf_arc[out])
                 jn = self._seg_joints[np.minimum(i, len(self._seg_joints) - 1)]
-                turtle.leaves(pos, self.leaf_frame[out], size, tree.leaf_width,
-                              tree.season_leaf_material, jn)
+                width, material = tree.leaf_style(plan.level + 1)
+                turtle.leaves(pos, self.leaf_frame[out], size, width, material, jn)
 
 
 def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray) -> float | None:
