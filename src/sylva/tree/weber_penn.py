@@ -19,7 +19,20 @@ Growth in time is our design (the thesis's §4.2.5 is not in the seed):
 * a bud at arc length ``o`` breaks — an event ``"bud"`` creates the child stem — at the time
   the parent reaches ``o``, plus ``BudDelay``; a segment split is an event ``"split"`` at
   the time the stem reaches the split point, which attaches the clones to the primary slot;
-* a leaf appears ``LeafDelay`` after its stem passes it and unfolds over ``LeafUnfold``.
+* a leaf appears ``LeafDelay`` after its stem passes it and unfolds over ``LeafUnfold``;
+* **young trees are trees**: a young tree is the mature one scaled down.  The trunk's bare
+  base carries *juvenile branches* (``JuvenileBranches`` of the crown's bud density): the one
+  at height ``h`` is as long as a mid-crown branch of the tree whose crown base is at ``h``
+  when its trunk is ``h / (JuvenileLag · BaseSize)`` long, and it is shed when the trunk
+  gets there (after standing grown for at least ``ShedTime`` years, and always before
+  ``Age``): its leaves fall over half a year (:data:`LEAF_FALL`), then it retracts from its
+  tip over ``ShedTime`` years, its own stems with it, and leaves the graph (event
+  ``"shed"``).  Stems below the leaf level carry *juvenile leaves* on their young shoots
+  (every ``JuvenileLeafSpacing · LeafScale``, for ``JuvenileLeafLife`` years, fading over
+  their last; ``JuvenileTrunkLeaves`` 0: not on the trunk).  Juvenile draws use their own
+  random streams, so the mature tree (at ``Age``, when all of it is gone) is exactly the
+  tree grown without them; a juvenile branch that would be gone by the simulation's target
+  is not grown at all.
 
 ``GrowTime``, ``ThickenTime``, ``BudDelay`` (per level), ``LeafDelay``, ``LeafUnfold``,
 ``Age`` (the default age of a grown tree), ``Sides`` (ring resolution per level),
