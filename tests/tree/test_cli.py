@@ -15,7 +15,20 @@ def test_list(capsys):
     for name in ("quaking_aspen", "black_oak", "weeping_willow", "fan_palm", "scots_pine",
                  "hazel_shrub"):
         assert name in out
-    assert "Weber & Penn 1995" in out
+    assert "Weber & Penn 1995" in out and "palm" in out and "user species folders" in out
+
+
+def test_contact_sheet(tmp_path, capsys):
+    png = tmp_path / "sheet.png"
+    assert main(["tree", "--sheet", "-o", str(png), "--only", "sphere_tree"]) == 0
+    with Image.open(png) as im:
+        w, h = im.size
+        assert w >= 4 * 150 * 3 - 1 and h > 200
+        px = np.asarray(im.convert("RGB"))
+    # trees were drawn: green foliage in the first cell, white elsewhere
+    green = (px[..., 1].astype(int) - px[..., 0] > 20) & (px[..., 1] < 200)
+    assert green[:, : 3 * 150].sum() > 100 and green[:, 3 * 150:].sum() == 0
+    assert "sphere_tree" in capsys.readouterr().out
 
 
 def test_mesh_and_pov_outputs(tmp_path, capsys):

@@ -7,27 +7,25 @@ import pytest
 from sylva.tree import Tree, load_species, species_info, species_names
 from sylva.tree.species import SpeciesError
 
-SPECIES = ["black_oak", "fan_palm", "hazel_shrub", "quaking_aspen", "scots_pine",
-           "weeping_willow"]
+SPECIES = ["hazel_shrub", "quaking_aspen"]  # the others: test_likeness.py
 
 # height range (m) and stems per level (min, max) at the species' default age, seed 7
 EXPECT = {
     "quaking_aspen": ((10, 22), [(1, 1), (40, 60), (500, 1200)]),
-    "black_oak": ((8, 22), [(3, 20), (100, 250), (500, 1500)]),
-    "weeping_willow": ((8, 24), [(2, 12), (100, 300), (400, 1200)]),
-    "fan_palm": ((9, 20), [(1, 1), (20, 30)]),
-    "scots_pine": ((15, 28), [(1, 1), (60, 140), (250, 800)]),
     "hazel_shrub": ((2.5, 6), [(8, 30), (20, 80), (200, 700)]),
 }
 
 
 def test_the_species_list():
-    assert species_names() == SPECIES
-    for name in SPECIES:
+    names = species_names()
+    assert set(SPECIES) <= set(names) and len(names) >= 18
+    for name in names:
         info = species_info(name)
         assert info["Name"] and info["Source"] and info["Description"]
-    paper = {n for n in SPECIES if "Weber & Penn 1995" in species_info(n)["Source"]}
-    assert paper == {"black_oak", "quaking_aspen", "weeping_willow"}
+        assert any(w in info["Source"] for w in ("Weber & Penn 1995", "tree-gen", "Sapling",
+                                                 "designed for sylva")), name
+    paper = {n for n in names if "Weber & Penn 1995" in species_info(n)["Source"]}
+    assert {"black_oak", "quaking_aspen", "weeping_willow", "palm", "sassafras"} <= paper
     with pytest.raises(SpeciesError, match="quaking_aspen"):
         load_species("no such tree")
 
@@ -71,14 +69,6 @@ def test_recognisable_traits(grown):
     t = _traits(tree, stats, geo)
     if name == "quaking_aspen":  # narrow crown, bare lower trunk
         assert t["slender"] > 1.4 and t["lowest_branch"] > 0.3
-    elif name == "black_oak":  # broad crown from a low split trunk
-        assert t["slender"] < 1.0 and t["lowest_branch"] < 0.2 and stats["stems"][0] >= 3
-    elif name == "weeping_willow":  # hanging foliage: much of it in the lower half
-        assert t["low_leaves"] > 0.35
-    elif name == "fan_palm":  # a bare trunk and a crown of fans at the top
-        assert t["leaf_floor"] > 0.6 and t["slender"] > 1.5 and tree.levels == 2
-    elif name == "scots_pine":  # a conical crown on a clear trunk
-        assert t["lowest_branch"] > 0.3 and t["conical"] > 2.0
     elif name == "hazel_shrub":  # many stems from the ground, about as wide as high
         assert stats["stems"][0] >= 8 and t["slender"] < 1.3
 
@@ -107,7 +97,7 @@ def test_same_seed_same_tree_other_seed_other_tree():
 
 
 def test_a_configuration_file(tmp_path):
-    text = (load_species("fan_palm").dumps().replace("Branches = 26", "Branches = 5"))
+    text = (load_species("fan_palm").dumps().replace("Branches = 27", "Branches = 5"))
     path = tmp_path / "mine.txt"
     path.write_text(text)
     tree = Tree(str(path), seed=1).grow()

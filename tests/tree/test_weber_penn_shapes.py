@@ -296,7 +296,7 @@ def test_leaf_outlines(width):
 def test_leaf_shape_names_and_errors():
     assert leaf_shape_index("oval") == 1 and leaf_shape_index("Hex") == 6
     assert leaf_shape_index(" 4 ") == 4
-    for bad in (7, -1, "leafy", 1.5):
+    for bad in (10, -1, "leafy", 1.5):
         with pytest.raises(ValueError):
             leaf_shape_index(bad)
 
@@ -329,3 +329,21 @@ def test_growth_animation_of_a_squashed_tree_ends_at_its_bind_pose():
     # and the joints sit at the squashed heights of the mesh, not the tree's own
     top = a.bind_matrices[:, 1, 3].max()
     assert top == pytest.approx(make(seed=9, ZScale=0.5).grow(20.0).stats()["height"], rel=0.2)
+
+
+def test_compiled_bend_is_the_python_loop(monkeypatch):
+    """The compiled attraction-up / ground-clearance loop gives the Python loop's stems."""
+    from sylva.tree.weber_penn import Branch
+
+    diffs = []
+    compiled = Branch._bend
+
+    def both(self, F, P, curve, seg, up, att, pw):
+        F2, P2 = F.copy(), P.copy()
+        compiled(self, F, P, curve, seg, up, att, pw)
+        Branch._bend_py(self, F2, P2, curve, seg, up, att, pw)
+        diffs.append(max(np.abs(F - F2).max(), np.abs(P - P2).max()))
+
+    monkeypatch.setattr(Branch, "_bend", both)
+    Tree("weeping_willow", seed=3, quality=0.3).grow(8.0)  # hanging whips: both features
+    assert len(diffs) > 50 and max(diffs) < 1e-12

@@ -82,6 +82,18 @@ def _animations(out: Path) -> list[dict]:
     return made
 
 
+def _tree_sheet(out: Path) -> list[dict]:
+    """The contact sheet of every tree species at three ages (``sylva tree --sheet``)."""
+    from ._tree_sheet import contact_sheet
+
+    t = time.perf_counter()
+    sheet = contact_sheet(log=lambda line: print(line, file=sys.stderr))
+    save_buffered(out / "tree-species.png", lambda fh: sheet.save(fh, format="PNG"))
+    return [dict(file="tree-species.png",
+                 title="every tree species at 25 %, 50 % and 100 % of its age, one scale",
+                 seconds=time.perf_counter() - t)]
+
+
 GALLERY_TEXTURES = (
     "arabescato-marble", "beech-wood", "pink-granite", "oak-bark", "leaf-blade", "lawn",
     "worley-a", "ridged-terrain", "warped-marble", "seahorse-valley", "julia-dendrite",
@@ -160,6 +172,8 @@ def make(out: str | Path, size=(800, 800), only: str | None = None,
               f"{r['render']:6.2f}s", file=sys.stderr)
     anims = _animations(out) if animations and only is None else []
     textures = _textures(out) if only is None else []
+    if only is None and animations:  # the tree sheet is heavy too (about a minute)
+        textures += _tree_sheet(out)
     with atomic_write(out / "index.html", "w") as fh:
         fh.write(_page(rows, anims + textures))
     print(f"sylva: wrote {out / 'index.html'} ({len(rows)} examples, {len(anims)} animations, "

@@ -2,7 +2,10 @@
 
 Examples::
 
-    sylva tree --list
+    sylva tree --list                                    # shipped and user species
+    sylva tree --example > my_tree.txt                   # the annotated species file
+    sylva tree --sheet -o sheet.png                      # every species at three ages
+    sylva tree silver_birch -o birch.png --season autumn # autumn colours (winter: bare)
     sylva tree quaking_aspen -o aspen.glb --age 30 --seed 4
     sylva tree black_oak -o oak.png                      # a rendered image
     sylva tree weeping_willow -o willow.pov              # POV-Ray scene (mesh2)
@@ -39,7 +42,14 @@ def register(subparsers) -> None:
     p.add_argument("-o", "--output", dest="out", metavar="OUT",
                    help="output: mesh (.glb .obj .ply .stl .pov …), image (.png), or with "
                         "--animate: .glb, .gif or .mp4")
-    p.add_argument("--list", action="store_true", help="list the species and exit")
+    p.add_argument("--list", action="store_true",
+                   help="list the shipped and the user's species and exit")
+    p.add_argument("--example", action="store_true",
+                   help="print the annotated example species file (every key and its range)")
+    p.add_argument("--sheet", action="store_true",
+                   help="write a contact sheet (-o PNG): every species at three ages, one scale")
+    p.add_argument("--only", default=None, metavar="A,B",
+                   help="with --sheet: only these species (comma-separated)")
     p.add_argument("--age", type=float, default=None, metavar="T",
                    help="age in years (default: the species' Age)")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
@@ -54,6 +64,8 @@ def register(subparsers) -> None:
                    help="frames per second (default 24 for wind, 12 for growth)")
     p.add_argument("--size", default="640x640", metavar="WxH", help="image/video size")
     p.add_argument("--no-leaves", action="store_true", help="leave the leaves out")
+    p.add_argument("--season", choices=("spring", "summer", "autumn", "winter"), default=None,
+                   help="show a deciduous tree in this season (default: the species' Season)")
     p.set_defaults(func=run)
 
 
@@ -71,18 +83,29 @@ def run(args: argparse.Namespace) -> int:
     from ..tree import Tree, Wind, species_info, species_names
 
     if args.list:
+        from ..tree.species import user_species_dirs
+
         for name in species_names():
             info = species_info(name)
-            print(f"{name:16s} {info['Name']}: {info['Description']}")
-            print(f"{'':16s} source: {info['Source']}")
+            origin = "" if info["origin"] == "shipped" else f"  [user: {info['origin']}]"
+            print(f"{name:20s} {info['Name']}: {info['Description']}{origin}")
+            print(f"{'':20s} source: {info['Source']}")
+        print("user species folders: " + ", ".join(str(d) for d in user_species_dirs()))
         return 0
+    if args.example:
+        from ..tree.species import example_text
+
+        print(example_text(), end="")
+        return 0
+    if args.sheet:
+        return _sheet(args)
     if not args.species:
         raise SylvaError("tree: expected a species name or a configuration file (or --list)")
     if not args.out:
         raise SylvaError("tree: expected an output file (-o OUT)")
     out = Path(args.out)
     ext = out.suffix.lower()
-    tree = Tree(args.species, seed=args.seed)
+    tree = Tree(args.species, seed=args.seed, season=args.season)
     age = tree.default_age if args.age is None else args.age
     if age <= 0:
         raise SylvaError(f"--age: expected a positive age in years, got {age}")
@@ -148,3 +171,24 @@ def _animate(args, tree, age: float, out: Path, ext: str, mesh_opts: dict) -> in
     write_animation(growth_frames(meshes, size), out, fps=fps, total=len(meshes))
     print(f"wrote {out}: {len(meshes)} frames")
     return 0
+
+
+def _sheet(args) -> int:
+    import time
+
+    from PIL import Image
+
+    from .._atomic import save_buffered
+    from ._tree_sheet import contact_sheet
+
+    if not args.out or Path(args.out).suffix.lower() not in _IMAGES:
+        raise SylvaError("tree --sheet: expected an image to write (-o sheet.png)")
+    names = [n.strip() for n in args.only.split(",") if n.strip()] if args.only else None
+    t = time.perf_counter()
+    img = contact_sheet(names, seed=args.seed, log=print)
+    fmt = Image.registered_extensions()[Path(args.out).suffix.lower()]
+    rgb = img.convert("RGB") if fmt == "JPEG" else img
+    save_buffered(args.out, lambda fh: rgb.save(fh, format=fmt))
+    print(f"wrote {args.out} in {time.perf_counter() - t:.1f} s")
+    return 0
+

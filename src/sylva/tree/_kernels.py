@@ -111,3 +111,59 @@ def compose_hierarchy(parents, local):
                         acc += world[p, r, k] * local[i, k, c]
                     world[i, r, c] = acc
     return world
+
+
+@njit(cache=True)
+def _rotate_into(R, axis, a):
+    """``R ← Rot(axis, a) @ R`` (Rodrigues; ``axis`` need not be unit)."""
+    n = np.sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2])
+    x, y, z = axis[0] / n, axis[1] / n, axis[2] / n
+    c, s = np.cos(a), np.sin(a)
+    C = 1.0 - c
+    m00, m01, m02 = c + x * x * C, x * y * C - z * s, x * z * C + y * s
+    m10, m11, m12 = y * x * C + z * s, c + y * y * C, y * z * C - x * s
+    m20, m21, m22 = z * x * C - y * s, z * y * C + x * s, c + z * z * C
+    for j in range(3):
+        a0, a1, a2 = R[0, j], R[1, j], R[2, j]
+        R[0, j] = m00 * a0 + m01 * a1 + m02 * a2
+        R[1, j] = m10 * a0 + m11 * a1 + m12 * a2
+        R[2, j] = m20 * a0 + m21 * a1 + m22 * a2
+
+
+@njit(cache=True)
+def bend_stem(F, P, curve, seg, has_up, up, attraction, has_world, world, clearance):
+    """The segment loop of a stem with attraction up and ground clearance (fills ``F[1:]``
+    and ``P[1:]`` in place; see :meth:`sylva.tree.weber_penn.Branch._bend`)."""
+    f = np.empty((3, 3))
+    axis = np.empty(3)
+    for i in range(curve.shape[0]):
+        c, s = np.cos(curve[i]), np.sin(curve[i])
+        for r in range(3):  # f = F[i] @ Rx(curve[i])
+            f[r, 0] = F[i, r, 0]
+            f[r, 1] = c * F[i, r, 1] + s * F[i, r, 2]
+            f[r, 2] = -s * F[i, r, 1] + c * F[i, r, 2]
+        if has_up:
+            tx, ty, tz = f[0, 1], f[1, 1], f[2, 1]
+            axis[0] = ty * up[2] - tz * up[1]
+            axis[1] = tz * up[0] - tx * up[2]
+            axis[2] = tx * up[1] - ty * up[0]
+            sin_d = np.sqrt(axis[0] ** 2 + axis[1] ** 2 + axis[2] ** 2)
+            if sin_d > 1e-6:
+                _rotate_into(f, axis, attraction * sin_d)
+        if has_world:
+            t_up = world[1, 0] * f[0, 1] + world[1, 1] * f[1, 1] + world[1, 2] * f[2, 1]
+            y_next = world[1, 3]
+            for r in range(3):
+                y_next += world[1, r] * (P[i, r] + f[r, 1] * seg)
+            if t_up < 0 and y_next < clearance:
+                ux, uy, uz = world[1, 0], world[1, 1], world[1, 2]
+                tx, ty, tz = f[0, 1], f[1, 1], f[2, 1]
+                axis[0] = ty * uz - tz * uy
+                axis[1] = tz * ux - tx * uz
+                axis[2] = tx * uy - ty * ux
+                if axis[0] ** 2 + axis[1] ** 2 + axis[2] ** 2 > 1e-12:
+                    _rotate_into(f, axis, -np.arcsin(max(-1.0, t_up)))
+        for r in range(3):
+            P[i + 1, r] = P[i, r] + f[r, 1] * seg
+            for k in range(3):
+                F[i + 1, r, k] = f[r, k]

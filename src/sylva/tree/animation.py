@@ -90,7 +90,7 @@ def growth_animation(tree, start: float, end: float, seconds: float = 6.0, fps: 
     branches = [b for b in tree.branches() if b._joints is not None]
     groups = int(geo.leaf_group.max()) + 1 if geo.n_leaves else 0
     # one leaf joint per leaf group: groups are made in traversal order, one per leafy run
-    leafy = [b for b in branches if len(b.leaf_arc) and np.any(b.leaf_birth <= end)]
+    leafy = [b for b in branches if len(b.leaf_arc) and np.any(b.leaf_sizes_at(end) > 0)]
     if len(leafy) != groups:
         raise RuntimeError("leaf groups and leaf-bearing runs disagree")
     k = max(2, int(round(seconds * fps)) + 1)

@@ -71,6 +71,10 @@ def rotation(axis, angle: float) -> np.ndarray:
     return m
 
 
+_IDENTITY = np.eye(4)
+_IDENTITY.flags.writeable = False
+
+
 def _rigid_inverse(m: np.ndarray) -> np.ndarray:
     r = m[:3, :3]
     # a rigid or uniformly scaled transform inverts cheaply; anything else goes to LAPACK
@@ -106,8 +110,8 @@ class Slot:
     def __init__(self, owner: Component, index: int) -> None:
         self.owner = owner
         self.index = index
-        self.matrix = np.eye(4)
-        self.inverse = np.eye(4)
+        self.matrix = _IDENTITY  # shared and read-only until set_transform replaces it
+        self.inverse = _IDENTITY
         self.children: list[Component] = []
         self.params: ParameterSpace | None = None
 
@@ -119,12 +123,14 @@ class Slot:
     def is_base(self) -> bool:
         return self.index == 1
 
-    def set_transform(self, matrix: np.ndarray) -> None:
-        """Set the shared transform and its cached inverse (the base slot stays identity)."""
+    def set_transform(self, matrix: np.ndarray, inverse: np.ndarray | None = None) -> None:
+        """Set the shared transform and its cached inverse (the base slot stays identity);
+        ``inverse``, when the caller knows it (a rigid frame: ``Rᵀ``, ``−Rᵀp``), is taken as
+        it is."""
         if self.is_base:
             raise ValueError("the base slot keeps the identity transform")
         self.matrix = np.asarray(matrix, np.float64).reshape(4, 4).copy()
-        self.inverse = _rigid_inverse(self.matrix)
+        self.inverse = _rigid_inverse(self.matrix) if inverse is None else inverse
 
     def space(self, seed: int = 0) -> ParameterSpace:
         """The slot's parameter space (created on first use, keyed by owner id and index)."""
@@ -165,10 +171,11 @@ class Component:
     def base(self) -> Slot:
         return self.slots[1]
 
-    def add_slot(self, matrix: np.ndarray | None = None) -> Slot:
+    def add_slot(self, matrix: np.ndarray | None = None,
+                 inverse: np.ndarray | None = None) -> Slot:
         s = Slot(self, len(self.slots))
         if matrix is not None:
-            s.set_transform(matrix)
+            s.set_transform(matrix, inverse)
         self.slots.append(s)
         return s
 

@@ -70,6 +70,7 @@ class Simulation:
         self._seq = itertools.count()
         self.delivered: list[Event] = []
         self.components: list[Component] = []
+        self.target = self.time  # the furthest time asked for (components may plan by it)
         self.add(root)
 
     def add(self, component: Component) -> None:
@@ -115,6 +116,7 @@ class Simulation:
     def advance_to(self, t: float, *, update: bool = True) -> None:
         """Deliver all events up to ``t`` (inclusive), then update every component for ``t``."""
         t = float(t)
+        self.target = max(self.target, t)
         while self._queue and self._queue[0].time <= t:
             self.step()
         self.time = max(self.time, t)

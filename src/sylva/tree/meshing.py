@@ -20,7 +20,13 @@ and is mirror-symmetric about ``x = 0``:
  4   palm        five pointed lobes fanned from the stalk (a palmate leaf)        ≈ 0.33
  5   square      the whole box                                                    1
  6   hexagon     corners at y = 0, 1/4, 3/4, 1 (Blender Sapling's ``hex``)        3/4
+ 7   needles     a fascicle: five needles fanned from the stalk (conifers)        ≈ 0.2
+ 8   oak         a lobed blade, rounded lobes either side (oaks)                  ≈ 0.5
+ 9   ovate       egg-shaped, broadest below the middle, pointed tip (aspen,…)     ≈ 0.55
 ===  ==========  ==============================================================  ==========
+
+Shapes 8 and 9 are half-width profiles along the midrib, meshed as strips either side of
+it (so any profile that rises from the stalk and returns to the tip works).
 
 Besides the mesh, the result keeps for each vertex the skeleton joint it moves with and,
 for leaves, the flutter displacement (used by wind and glTF).
@@ -47,7 +53,8 @@ from .stem import stems_to_arrays
 __all__ = ["LEAF_SHAPES", "TreeMesh", "build_tree_mesh", "leaf_blade", "leaf_outline",
            "leaf_shape_index"]
 
-LEAF_SHAPES = ("blade", "ellipse", "disc", "triangle", "palm", "square", "hexagon")
+LEAF_SHAPES = ("blade", "ellipse", "disc", "triangle", "palm", "square", "hexagon", "needles",
+               "oak", "ovate")
 """The ``LeafShape`` values by number (a name, or one of the aliases below, also works)."""
 
 _ALIASES = {"default": 0, "pointed": 0, "oval": 1, "round": 2, "circle": 2, "hex": 6}
@@ -116,8 +123,44 @@ def leaf_outline(shape=0, width: float = 1.0) -> np.ndarray:
         return pts
     if k == 5:
         return np.array([[0, 0], [0.5 * w, 0], [0.5 * w, 1.0], [-0.5 * w, 1.0], [-0.5 * w, 0]])
-    return np.array([[0, 0], [0.5 * w, 0.25], [0.5 * w, 0.75], [0, 1.0], [-0.5 * w, 0.75],
-                     [-0.5 * w, 0.25]])
+    if k == 6:
+        return np.array([[0, 0], [0.5 * w, 0.25], [0.5 * w, 0.75], [0, 1.0], [-0.5 * w, 0.75],
+                         [-0.5 * w, 0.25]])
+    if k == 7:
+        # five needles over ±30° from the stalk, each a thin spike; notches near the base
+        tips = np.radians(np.linspace(30.0, -30.0, 5))
+        ang, rad = [tips[0] + 0.05], [0.08]
+        for j, t in enumerate(tips):
+            ang += [t + 0.035, t, t - 0.035]
+            rad += [0.85, 1.0, 0.85]
+            if j < len(tips) - 1:
+                ang.append(0.5 * (t + tips[j + 1]))
+                rad.append(0.1)
+        ang.append(tips[-1] - 0.05)
+        rad.append(0.08)
+        ang, rad = np.array(ang), np.array(rad)
+        pts = np.concatenate([[[0.0, 0.0]], np.column_stack([rad * np.sin(ang),
+                                                             rad * np.cos(ang)])])
+        pts[:, 0] *= w / (2.0 * np.abs(pts[:, 0]).max())
+        pts[:, 1] /= pts[:, 1].max()
+        return pts
+    y, h = _profile(k, w)
+    right = np.column_stack([h[1:-1], y[1:-1]])
+    left = right[::-1] * [-1.0, 1.0]
+    return np.concatenate([[[0.0, 0.0]], right, [[0.0, 1.0]], left])
+
+
+def _profile(k: int, w: float) -> tuple[np.ndarray, np.ndarray]:
+    """Heights ``y`` (0…1) and half-widths along the midrib of a profile shape (8, 9); the
+    widest point is ``w / 2``."""
+    y = np.linspace(0.0, 1.0, 13 if k == 8 else 9)
+    if k == 8:  # oak: an obovate blade cut into five rounded lobes a side
+        env = y ** 0.5 * (1.0 - y) ** 0.6
+        h = env * (0.6 + 0.4 * np.abs(np.cos(2.5 * np.pi * y)))
+    else:  # ovate: broadest at about a third of the length, a pointed tip
+        h = y ** 0.55 * (1.0 - y) ** 1.1
+    h[0] = h[-1] = 0.0
+    return y, h * (0.5 * w / h.max())
 
 
 @dataclass
@@ -151,10 +194,24 @@ def leaf_blade(width: float = 0.5, shape=0) -> tuple[np.ndarray, np.ndarray, np.
     pointed blade of 6 vertices and 4 triangles; the others are their outline fanned from
     the stalk point (every outline is star-shaped from it)."""
     w = width
-    if leaf_shape_index(shape) == 0:
+    k = leaf_shape_index(shape)
+    if k == 0:
         v = np.array([[0, 0, 0], [-0.5 * w, 0.3, 0], [0.5 * w, 0.3, 0],
                       [-0.42 * w, 0.68, 0], [0.42 * w, 0.68, 0], [0, 1.0, 0]], np.float64)
         tri = np.array([[0, 2, 1], [1, 2, 4], [1, 4, 3], [3, 4, 5]])
+    elif k in (8, 9):  # bands across the midrib: trapezoids R_j R_j+1 L_j+1 L_j
+        y, h = _profile(k, w)
+        m = len(y)
+        v = np.zeros((2 * m, 3))
+        v[0::2, 1] = v[1::2, 1] = y
+        v[0::2, 0], v[1::2, 0] = h, -h
+        tri = []
+        for j in range(m - 1):
+            R, L, R2, L2 = 2 * j, 2 * j + 1, 2 * j + 2, 2 * j + 3
+            tri += [[L, R, R2], [L, R2, L2]]
+        tri = np.array(tri)
+        a, b = v[tri[:, 1], :2] - v[tri[:, 0], :2], v[tri[:, 2], :2] - v[tri[:, 0], :2]
+        tri = tri[a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0] > 1e-12]
     else:
         o = leaf_outline(shape, w)
         v = np.column_stack([o, np.zeros(len(o))])

@@ -25,7 +25,10 @@ from .parameters import ParameterManager
 from .species import load_species
 from .weber_penn import Branch, envelope, make_trunk
 
-__all__ = ["Tree"]
+__all__ = ["SEASONS", "Tree"]
+
+SEASONS = ("spring", "summer", "autumn", "winter")
+"""The values of ``Season`` (and of ``Tree(season=...)``, ``sylva tree --season``)."""
 
 
 class Tree:
@@ -40,6 +43,13 @@ class Tree:
         Everything random (fixed random values, per-stem draws) follows from it.
     materials : MaterialDatabase, optional
         Default: :meth:`MaterialDatabase.default`.
+    quality : float, optional
+        (0, 1]: the stems of the last level (levels >= 3) are thinned to this fraction and
+        each carries ``1 / quality`` times the leaves (the foliage stays, the twigs go): a
+        quicker tree with the same silhouette, for previews and tests.
+    season : {"spring", "summer", "autumn", "winter"}, optional
+        Overrides the species' ``Season``: a ``Deciduous`` tree's leaves are at 60 % in
+        spring, in ``AutumnMaterial`` in autumn and gone in winter.
 
     Attributes
     ----------
@@ -50,7 +60,8 @@ class Tree:
     """
 
     def __init__(self, config="quaking_aspen", *, seed: int | None = None,
-                 materials: MaterialDatabase | None = None) -> None:
+                 materials: MaterialDatabase | None = None, quality: float = 1.0,
+                 season: str | None = None) -> None:
         if isinstance(config, ParameterManager):
             pm = config
             if seed is not None and seed != pm.seed:
@@ -76,7 +87,31 @@ class Tree:
         self.leaf_unfold = g.float("LeafUnfold", default=0.3).value
         self.bark_material = g.text("BarkMaterial", default="bark")
         self.leaf_material = g.text("LeafMaterial", default="leaf")
+        # the season: a deciduous tree's leaves are small in spring, turn to AutumnMaterial
+        # in autumn and are gone in winter; an evergreen keeps its own all year
+        self.season = season if season is not None else g.text("Season", default="summer")
+        if self.season not in SEASONS:
+            raise ValueError(f"season must be one of {', '.join(SEASONS)}, got {self.season!r}")
+        self.deciduous = bool(g.int("Deciduous", default=1))
+        self.autumn_material = g.text("AutumnMaterial", default="leaf.autumn")
+        self.season_leaf_scale = 1.0
+        self.season_leaf_material = self.leaf_material
+        if self.deciduous:
+            self.season_leaf_scale = {"spring": 0.6, "winter": 0.0}.get(self.season, 1.0)
+            if self.season == "autumn":
+                self.season_leaf_material = self.autumn_material
         self.default_age = g.float("Age", default=30.0).value
+        if not 0.0 < quality <= 1.0:
+            raise ValueError(f"quality must be in (0, 1], got {quality}")
+        self.quality = float(quality)
+        # the young tree: juvenile branches on the trunk's clear base, shed as it grows, and
+        # leaves on young shoots below the leaf level (see sylva.tree.weber_penn)
+        self.juvenile_branches = g.float("JuvenileBranches", default=1.0).value
+        self.shed_time = g.float("ShedTime", default=2.0).value
+        self.juvenile_lag = g.float("JuvenileLag", default=0.6).value
+        self.juvenile_leaf_life = g.float("JuvenileLeafLife", default=3.0).value
+        self.juvenile_leaf_spacing = g.float("JuvenileLeafSpacing", default=0.35).value
+        self.juvenile_trunk_leaves = bool(g.int("JuvenileTrunkLeaves", default=1))
         self.prune = (
             g.float("PruneWidth", default=0.5).value,
             g.float("PruneWidthPeak", default=0.5).value,
@@ -96,8 +131,42 @@ class Tree:
         self.thickening = TimeFunction(g.text("ThickenCurve", default="sqrt"))
         self.reset()
 
+    def pf(self, name: str, level: int | None = None, default: float | None = None):
+        """``params.float(name, level=level, default=default)``, remembered until the next
+        :meth:`reset` (the stems ask for the same few thousand times)."""
+        key = ("f", name, level, default)
+        p = self._pcache.get(key)
+        if p is None:
+            p = self._pcache[key] = self.params.float(name, level=level, default=default)
+        return p
+
+    def pi(self, name: str, level: int | None = None, default: int | None = None) -> int:
+        """``params.int`` remembered like :meth:`pf`."""
+        key = ("i", name, level, default)
+        p = self._pcache.get(key)
+        if p is None:
+            p = self._pcache[key] = self.params.int(name, level=level, default=default)
+        return p
+
+    def leaf_style(self, level: int) -> tuple[float, str]:
+        """``(LeafScaleX, material)`` of the leaves on the stems of ``level - 1``: each leaf
+        is a component of its level, so ``[level N]`` may set ``LeafScaleX``, ``LeafMaterial``
+        and ``AutumnMaterial`` (``LeafScale`` too) for its own leaves, else ``[global]``'s
+        apply; the material is the season's."""
+        key = ("style", level)
+        style = self._pcache.get(key)
+        if style is None:
+            g = self.params
+            width = g.float("LeafScaleX", level=level, default=1.0).value
+            material = g.text("LeafMaterial", level=level, default=self.leaf_material)
+            if self.deciduous and self.season == "autumn":
+                material = g.text("AutumnMaterial", level=level, default=self.autumn_material)
+            style = self._pcache[key] = (width, material)
+        return style
+
     def reset(self) -> None:
         """Back to time 0: a fresh trunk bud and simulation."""
+        self._pcache: dict = {}
         rng = np.random.default_rng([self.seed & 0xFFFFFFFF, 0])
         self.root = make_trunk(self, rng)
         self.simulation = Simulation(self.root)

@@ -13,12 +13,26 @@ Growth in time is our design (the thesis's §4.2.5 is not in the seed):
 
 * every stem elongates as ``L(t) = L · f((t − t₀)/GrowTime)`` with the cubic ``f`` of
   :class:`~sylva.tree.events.TimeFunction`, and thickens as
-  ``r(t) = r · (0.08 + 0.92 · f((t − t₀)/ThickenTime))``; the growing stem is the mature
-  curve cut at ``L(t)``, tapering to its current tip;
+  ``r(t) = r · min(0.08 + 0.92 · g((t − t₀)/ThickenTime), max(L(t)/L, 0.02))`` (no thicker
+  for its length than the mature stem); the growing stem is the mature curve cut at
+  ``L(t)``, tapering to its current tip;
 * a bud at arc length ``o`` breaks — an event ``"bud"`` creates the child stem — at the time
   the parent reaches ``o``, plus ``BudDelay``; a segment split is an event ``"split"`` at
   the time the stem reaches the split point, which attaches the clones to the primary slot;
-* a leaf appears ``LeafDelay`` after its stem passes it and unfolds over ``LeafUnfold``.
+* a leaf appears ``LeafDelay`` after its stem passes it and unfolds over ``LeafUnfold``;
+* **young trees are trees**: a young tree is the mature one scaled down.  The trunk's bare
+  base carries *juvenile branches* (``JuvenileBranches`` of the crown's bud density): the one
+  at height ``h`` is as long as a mid-crown branch of the tree whose crown base is at ``h``
+  when its trunk is ``h / (JuvenileLag · BaseSize)`` long, and it is shed when the trunk
+  gets there (after standing grown for at least ``ShedTime`` years, and always before
+  ``Age``): its leaves fall over half a year (:data:`LEAF_FALL`), then it retracts from its
+  tip over ``ShedTime`` years, its own stems with it, and leaves the graph (event
+  ``"shed"``).  Stems below the leaf level carry *juvenile leaves* on their young shoots
+  (every ``JuvenileLeafSpacing · LeafScale``, for ``JuvenileLeafLife`` years, fading over
+  their last; ``JuvenileTrunkLeaves`` 0: not on the trunk).  Juvenile draws use their own
+  random streams, so the mature tree (at ``Age``, when all of it is gone) is exactly the
+  tree grown without them; a juvenile branch that would be gone by the simulation's target
+  is not grown at all.
 
 ``GrowTime``, ``ThickenTime``, ``BudDelay`` (per level), ``LeafDelay``, ``LeafUnfold``,
 ``Age`` (the default age of a grown tree), ``Sides`` (ring resolution per level),
@@ -69,11 +83,16 @@ import math
 
 import numpy as np
 
+from ._kernels import bend_stem
 from .components import Component
 
 __all__ = ["Branch", "StemPlan", "envelope", "make_trunk", "shape_ratio", "stem_profile"]
 
 _SIDES = (14, 9, 6, 4, 3)
+_GROW = (12.0, 5.0, 2.0, 1.0, 0.6)  # default GrowTime per level
+LEAF_FALL = 0.5  # years a shed branch takes to drop its leaves, before its wood goes
+_ZERO3 = np.zeros(3)
+_EYE4 = np.eye(4)
 _MAX_NODES = 32  # a periodic taper with more nodes per stem is drawn as Taper 2
 _NODE_RINGS = 6  # rings per node of a periodic taper
 
@@ -244,9 +263,13 @@ class StemPlan:
 
     def __init__(self, tree, level: int, length: float, radius: float, birth: float,
                  rng: np.random.Generator, offset: float = 0.0, parent_length: float = 0.0,
-                 n_children: float = 0.0, n_leaves: float = 0.0) -> None:
-        pm = tree.params
+                 n_children: float = 0.0, n_leaves: float = 0.0, shed: float | None = None,
+                 parent_plan: StemPlan | None = None) -> None:
         self.tree = tree
+        # a juvenile branch (and everything on it) is shed: from time ``shed`` it retracts
+        # over ``tree.shed_time`` years (see :meth:`life_at`); None for the lasting tree
+        self.shed = shed
+        self.parent_plan = parent_plan
         self.level = level
         self.length = max(float(length), 1e-4)
         self.radius = max(float(radius), 1e-4)
@@ -256,23 +279,23 @@ class StemPlan:
         self.n_children = n_children
         self.n_leaves = n_leaves
         lv = level
-        default_grow = (12.0, 5.0, 2.0, 1.0, 0.6)[min(lv, 4)]
-        self.grow_time = max(pm.float("GrowTime", level=lv, default=default_grow).value, 1e-3)
+        default_grow = _GROW[min(lv, 4)]
+        self.grow_time = max(tree.pf("GrowTime", level=lv, default=default_grow).value, 1e-3)
         self.thicken_time = max(
-            pm.float("ThickenTime", level=lv, default=2.5 * self.grow_time).value, 1e-3
+            tree.pf("ThickenTime", level=lv, default=2.5 * self.grow_time).value, 1e-3
         )
-        self.bud_delay = max(pm.float("BudDelay", level=lv, default=0.3).value, 0.0)
-        self.taper = float(np.clip(pm.float("Taper", level=lv, default=1.0).value, 0.0, 3.0))
+        self.bud_delay = max(tree.pf("BudDelay", level=lv, default=0.3).value, 0.0)
+        self.taper = float(np.clip(tree.pf("Taper", level=lv, default=1.0).value, 0.0, 3.0))
         # the periodic taper is drawn where its nodes (one per stem diameter) can be seen
         self.taper_drawn = self.taper
         if self.taper > 2.0 and self.length / (2.0 * self.radius) > _MAX_NODES:
             self.taper_drawn = 2.0
-        self.curve_res = max(1, pm.int("CurveRes", level=lv, default=3))
-        self.sides = max(3, pm.int("Sides", level=lv, default=_SIDES[min(lv, 4)]))
+        self.curve_res = max(1, tree.pi("CurveRes", level=lv, default=3))
+        self.sides = max(3, tree.pi("Sides", level=lv, default=_SIDES[min(lv, 4)]))
         self.growth = tree.growth
         self.thickening = tree.thickening
-        curve = pm.float("Curve", level=lv, default=0.0)
-        back = pm.float("CurveBack", level=lv, default=0.0).value
+        curve = tree.pf("Curve", level=lv, default=0.0)
+        back = tree.pf("CurveBack", level=lv, default=0.0).value
         res = self.curve_res
         base = np.full(res, curve.value / res)
         if back:
@@ -280,10 +303,10 @@ class StemPlan:
             base = np.where(np.arange(res) < res / 2.0, curve.value / half, back / half)
         jitter = rng.uniform(-1.0, 1.0, res) * abs(curve.deviation) / res
         self.curve = np.radians(base + jitter)
-        self.flare = pm.float("Flare", default=0.0).value if level == 0 else 0.0
-        self.lobes = pm.int("Lobes", default=0) if level == 0 else 0
-        self.lobe_depth = pm.float("LobeDepth", default=0.0).value if level == 0 else 0.0
-        self.base_length = pm.float("BaseSize", default=0.0).value * self.length if level == 0 \
+        self.flare = tree.pf("Flare", default=0.0).value if level == 0 else 0.0
+        self.lobes = tree.pi("Lobes", default=0) if level == 0 else 0
+        self.lobe_depth = tree.pf("LobeDepth", default=0.0).value if level == 0 else 0.0
+        self.base_length = tree.pf("BaseSize", default=0.0).value * self.length if level == 0 \
             else 0.0
 
     @property
@@ -291,7 +314,27 @@ class StemPlan:
         return self.length / self.curve_res
 
     def length_at(self, t: float) -> float:
-        return self.length * float(self.growth((t - self.birth) / self.grow_time))
+        grown = self.length * float(self.growth((t - self.birth) / self.grow_time))
+        if self.shed is None:
+            return grown
+        return min(grown, self.length * self.life_at(t))
+
+    def life_at(self, t: float) -> float:
+        """The part (0…1) of a shed stem that is left at time ``t`` (1 for a lasting stem).
+
+        The juvenile branch drops its leaves over :data:`LEAF_FALL` years from ``shed``,
+        then retracts from its tip linearly over ``ShedTime`` years; a stem on it keeps the
+        part of itself that its parent still has beyond the stem's offset, so the whole
+        subtree goes continuously, tips first.
+        """
+        if self.shed is None:
+            return 1.0
+        pp = self.parent_plan
+        if pp is None or pp.shed is None:
+            gone = (t - self.shed - LEAF_FALL) / max(self.tree.shed_time, 1e-6)
+            return min(max(1.0 - gone, 0.0), 1.0)
+        left = pp.life_at(t) * pp.length - self.offset
+        return min(max(left / max(pp.length - self.offset, 1e-9), 0.0), 1.0)
 
     def time_at_length(self, s):
         """The global time this stem reaches arc length ``s`` (a float or an array)."""
@@ -300,7 +343,10 @@ class StemPlan:
         return float(out) if np.ndim(out) == 0 else out
 
     def thickness_at(self, t: float) -> float:
-        return 0.08 + 0.92 * float(self.thickening((t - self.birth) / self.thicken_time))
+        # never thicker, for its length, than the mature stem: a seedling is a thin stem
+        thick = 0.08 + 0.92 * float(self.thickening((t - self.birth) / self.thicken_time))
+        grown = float(self.growth((t - self.birth) / self.grow_time))
+        return min(thick, max(grown, 0.02))
 
     def profile(self, s: np.ndarray, current: float) -> np.ndarray:
         """Relative radius at arc lengths ``s`` of a stem ``current`` long (taper + flare).
@@ -375,17 +421,16 @@ class Branch(Component):
         tree = plan.tree
         self.rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *key])
         rng = self.rng
-        pm = tree.params
         res = plan.curve_res
         seg = plan.seg_length
         lv = plan.level
         # -- splits: error-diffused nSegSplits (0BaseSplits at the trunk's first segment) ----
-        seg_splits = pm.float("SegSplits", level=lv, default=0.0).value
+        seg_splits = tree.pf("SegSplits", level=lv, default=0.0).value
         k1, n_split, err = res, 0, split_error
         for k in range(k0, res - 1):
             want = seg_splits
             if lv == 0 and k == 0:
-                want = float(pm.int("BaseSplits", default=0))
+                want = float(tree.pi("BaseSplits", default=0))
             if want <= 0:
                 continue
             if lv == 0 and k == 0:
@@ -404,8 +449,8 @@ class Branch(Component):
         F = np.empty((m + 1, 3, 3))
         P = np.zeros((m + 1, 3))
         F[0] = frame
-        attraction = pm.float("AttractionUp", default=0.0).value if lv >= 2 else 0.0
-        self._clearance = pm.float("GroundClearance", default=0.15).value
+        attraction = tree.pf("AttractionUp", default=0.0).value if lv >= 2 else 0.0
+        self._clearance = tree.pf("GroundClearance", default=0.15).value
         up_local = None
         if attraction and parent_world is not None:
             up_local = parent_world[:3, :3].T @ np.array([0.0, 1.0, 0.0])
@@ -423,11 +468,15 @@ class Branch(Component):
         self.frames = F
         self.arc0 = k0 * seg
         self.arc1 = k1 * seg
-        self.primary.set_transform(self._matrix(P[m], F[m]))
+        self.primary.set_transform(self._matrix(P[m], F[m]), self._inverse(P[m], F[m]))
         # -- children (buds) and leaves along this run -----------------------------------------
         self.buds = self._plan_children(rng)
+        self.n_lasting = len(self.buds)  # buds past this index grow juvenile branches
+        self.buds += self._plan_juvenile()
         self.leaf_arc, self.leaf_frame, self.leaf_size = self._plan_leaves(rng)
         self.leaf_birth = np.asarray(plan.time_at_length(self.leaf_arc)) + tree.leaf_delay
+        self.leaf_death = np.full(len(self.leaf_arc), np.inf)
+        self._plan_juvenile_leaves()
         self._joints: np.ndarray | None = None
         self._seg_joints: np.ndarray | None = None
         self._mature_rows = np.zeros(0, np.int64)
@@ -437,7 +486,18 @@ class Branch(Component):
         self.current_thickness = 0.0
 
     def _bend(self, F, P, curve, seg, up_local, attraction, parent_world) -> None:
-        """The segment loop with attraction up and ground clearance (fills F[1:], P[1:])."""
+        """The segment loop with attraction up and ground clearance (fills F[1:], P[1:]);
+        compiled (:func:`~sylva.tree._kernels.bend_stem`), :meth:`_bend_py` is the same loop
+        in Python."""
+        has_up = up_local is not None
+        has_world = parent_world is not None
+        bend_stem(F, P, np.ascontiguousarray(curve, np.float64), float(seg), has_up,
+                  np.asarray(up_local if has_up else _ZERO3, np.float64), float(attraction),
+                  has_world, np.asarray(parent_world if has_world else _EYE4, np.float64),
+                  float(self._clearance))
+
+    def _bend_py(self, F, P, curve, seg, up_local, attraction, parent_world) -> None:
+        """The segment loop of :meth:`_bend` in Python (the reference of the kernel)."""
         for i in range(len(curve)):
             f = F[i] @ _rx(curve[i])
             if up_local is not None:
@@ -468,6 +528,14 @@ class Branch(Component):
         m[:3, 3] = p
         return m
 
+    @staticmethod
+    def _inverse(p: np.ndarray, f: np.ndarray) -> np.ndarray:
+        """The inverse of :meth:`_matrix` (``f`` is a rotation: its transpose inverts it)."""
+        m = np.eye(4)
+        m[:3, :3] = f.T
+        m[:3, 3] = -(f.T @ p)
+        return m
+
     def _where(self, s: float) -> tuple[int, np.ndarray, np.ndarray]:
         """Segment index (local), position and frame at arc length ``s`` of this run."""
         seg = self.plan.seg_length
@@ -487,34 +555,56 @@ class Branch(Component):
 
     def _plan_children(self, rng) -> list[tuple]:
         plan, tree = self.plan, self.plan.tree
-        pm = tree.params
         lv = plan.level
         if lv + 1 >= tree.levels or plan.n_children <= 0:
             return []
         per_len = self.share * plan.n_children / max(plan.length - plan.base_length, 1e-9)
         lo = max(self.arc0, plan.base_length)
-        hi = self.arc1
+        return self._bud_run(rng, per_len, lo, self.arc1)
+
+    def _plan_juvenile(self) -> list[tuple]:
+        """Buds of the juvenile branches on the trunk's clear base (``JuvenileBranches`` of
+        the crown's density); they are grown and shed while the tree is young."""
+        plan, tree = self.plan, self.plan.tree
+        if plan.level != 0 or tree.levels < 2 or tree.juvenile_branches <= 0 \
+                or plan.base_length <= 0 or plan.n_children <= 0:
+            return []
+        rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *self.key, 11])
+        per_len = tree.juvenile_branches * self.share * plan.n_children / max(
+            plan.length - plan.base_length, 1e-9)
+        lo = max(self.arc0, 0.04 * plan.length)
+        return self._bud_run(rng, per_len, lo, min(self.arc1, plan.base_length), juvenile=True)
+
+    def _bud_run(self, rng, per_len: float, lo: float, hi: float,
+                 juvenile: bool = False) -> list[tuple]:
+        """``(arc, rotation, down angle)`` of the buds on ``[lo, hi]`` of this run (a
+        juvenile branch takes the down angle of mid-crown, where it stands most of its
+        life)."""
+        plan, tree = self.plan, self.plan.tree
+        lv = plan.level
         if hi <= lo:
             return []
         want = per_len * (hi - lo)
         n = int(math.floor(want + rng.uniform()))
         if n <= 0:
             return []
-        rot = pm.float("Rotate", level=lv + 1, default=140.0)
-        down = pm.float("DownAngle", level=lv + 1, default=45.0)
-        phi = rng.uniform(0.0, 360.0)
+        rot = tree.pf("Rotate", level=lv + 1, default=140.0)
+        down = tree.pf("DownAngle", level=lv + 1, default=45.0)
+        phi0 = phi = rng.uniform(0.0, 360.0)
+        side = 1.0
         out = []
         for i in range(n):
             s = lo + (i + rng.uniform(0.25, 0.75)) / n * (hi - lo)
             if rot.value >= 0:
                 phi += rot.sample(rng)
-            else:
-                phi += 180.0 + rng.uniform(-1, 1) * abs(rot.deviation)
+            else:  # the paper's negative nRotate: alternately ±(180 + nRotate ± nRotateV)
+                side = -side
+                phi = phi0 + side * (180.0 + rot.value + rng.uniform(-1, 1) * abs(rot.deviation))
             if down.deviation >= 0:
                 theta = down.sample(rng)
             else:  # the paper's special mode for a negative nDownAngleV
                 span = max(plan.length - plan.base_length, 1e-9)
-                sr = shape_ratio(0, (plan.length - s) / span)
+                sr = shape_ratio(0, 0.5 if juvenile else (plan.length - s) / span)
                 theta = down.value + down.deviation * (1.0 - 2.0 * sr)
             out.append((s, math.radians(phi), math.radians(theta)))
         return out
@@ -524,15 +614,14 @@ class Branch(Component):
         empty = (np.zeros(0), np.zeros((0, 3, 3)), np.zeros(0))
         if plan.level != tree.levels - 1 or plan.n_leaves <= 0:
             return empty
-        pm = tree.params
         lv = plan.level + 1
-        scale = pm.float("LeafScale", default=0.2)
+        scale = tree.pf("LeafScale", level=lv, default=0.2)
         fan = tree.leaf_arrangement == "fan"
         if fan:
             if self.k1 < plan.curve_res:
                 return empty  # the fan sits at the tip of the stem
             n = int(round(plan.n_leaves))
-            spread = math.radians(pm.float("FanAngle", default=150.0).value)
+            spread = math.radians(tree.pf("FanAngle", default=150.0).value)
             tip = self.frames[-1]
             out_f = []
             for i in range(n):
@@ -547,20 +636,73 @@ class Branch(Component):
         n = int(math.floor(want + rng.uniform()))
         if n <= 0:
             return empty
-        rot = pm.float("Rotate", level=lv, default=137.5)
-        down = pm.float("DownAngle", level=lv, default=45.0)
+        rot = tree.pf("Rotate", level=lv, default=137.5)
+        down = tree.pf("DownAngle", level=lv, default=45.0)
         arcs = self.arc0 + (np.arange(n) + rng.uniform(0.2, 0.8, n)) / n * (self.arc1 - self.arc0)
         if rot.value >= 0:
             steps = rot.value + rng.uniform(-1, 1, n) * abs(rot.deviation)
-        else:
-            steps = np.full(n, 180.0)
-        phi = np.radians(rng.uniform(0, 360) + np.cumsum(steps))
+            phi = np.radians(rng.uniform(0, 360) + np.cumsum(steps))
+        else:  # two ranks: alternately ±(180 + nRotate) (a pinnate frond, a fern)
+            sides = np.where(np.arange(n) % 2 == 0, 1.0, -1.0)
+            a = 180.0 + rot.value + rng.uniform(-1, 1, n) * abs(rot.deviation)
+            phi = np.radians(rng.uniform(0, 360) + sides * a)
         theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
         twist = np.radians(rng.uniform(-30, 30, n))  # a petiole twist
         _, _, f = self._where_many(arcs)
         frames = f @ _ry_many(phi) @ _rx_many(theta) @ _ry_many(twist)
         sizes = scale.value + rng.uniform(-1, 1, n) * abs(scale.deviation)
         return arcs, frames, sizes
+
+    def _plan_juvenile_leaves(self) -> None:
+        """Leaves on the young shoots of a stem below the leaf level: every stretch of it
+        carries leaves for ``JuvenileLeafLife`` years after it grows (a young tree's buds have
+        leaves before they have branches), then they fade over a year; all are gone by the
+        species' ``Age`` (or shed with their branch)."""
+        plan, tree = self.plan, self.plan.tree
+        if plan.level >= tree.levels - 1 or tree.juvenile_leaf_life <= 0:
+            return
+        if plan.level == 0 and not tree.juvenile_trunk_leaves:
+            return
+        scale = tree.pf("LeafScale", level=plan.level + 1, default=0.2)
+        spacing = max(tree.juvenile_leaf_spacing * scale.value, 1e-3)
+        n = int((self.arc1 - self.arc0) / spacing)
+        if n <= 0:
+            return
+        rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *self.key, 13])
+        arcs = self.arc0 + (np.arange(n) + rng.uniform(0.2, 0.8, n)) * spacing
+        birth = np.asarray(plan.time_at_length(arcs), np.float64) + tree.leaf_delay
+        death = np.minimum(birth + tree.juvenile_leaf_life, tree.default_age - 1.0)
+        keep = death > birth + 0.5 * tree.leaf_unfold
+        if not np.any(keep):
+            return
+        arcs, birth, death = arcs[keep], birth[keep], death[keep]
+        n = len(arcs)
+        rot = tree.pf("Rotate", level=tree.levels, default=137.5)
+        down = tree.pf("DownAngle", level=tree.levels, default=45.0)
+        phi = np.radians(rng.uniform(0, 360) + np.cumsum(
+            np.full(n, rot.value if rot.value >= 0 else 137.5)))
+        theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
+        _, _, f = self._where_many(arcs)
+        frames = f @ _ry_many(phi) @ _rx_many(theta)
+        sizes = scale.value + rng.uniform(-1, 1, n) * abs(scale.deviation)
+        self.leaf_arc = np.concatenate([self.leaf_arc, arcs])
+        self.leaf_frame = np.concatenate([self.leaf_frame, frames])
+        self.leaf_size = np.concatenate([self.leaf_size, sizes])
+        self.leaf_birth = np.concatenate([self.leaf_birth, birth])
+        self.leaf_death = np.concatenate([self.leaf_death, death])
+
+    def leaf_sizes_at(self, t: float) -> np.ndarray:
+        """Blade length of every planned leaf at time ``t`` (0: not out, or fallen): they
+        unfold over ``LeafUnfold`` years, juvenile ones fade in their last year, and a shed
+        branch's leaves fall (shrink) over half a year before its wood retracts."""
+        tree = self.plan.tree
+        age = (t - self.leaf_birth) / max(tree.leaf_unfold, 1e-6)
+        size = self.leaf_size * np.clip(age, 0.0, 1.0) ** 0.7
+        size = size * np.clip(self.leaf_death - t, 0.0, 1.0)
+        size[self.leaf_birth > t] = 0.0
+        if self.plan.shed is not None:  # a shed branch drops its leaves before it goes
+            size = size * min(max(1.0 - (t - self.plan.shed) / LEAF_FALL, 0.0), 1.0)
+        return size * tree.season_leaf_scale
 
     # -- events --------------------------------------------------------------------------------
     def schedule_own(self, sim) -> None:
@@ -576,14 +718,18 @@ class Branch(Component):
             self._spawn_child(event.data, event.time, sim)
         elif event.kind == "split":
             self._spawn_continuations(event.time, sim)
+        elif event.kind == "shed":  # a juvenile branch has gone: it leaves the graph
+            child = event.data
+            child.detach()
+            for c in child.walk():
+                c.simulation = None
 
     def _spawn_child(self, i: int, t: float, sim) -> None:
         plan, tree = self.plan, self.plan.tree
-        pm = tree.params
         s, phi, theta = self.buds[i]
         _, p, f = self._where(s)
         child_frame = f @ _ry(phi) @ _rx(theta)
-        slot = self.add_slot(self._matrix(p, child_frame))
+        slot = self.add_slot(self._matrix(p, child_frame), self._inverse(p, child_frame))
         slot.space(tree.seed).set_float("ParentLength", plan.length)
         slot.space(tree.seed).set_float("Offset", s)
         r_here = plan.radius * float(plan.profile(np.array([s]), plan.length)[0])
@@ -592,8 +738,33 @@ class Branch(Component):
         lv = plan.level + 1
         key = (*self.key, 1, i)
         rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *key, 7])
-        lmax = pm.float("Length", level=lv, default=0.5).sample(rng)
-        if plan.level == 0:
+        lmax = tree.pf("Length", level=lv, default=0.5).sample(rng)
+        shed = plan.shed
+        if i >= self.n_lasting:
+            # a juvenile branch: as long as a branch of the tree scaled down to the trunk
+            # length at which this bud is the crown base (a young tree's crown base lags:
+            # at JuvenileLag · BaseSize); it is shed from then on
+            lag_base = max(tree.juvenile_lag * tree.base_size, 1e-9)
+            young = min(s / lag_base, plan.length)
+            # over its life it stands from mid-crown down to the crown base of that tree
+            length = young * lmax * max(shape_ratio(tree.shape, r, tree.prune)
+                                        for r in (0.5, 0.6, 0.7, 0.8, 0.9, 1.0))
+            if tree.prune_ratio > 0:  # a pruned crown is only PruneWidth wide
+                length *= 1.0 - tree.prune_ratio + tree.prune_ratio * min(tree.prune[0], 1.0)
+            # it stands grown for at least ShedTime years, and is gone by the species' Age;
+            # the buds above the one that is the crown base when the trunk is grown go one
+            # after another from then until the last moment (not all at once)
+            grow = tree.pf("GrowTime", level=lv, default=_GROW[min(lv, 4)]).value
+            last = tree.default_age - tree.shed_time - LEAF_FALL - 0.5
+            natural = plan.time_at_length(young)
+            s_full = lag_base * plan.length
+            if s > s_full and last > natural:
+                span = max(plan.base_length - s_full, 1e-9)
+                natural += (s - s_full) / span * (last - natural)
+            shed = min(max(natural, t + grow + tree.shed_time), last)
+            if shed <= t + 0.25 or shed + LEAF_FALL + tree.shed_time <= sim.target:
+                return  # it would be gone before it is seen: not grown at all
+        elif plan.level == 0:
             span = max(plan.length - plan.base_length, 1e-9)
             length = plan.length * lmax * shape_ratio(tree.shape, (plan.length - s) / span,
                                                        tree.prune)
@@ -607,8 +778,16 @@ class Branch(Component):
 
         def plan_of(length: float) -> StemPlan:
             rng.bit_generator.state = state  # the same draws for every trial length
-            return self._child_plan(lv, length, s, lmax, r_here, t, rng)
+            return self._child_plan(lv, length, s, lmax, r_here, t, rng, shed)
 
+        if shed is not None:
+            child = Branch(plan_of(length), 0, np.eye(3), key, parent_world=world)
+            self.attach(child, slot)
+            child.schedule_own(sim)
+            if plan.shed is None:  # the juvenile branch itself: it goes when it is gone
+                sim.schedule(self, max(shed + LEAF_FALL + tree.shed_time, sim.time), "shed",
+                             child)
+            return
         if tree.prune_ratio > 0.0:
             pruned = _pruned_length(plan_of, length, key, world)
             length = tree.prune_ratio * pruned + (1.0 - tree.prune_ratio) * length
@@ -619,13 +798,12 @@ class Branch(Component):
         child.schedule_own(sim)
 
     def _child_plan(self, lv: int, length: float, s: float, lmax: float, r_here: float,
-                    t: float, rng) -> StemPlan:
+                    t: float, rng, shed: float | None = None) -> StemPlan:
         """The plan of a child ``length`` long at arc length ``s`` (born at ``t``)."""
         plan, tree = self.plan, self.plan.tree
-        pm = tree.params
         radius = plan.radius * (length / plan.length) ** tree.ratio_power
         radius = min(radius, 0.95 * r_here)
-        branches = pm.float("Branches", level=lv + 1, default=0.0).value
+        branches = tree.pf("Branches", level=lv + 1, default=0.0).value
         if lv + 1 >= tree.levels:
             n_children = 0.0
         elif plan.level == 0:
@@ -637,8 +815,13 @@ class Branch(Component):
             n_leaves = tree.leaves * shape_ratio(4, s / plan.length) * tree.leaf_density
             if tree.leaf_arrangement == "fan":
                 n_leaves = tree.leaves * tree.leaf_density
+        if lv >= 2 and lv == tree.levels - 1:
+            n_leaves /= tree.quality  # fewer twigs (quality < 1) carry the same foliage
+        if lv >= 1 and lv == tree.levels - 2:
+            n_children *= tree.quality
         return StemPlan(tree, lv, length, radius, t, rng, offset=s, parent_length=plan.length,
-                        n_children=n_children, n_leaves=n_leaves)
+                        n_children=n_children, n_leaves=n_leaves, shed=shed,
+                        parent_plan=plan if shed is not None else None)
 
     def _spawn_continuations(self, t: float, sim) -> None:
         if self.k1 >= self.plan.curve_res:
@@ -749,15 +932,14 @@ class Branch(Component):
         self._seg_joints = self._joints[self._mature_rows]
         # leaves out by now
         if len(self.leaf_arc):
-            t = self._t
-            out = self.leaf_birth <= t
+            sizes = self.leaf_sizes_at(self._t)
+            out = sizes > 0.0
             if np.any(out):
-                age = (t - self.leaf_birth[out]) / max(tree.leaf_unfold, 1e-6)
-                size = self.leaf_size[out] * np.clip(age, 0.0, 1.0) ** 0.7
+                size = sizes[out]
                 i, pos, _ = self._where_many(self.leaf_arc[out])
                 jn = self._seg_joints[np.minimum(i, len(self._seg_joints) - 1)]
-                turtle.leaves(pos, self.leaf_frame[out], size, tree.leaf_width,
-                              tree.leaf_material, jn)
+                width, material = tree.leaf_style(plan.level + 1)
+                turtle.leaves(pos, self.leaf_frame[out], size, width, material, jn)
 
 
 def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray) -> float | None:
@@ -801,12 +983,11 @@ def _pruned_length(plan_of, length: float, key: tuple, world: np.ndarray) -> flo
 
 def make_trunk(tree, rng: np.random.Generator) -> Branch:
     """The level-0 stem of ``tree`` (its length and radius drawn from the fixed values)."""
-    pm = tree.params
-    scale = pm.float("Scale", default=10.0).fixed
-    length0 = pm.float("Length", level=0, default=1.0).fixed * scale
-    radius0 = length0 * pm.float("Ratio", default=0.02).value * pm.float(
+    scale = tree.pf("Scale", default=10.0).fixed
+    length0 = tree.pf("Length", level=0, default=1.0).fixed * scale
+    radius0 = length0 * tree.pf("Ratio", default=0.02).value * tree.pf(
         "Scale0", default=1.0).fixed
-    n_children = pm.float("Branches", level=1, default=0.0).value if tree.levels > 1 else 0.0
+    n_children = tree.pf("Branches", level=1, default=0.0).value if tree.levels > 1 else 0.0
     n_leaves = tree.leaves * tree.leaf_density if tree.levels == 1 else 0.0
     plan = StemPlan(tree, 0, length0, radius0, 0.0, rng, n_children=n_children,
                     n_leaves=n_leaves)
