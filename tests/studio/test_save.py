@@ -9,7 +9,6 @@ import signal
 import stat
 import subprocess
 
-import httpx
 import pytest
 
 from sylva.studio._workspace import Workspace, WorkspaceError
@@ -21,7 +20,7 @@ BIG = "axiom = F\nF -> F[+F]F\n" + "# a long comment line to make the file big\n
 
 @pytest.fixture()
 def client(live):
-    with httpx.Client(base_url=live.url, timeout=30) as c:
+    with live.client(timeout=30) as c:  # a session opened the way the page opens one
         yield c
 
 

@@ -887,7 +887,7 @@ class _Reader:
                 expr,
                 {"step", *self.constants},
                 where,
-                _known_hint(["step", *self.constants], "'step' or a global variable"),
+                lambda: _known_hint(["step", *self.constants], "'step' or a global variable"),
             )
             self.group_expr = expr
         elif name == "turtle":
