@@ -3,8 +3,9 @@
     python benchmarks/widget.py [--changes 20] [--steps 9] [--browser]
 
 A program with a global ``angle`` (ABOP fig. 1.24d with the angle as a variable) is
-derived to ``--steps`` (9: 126,912 modules, 38,342 branches, 2.2 M triangles); each of ``--changes`` slider changes moves the angle and the figures
-are medians over them, after one warm-up change (compilation excluded):
+derived to ``--steps`` (9: 126,912 modules, 38,342 branches, 2.2 M triangles); each of
+``--changes`` slider changes moves the angle and the figures are medians over them, after
+one warm-up change (compilation excluded):
 
 * derive — the derivation and its render word;
 * mesh — the turtle and the generalised cylinders;
@@ -98,14 +99,14 @@ const model = { get: (k) => state[k], on: (e, f) => { (handlers[e] ||= []).push(
 const { default: widget } = await import("./widget.mjs");
 await widget.render({ model, el: document.getElementById("host") });
 window.times = [];
-for (let i = 0; i < %d; i++) {
+for (let i = 0; i < REPEAT; i++) {
   const n = state.frames;
   model.set("glb", new DataView(buf.buffer.slice(0)));
   while (state.frames === n) await new Promise((r) => setTimeout(r, 5));
   window.times.push(state.draw_ms);
 }
 window.done = true;
-</script>""" % repeat
+</script>""".replace("REPEAT", str(repeat))
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         (folder / "widget.mjs").write_text(esm(), encoding="utf-8")
