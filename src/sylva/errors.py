@@ -13,6 +13,11 @@ __all__ = ["GrowthLimitError", "LSystemSemanticError", "LSystemSyntaxError", "Sy
 class SylvaError(Exception):
     """Root of every error sylva raises on bad input or exhausted limits."""
 
+    def _render_traceback_(self) -> list[str]:
+        # IPython and Jupyter show this instead of a traceback: bad input is the user's to
+        # fix, and the message says what was expected (as the command line's one line does)
+        return [f"\x1b[31m{type(self).__name__}\x1b[0m: {self}"]
+
 
 class LSystemSyntaxError(SylvaError, ValueError):
     """Text that does not parse, with its location.
