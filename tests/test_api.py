@@ -162,3 +162,13 @@ def test_doctests(module):
 
     result = doctest.testmod(importlib.import_module(module), optionflags=doctest.ELLIPSIS)
     assert result.failed == 0 and (result.attempted > 0 or module == "sylva._shown")
+
+
+def test_render_in_a_worker_thread():
+    """As a Dask worker or a notebook's background thread runs it: not on the main thread."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(2) as pool:
+        sizes = list(pool.map(lambda n: sylva.grow(BUSH, n).render(size=(40 + n, 30)).size,
+                              [1, 2]))
+    assert sizes == [(41, 30), (42, 30)]

@@ -31,7 +31,8 @@ from .lsystem import DEFAULT_MODULE_LIMIT, Derivation, ModuleString, Program, lo
 from .turtle import interpret
 
 __all__ = [
-    "Plant", "grow", "growth_scenes", "is_2d", "plant_texture", "resolve", "texture_segments",
+    "Plant", "grow", "grow_geometry", "growth_scenes", "is_2d", "plant_texture", "resolve",
+    "texture_segments",
 ]  # fmt: skip
 
 #: Symbols that leave the plane (seed 001 §5.3: the camera is 2D when none is used).
@@ -210,6 +211,20 @@ def grow(
     limit : int
         The module limit of the derivation.
     """
+    program, seed, n, word, rw, geometry = grow_geometry(source, steps, seed=seed, limit=limit)
+    dd = _detail(program, detail)
+    scene = build_mesh(geometry, detail=dd, mode=mode, taper=taper)
+    return Plant(program, seed, n, word, rw, geometry, scene, dd, mode, taper)
+
+
+def grow_geometry(source, steps: int | None = None, *, seed: int | None = None,
+                  limit: int = DEFAULT_MODULE_LIMIT):
+    """:func:`grow` up to the turtle, without the meshes.
+
+    Returns
+    -------
+    (Program, seed, steps, word, render word, Geometry)
+    """
     program = resolve(source)
     if seed is None:
         seed = program.seed if program.seed is not None else 1
@@ -219,10 +234,7 @@ def grow(
     d = Derivation(program, seed=seed, limit=limit)
     d.advance(n)
     rw = d.render_word()
-    geometry = interpret(rw, program, seed=seed)
-    dd = _detail(program, detail)
-    scene = build_mesh(geometry, detail=dd, mode=mode, taper=taper)
-    return Plant(program, seed, n, d.word, rw, geometry, scene, dd, mode, taper)
+    return program, seed, n, d.word, rw, interpret(rw, program, seed=seed)
 
 
 def _check_count(value, what: str, *, signed: bool = False) -> None:

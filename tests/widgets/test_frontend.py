@@ -15,6 +15,7 @@ sync_api = pytest.importorskip("playwright.sync_api")
 
 import sylva  # noqa: E402
 from sylva.widgets import esm, glb_bytes  # noqa: E402
+from sylva.widgets._view import segment_bytes  # noqa: E402
 
 CHROMIUM = Path("/usr/bin/chromium")
 ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
@@ -26,7 +27,7 @@ PAGE = """<!doctype html><meta charset="utf-8">
 <div id="host" style="width: 400px"></div>
 <script type="module">
 const buffers = {};
-for (const name of ["step2", "step1", "tree"]) {
+for (const name of ["step2", "step1", "tree", "segments"]) {
   buffers[name] = new DataView(await (await fetch(name + ".glb")).arrayBuffer());
 }
 const state = { glb: buffers.step2, step: 2, max_steps: 2, camera: "2d", height: 300,
@@ -61,6 +62,7 @@ def page(tmp_path):
     (tmp_path / "step1.glb").write_bytes(glb_bytes(sylva.grow(bush, 1).scene))
     tree = sylva.tree("fan_palm", age=3.0, leaves=False)
     (tmp_path / "tree.glb").write_bytes(sylva.widgets.view(tree).glb)
+    (tmp_path / "segments.glb").write_bytes(segment_bytes(sylva.grow(bush, 2).geometry))
     (tmp_path / "index.html").write_text(PAGE, encoding="utf-8")
 
     class Quiet(http.server.SimpleHTTPRequestHandler):
@@ -138,3 +140,15 @@ def test_a_tree_plays_in_the_wind(page):
     shots = {page.locator(".sylva-view canvas").screenshot() for _ in range(3)
              if page.wait_for_timeout(300) is None}
     assert len(shots) > 1  # the wind moves the tree between frames
+
+
+def test_instanced_branches_draw_like_the_mesh(page):
+    page.wait_for_function("window.sylva.state.frames >= 1", timeout=60_000)
+    meshed = page.evaluate("window.sylva.probe()")
+    page.evaluate("window.sylva.model.set('segments', window.sylva.buffers.segments)")
+    page.evaluate("window.sylva.model.set('glb', new DataView(new ArrayBuffer(0)))")
+    page.wait_for_function("window.sylva.state.frames >= 2", timeout=60_000)
+    instanced = page.evaluate("window.sylva.probe()")
+    # the same 25 branches from the same camera: about the same pixels (tubes vs cylinders)
+    assert instanced == pytest.approx(meshed, rel=0.35), (meshed, instanced)
+    assert page.evaluate("window.sylva.state.frames") == 2  # the emptied glb drew nothing

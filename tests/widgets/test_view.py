@@ -124,3 +124,18 @@ def test_slider_ranges_are_round():
     assert slider_range(30) == (0.0, 60.0, 0.5)
     assert slider_range(-2) == (-4.0, 4.0, 0.05)
     assert slider_range(0) == (-1.0, 1.0, 0.01)
+
+
+def test_big_plants_go_as_instanced_branches():
+    import numpy as np
+
+    plant = sylva.grow(BUSH, 2)
+    v = view(plant, instanced=True)
+    assert v.glb == b"" and len(v.segments) == 11 * 4 * plant.stats["segments"]
+    rows = np.frombuffer(v.segments, np.float32).reshape(-1, 11)
+    assert np.allclose(rows[:, 0:3], plant.geometry.seg_start, atol=1e-5)
+    assert np.allclose(rows[:, 3:6], plant.geometry.seg_end, atol=1e-5)
+    v.step = 1
+    assert v.wait() and len(v.segments) == 11 * 4 * 5 and v.glb == b""
+    assert "5 branches (instanced)" in v.status
+    assert view(plant).segments == b""  # 25 branches: the mesh, as the studio draws it

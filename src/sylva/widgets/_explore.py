@@ -116,9 +116,10 @@ class Explorer(w.VBox):
                               if msg else "")  # fmt: skip
 
     def _build(self, step: int, **values):
-        from ..plant import grow
+        from ..plant import grow_geometry
 
-        return grow(self.program_with(values), step, seed=self.seed, limit=self.limit).scene
+        return grow_geometry(self.program_with(values), step, seed=self.seed,
+                             limit=self.limit)[-1]
 
     def program_with(self, values: dict[str, float]):
         """The program with these global and special-variable values."""

@@ -12,6 +12,7 @@ from functools import cache
 from importlib.resources import files
 
 import anywidget
+import numpy as np
 import traitlets
 
 from ..errors import SylvaError
@@ -116,6 +117,7 @@ class PlantView(anywidget.AnyWidget):
 
     _esm = esm()
     glb = traitlets.Bytes(b"").tag(sync=True)
+    segments = traitlets.Bytes(b"").tag(sync=True)
     step = traitlets.Int(0).tag(sync=True)
     max_steps = traitlets.Int(0).tag(sync=True)
     camera = traitlets.Unicode("perspective").tag(sync=True)
@@ -129,20 +131,23 @@ class PlantView(anywidget.AnyWidget):
 
     def __init__(self, build: Callable | None = None, *, scene=None, step: int = 0,
                  max_steps: int = 0, camera: str = "perspective", height: int = 420,
-                 animated: Callable | None = None) -> None:  # fmt: skip
+                 animated: Callable | None = None, mesh: Callable | None = None,
+                 instanced: bool | None = None, request_now: bool = True) -> None:  # fmt: skip
         _check_camera(camera)
         if isinstance(height, bool) or not isinstance(height, int) or not 60 <= height <= 4000:
             raise SylvaError(f"height: expected a whole number of pixels in 60..4000, "
                              f"got {height!r}")  # fmt: skip
         super().__init__(step=step, max_steps=max_steps, camera=camera, height=height)
         self._build = build
+        self._mesh = mesh or _default_mesh
+        self.instanced = instanced
         self._params: dict = {}
         self._worker = _Latest(self._work, self._finish)
         self.timings: dict[str, float] = {}
         self._shown_step = step
         if scene is not None:
             self._set_scene(scene, glb_bytes(scene) if animated is None else animated())
-        elif build is not None:
+        elif build is not None and request_now:
             self.request(step)
         self.observe(self._on_step, names="step")
 
@@ -168,18 +173,28 @@ class PlantView(anywidget.AnyWidget):
         return self._worker.wait(timeout)
 
     def _work(self, req):
+        from ..geometry.mesh import Scene
+
         step, params = req
         t0 = time.perf_counter()
-        scene = self._build(step, **params)
+        built = self._build(step, **params)
         t1 = time.perf_counter()
-        if scene.n_triangles > MAX_TRIANGLES:
-            raise SylvaError(f"{scene.n_triangles:,} triangles are more than the view's "
-                             f"{MAX_TRIANGLES:,}: fewer steps, or save() it to a file")
-        data = glb_bytes(scene)
+        timings = {"derive_ms": (t1 - t0) * 1e3}
+        if not isinstance(built, Scene):  # a Geometry: instanced when big, else meshed
+            if _instanced(built, self.instanced):
+                data = segment_bytes(built)
+                t2 = time.perf_counter()
+                timings.update(mesh_ms=0.0, serialise_ms=(t2 - t1) * 1e3)
+                return step, built, ("segments", data), timings
+            built = self._mesh(built)
         t2 = time.perf_counter()
-        timings = getattr(scene, "timings", {})
-        return step, scene, data, {**timings, "build_ms": (t1 - t0) * 1e3,
-                                   "serialise_ms": (t2 - t1) * 1e3}
+        if built.n_triangles > MAX_TRIANGLES:
+            raise SylvaError(f"{built.n_triangles:,} triangles are more than the view's "
+                             f"{MAX_TRIANGLES:,}: fewer steps, or save() it to a file")
+        data = glb_bytes(built)
+        t3 = time.perf_counter()
+        timings.update(mesh_ms=(t2 - t1) * 1e3, serialise_ms=(t3 - t2) * 1e3)
+        return step, built, ("glb", data), timings
 
     def _finish(self, req, result, error) -> None:
         if error is not None:
@@ -194,10 +209,42 @@ class PlantView(anywidget.AnyWidget):
             self._set_scene(scene, data)
         self.busy = False
 
-    def _set_scene(self, scene, data: bytes) -> None:
-        self.status = (f"{scene.n_triangles:,} triangles" + (
-            f", step {self.step}" if self.max_steps else ""))
-        self.glb = data
+    def _set_scene(self, scene, data) -> None:
+        kind, data = data if isinstance(data, tuple) else ("glb", data)
+        what = (f"{scene.n_triangles:,} triangles" if kind == "glb"
+                else f"{scene.n_segments:,} branches (instanced)")  # fmt: skip
+        self.status = what + (f", step {self.step}" if self.max_steps else "")
+        # the new data first: the front end draws a trait that changes to non-empty
+        if kind == "glb":
+            self.glb = data
+            self.segments = b""
+        else:
+            self.segments = data
+            self.glb = b""
+
+
+#: Plants with more branches than this (and nothing but branches) are drawn instanced.
+INSTANCE_FROM = 10_000
+
+
+def _instanced(geometry, instanced) -> bool:
+    plain = not (geometry.n_leaves or geometry.n_polygons or geometry.n_blocks)
+    if instanced is None:
+        return plain and geometry.n_segments > INSTANCE_FROM
+    return bool(instanced) and plain
+
+
+def segment_bytes(geometry) -> bytes:
+    """The branches as float32 rows ``start xyz, end xyz, r0, r1, linear rgb`` (11 floats
+    each): what the front end draws as instanced cylinders (seed 001 §6.7's shared prism
+    with per-segment instance data), a fraction of the bytes of their mesh."""
+    g = geometry
+    rows = np.empty((g.n_segments, 11), np.float32)
+    rows[:, 0:3] = g.seg_start
+    rows[:, 3:6] = g.seg_end
+    rows[:, 6:8] = g.seg_radius
+    rows[:, 8:11] = g.seg_color
+    return rows.tobytes()
 
 
 def _check_camera(camera) -> None:
@@ -206,23 +253,36 @@ def _check_camera(camera) -> None:
                          f"got {camera!r}")  # fmt: skip
 
 
+def _default_mesh(geometry):
+    from ..geometry.build import build_mesh
+
+    return build_mesh(geometry)
+
+
 def _plant_builder(plant):
-    """``build(step)`` for a :class:`sylva.plant.Plant`: its program grown to ``step``."""
-    from ..plant import grow
+    """``build(step)`` for a :class:`sylva.plant.Plant`: the turtle's geometry of its
+    program grown to ``step``, and how to mesh it as the plant was."""
+    from ..geometry.build import build_mesh
+    from ..plant import grow_geometry
 
     def build(step: int, **_):
-        return grow(plant.program, step, seed=plant.seed, detail=plant._detail,
-                    mode=plant._mode, taper=plant._taper).scene  # fmt: skip
+        return grow_geometry(plant.program, step, seed=plant.seed)[-1]
 
-    return build
+    def mesh(geometry):
+        return build_mesh(geometry, detail=plant._detail, mode=plant._mode, taper=plant._taper)
+
+    return build, mesh
 
 
-def view(obj, *, height: int = 420, camera: str | None = None, wind: bool = True) -> PlantView:
+def view(obj, *, height: int = 420, camera: str | None = None, wind: bool = True,
+         instanced: bool | None = None) -> PlantView:
     """An interactive view of a plant, tree, world, scene or mesh.
 
     A :class:`sylva.plant.Plant` gets a step slider (its derivation from the axiom to its
-    step); a tree plays in the wind (``wind=False`` for a still one); anything else with a
-    ``scene`` (or a :class:`~sylva.geometry.mesh.Scene` or ``Mesh``) is shown as it is.
+    step; with more than :data:`INSTANCE_FROM` branches, or ``instanced=True``, the branches
+    go as instanced cylinders, else as its mesh); a tree plays in the wind (``wind=False``
+    for a still one); anything else with a ``scene`` (or a
+    :class:`~sylva.geometry.mesh.Scene` or ``Mesh``) is shown as it is.
 
     Examples
     --------
@@ -239,8 +299,14 @@ def view(obj, *, height: int = 420, camera: str | None = None, wind: bool = True
     if isinstance(obj, Plant):
         plant = obj
         cam = camera or ("2d" if plant.is_2d else "perspective")
-        v = PlantView(_plant_builder(plant), step=plant.steps, max_steps=plant.steps,
-                      camera=cam, height=height, scene=plant.scene)  # fmt: skip
+        build, mesh = _plant_builder(plant)
+        v = PlantView(build, step=plant.steps, max_steps=plant.steps, camera=cam,
+                      height=height, mesh=mesh, instanced=instanced,
+                      request_now=False)  # fmt: skip
+        if not _instanced(plant.geometry, instanced):  # the mesh it has already
+            v._set_scene(plant.scene, glb_bytes(plant.scene))
+        else:
+            v._set_scene(plant.geometry, ("segments", segment_bytes(plant.geometry)))
         return v
     if isinstance(obj, TreePlant) and wind:
         from ..tree import Wind
