@@ -7,13 +7,14 @@ derived to ``--steps`` (9: 126,912 modules, 38,342 branches, 2.2 M triangles); e
 ``--changes`` slider changes moves the angle and the figures are medians over them, after
 one warm-up change (compilation excluded):
 
-* derive — the derivation and its render word;
-* mesh — the turtle and the generalised cylinders;
-* serialise — the binary glTF the widget sends;
-* widget — ``Explorer.set(angle=…)`` until the new mesh is in the ``glb`` trait, end to end
-  through the widget's background worker (the kernel is free meanwhile);
+* derive — the derivation, its render word and the turtle (in the widget's worker);
+* serialise — the bytes the widget sends: the branches as instanced rows (what it sends
+  for a plant this big), and for comparison the studio's way, a mesh (``mesh``) as a
+  binary glTF (``glb``);
+* widget — ``Explorer.set(angle=…)`` until the new data is in the widget's trait, end to
+  end through its background worker (the kernel is free meanwhile);
 * with ``--browser``: draw — the front end in headless Chromium (Debian's, SwiftShader
-  WebGL on the CPU) from receiving the glTF to the new frame drawn (parse, upload, render).
+  WebGL on the CPU) from receiving the bytes to the new frame drawn.
 
 The transfer between kernel and browser is a binary comm buffer of the size printed; on a
 local Jupyter server it costs about that many bytes of memory copies.
@@ -36,46 +37,48 @@ def main() -> None:
     args = ap.parse_args()
 
     from sylva.geometry.build import build_mesh
-    from sylva.lsystem import Derivation
-    from sylva.turtle import interpret
+    from sylva.plant import grow_geometry
     from sylva.widgets import explore, glb_bytes
 
     ex = explore(PROGRAM, args.steps, max_steps=args.steps)
     ex.wait(600)
     angles = [20.0 + 0.5 * k for k in range(args.changes + 1)]
-    rows = {"derive": [], "mesh": [], "serialise": [], "widget": []}
-    modules = triangles = size = 0
-    last = None
+    rows = {"derive": [], "serialise": [], "widget": [], "mesh (glb)": [],
+            "serialise (glb)": []}
     for i, a in enumerate(angles):
-        prog = ex.program_with({"angle": a})
         t0 = time.perf_counter()
-        d = Derivation(prog, seed=1)
-        d.advance(args.steps)
-        rw = d.render_word()
-        t1 = time.perf_counter()
-        scene = build_mesh(interpret(rw, prog, seed=1))
-        t2 = time.perf_counter()
-        data = glb_bytes(scene)
-        t3 = time.perf_counter()
         ex.set(angle=a)
         ex.wait(600)
-        t4 = time.perf_counter()
+        t1 = time.perf_counter()
         if ex.view.error:
             raise SystemExit(ex.view.error)
-        modules, triangles, size, last = len(d.word), scene.n_triangles, len(data), data
+        tm = ex.view.timings
+        geometry = grow_geometry(ex.program_with(ex.values()), args.steps, seed=1)[-1]
+        t2 = time.perf_counter()
+        scene = build_mesh(geometry)
+        t3 = time.perf_counter()
+        glb = glb_bytes(scene)
+        t4 = time.perf_counter()
         if i == 0:
             continue  # warm-up
-        for k, v in zip(rows, (t1 - t0, t2 - t1, t3 - t2, t4 - t3), strict=True):
-            rows[k].append(v * 1e3)
-    print(f"widget latency, {modules:,} modules, {triangles:,} triangles, glTF "
-          f"{size / 1e6:.1f} MB; median of {args.changes} slider changes")
+        for k, v in zip(rows, (tm["derive_ms"], tm["serialise_ms"], (t1 - t0) * 1e3,
+                               (t3 - t2) * 1e3, (t4 - t3) * 1e3), strict=True):
+            rows[k].append(v)
+    segs = ex.view.segments
+    print(f"widget latency, {len(segs) // 44:,} branches after {args.steps} steps; "
+          f"sent {len(segs) / 1e6:.1f} MB "
+          f"instanced (the glTF: {len(glb) / 1e6:.1f} MB, {scene.n_triangles:,} triangles); "
+          f"median of {args.changes} slider changes")
     for k, v in rows.items():
-        print(f"  {k:10s} {statistics.median(v):8.1f} ms")
+        print(f"  {k:16s} {statistics.median(v):8.1f} ms")
     if args.browser:
-        print(f"  {'draw':10s} {_draw_ms(last, args.changes):8.1f} ms  (headless Chromium)")
+        print(f"  {'draw':16s} {_draw_ms(segs, 'segments', args.changes):8.1f} ms  "
+              "(headless Chromium, instanced)")
+        print(f"  {'draw (glb)':16s} {_draw_ms(glb, 'glb', 3):8.1f} ms  "
+              "(headless Chromium)")
 
 
-def _draw_ms(data: bytes, repeat: int) -> float:
+def _draw_ms(data: bytes, kind: str, repeat: int) -> float:
     """Median ms from the glTF arriving in the front end to its frame drawn."""
     import functools
     import http.server
@@ -90,8 +93,8 @@ def _draw_ms(data: bytes, repeat: int) -> float:
     page_html = """<!doctype html><meta charset="utf-8"><div id="host" style="width:800px"></div>
 <script type="module">
 const buf = new DataView(await (await fetch("plant.glb")).arrayBuffer());
-const state = { glb: buf, step: 0, max_steps: 0, camera: "perspective", height: 600,
-  status: "", error: "", busy: false, draw_ms: 0, frames: 0 };
+const state = { glb: null, segments: null, step: 0, max_steps: 0, camera: "perspective",
+  height: 600, status: "", error: "", busy: false, draw_ms: 0, frames: 0 };
 const handlers = {};
 const model = { get: (k) => state[k], on: (e, f) => { (handlers[e] ||= []).push(f); },
   set: (k, v) => { state[k] = v; for (const f of handlers["change:" + k] || []) f(); },
@@ -101,12 +104,12 @@ await widget.render({ model, el: document.getElementById("host") });
 window.times = [];
 for (let i = 0; i < REPEAT; i++) {
   const n = state.frames;
-  model.set("glb", new DataView(buf.buffer.slice(0)));
+  model.set("KIND", new DataView(buf.buffer.slice(0)));
   while (state.frames === n) await new Promise((r) => setTimeout(r, 5));
   window.times.push(state.draw_ms);
 }
 window.done = true;
-</script>""".replace("REPEAT", str(repeat))
+</script>""".replace("REPEAT", str(repeat)).replace("KIND", kind)
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         (folder / "widget.mjs").write_text(esm(), encoding="utf-8")

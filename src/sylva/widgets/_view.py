@@ -27,12 +27,12 @@ MAX_TRIANGLES = 3_000_000
 def esm() -> str:
     """The widget's ES module: ``widget.js`` with the studio's three.js bundle and Viewer
     inlined (so the notebook needs no network and no server of sylva's)."""
-    static = files("sylva.studio") / "static"
+    static = files("sylva") / "studio" / "static"  # read, not imported (no server)
     three = (static / "vendor" / "three.js").read_text(encoding="utf-8")
     viewer = (static / "viewer.js").read_text(encoding="utf-8")
     if '"./vendor/three.js"' not in viewer:  # pragma: no cover - a guard for the studio's edits
         raise SylvaError("sylva.studio's viewer.js no longer imports \"./vendor/three.js\"")
-    src = (files("sylva.widgets") / "widget.js").read_text(encoding="utf-8")
+    src = (files("sylva") / "widgets" / "widget.js").read_text(encoding="utf-8")
     return src.replace("__THREE_SOURCE__", json.dumps(three)).replace(
         "__VIEWER_SOURCE__", json.dumps(viewer))
 
