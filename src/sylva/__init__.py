@@ -102,6 +102,19 @@ class _Sylva(_types.ModuleType):
 _sys.modules[__name__].__class__ = _Sylva
 
 
+def _register_ipython() -> None:
+    # in a notebook (IPython already loaded) scenes and meshes display as images
+    ipython = _sys.modules.get("IPython")
+    shell = getattr(ipython, "get_ipython", lambda: None)() if ipython else None
+    if shell is not None and hasattr(shell, "display_formatter"):
+        from ._shown import register_ipython
+
+        register_ipython(shell)
+
+
+_register_ipython()
+
+
 def __getattr__(name: str):
     # lazy: the renderer, the tree model and the worlds load on first use
     if name == "grow":

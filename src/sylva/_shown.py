@@ -21,7 +21,7 @@ from pathlib import Path
 
 from .errors import SylvaError
 
-__all__ = ["IMAGE_SUFFIXES", "Shown", "check_size"]
+__all__ = ["IMAGE_SUFFIXES", "Shown", "check_size", "register_ipython", "scene_png"]
 
 #: Suffixes :meth:`Shown.save` renders an image for (the rest are export formats).
 IMAGE_SUFFIXES = frozenset({".png", ".jpg", ".jpeg"})
@@ -158,3 +158,22 @@ class Shown:
         s = self.stats
         inner = ", ".join(f"{k}={v!r}" for k, v in s.items() if not isinstance(v, (list, dict)))
         return f"<{type(self).__name__} {inner}>"
+
+
+def scene_png(scene) -> bytes:
+    """A :class:`~sylva.geometry.mesh.Scene` or ``Mesh`` as PNG bytes (for notebooks)."""
+    import io
+
+    from .render import render
+
+    buf = io.BytesIO()
+    render(scene, size=REPR_SIZE).save(buf, format="PNG")
+    return buf.getvalue()
+
+
+def register_ipython(shell) -> None:
+    """Show scenes and meshes as PNGs in IPython (registered by name: nothing is
+    imported until one is displayed; :mod:`sylva.geometry` itself knows no renderer)."""
+    png = shell.display_formatter.formatters["image/png"]
+    for name in ("Scene", "Mesh"):
+        png.for_type_by_name("sylva.geometry.mesh", name, scene_png)

@@ -32,10 +32,12 @@ def test_the_example_notebook_runs(tmp_path):
         "\x1b[31mSylvaError\x1b[0m: angle: expected a value in 0..45, got 1000"]
     assert not [o for o in outputs if o.get("name") == "stderr" and "Traceback" in o.text]
     pngs = [o.data["image/png"] for o in outputs if "image/png" in o.get("data", {})]
-    assert len(pngs) >= 3  # the plant, the aspen and the world, inline as PNGs
+    assert len(pngs) >= 4  # the plant, its scene, the aspen and the world, inline
     for data in pngs:
         with Image.open(io.BytesIO(base64.b64decode(data))) as im:
             assert im.size[0] >= 100 and len(np.unique(np.asarray(im.convert("L")))) > 5
+    scene_cell = next(c for c in nb.cells if c.source.startswith("plant.scene"))
+    assert any("image/png" in o.get("data", {}) for o in scene_cell.outputs)
     views = [o for o in outputs if "application/vnd.jupyter.widget-view+json" in o.get("data", {})]
     assert len(views) >= 3  # plant.show(), explore(...), aspen.show()
     saved = [o for o in outputs if "growth.gif" in str(o.get("data", {}).get("text/plain", ""))]
