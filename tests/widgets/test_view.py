@@ -139,3 +139,12 @@ def test_big_plants_go_as_instanced_branches():
     assert v.wait() and len(v.segments) == 11 * 4 * 5 and v.glb == b""
     assert "5 branches (instanced)" in v.status
     assert view(plant).segments == b""  # 25 branches: the mesh, as the studio draws it
+
+
+@pytest.mark.parametrize("module", ["sylva.widgets._view", "sylva.widgets._explore"])
+def test_doctests(module):
+    import doctest
+    import importlib
+
+    result = doctest.testmod(importlib.import_module(module))
+    assert result.failed == 0 and result.attempted > 0
