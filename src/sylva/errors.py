@@ -19,6 +19,11 @@ __all__ = [
 class SylvaError(Exception):
     """Root of every error sylva raises on bad input or exhausted limits."""
 
+    def _render_traceback_(self) -> list[str]:
+        # IPython and Jupyter show this instead of a traceback: bad input is the user's to
+        # fix, and the message says what was expected (as the command line's one line does)
+        return [f"\x1b[31m{type(self).__name__}\x1b[0m: {self}"]
+
 
 def _located(
     message: str,

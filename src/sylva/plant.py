@@ -1,6 +1,7 @@
 """From an L-system to a mesh in one call: derive, apply render rules, interpret, build.
 
-This is the pipeline every front end shares (the command line, the gallery, the studio):
+This is the pipeline every front end shares (the command line, the gallery, the studio,
+and :func:`sylva.grow`).  A :class:`Plant` renders, saves and shows itself:
 
 >>> from sylva.plant import grow
 >>> plant = grow("rot = 25.7\\naxiom = F\\nF -> F[+F]F", steps=2, seed=1)
@@ -8,6 +9,8 @@ This is the pipeline every front end shares (the command line, the gallery, the 
 (9, True)
 >>> plant.is_2d
 True
+>>> plant.stats["modules"], plant.stats["steps"]
+(21, 2)
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._shown import Shown, check_size
 from .errors import SylvaError
 from .geometry.build import build_mesh
 from .geometry.mesh import Scene
@@ -28,7 +32,8 @@ from .lsystem.engine import check_steps
 from .turtle import interpret
 
 __all__ = [
-    "Plant", "grow", "growth_scenes", "is_2d", "plant_texture", "resolve", "texture_segments",
+    "Plant", "grow", "grow_geometry", "growth_scenes", "is_2d", "plant_texture", "resolve",
+    "texture_segments",
 ]  # fmt: skip
 
 #: Symbols that leave the plane (seed 001 §5.3: the camera is 2D when none is used).
@@ -66,9 +71,15 @@ def is_2d(program: Program) -> bool:
     return not (symbols & _3D_SYMBOLS)
 
 
-@dataclass
-class Plant:
-    """A grown plant: the program, its word, what the turtle drew and the meshes."""
+@dataclass(repr=False)
+class Plant(Shown):
+    """A grown plant: the program, its word, what the turtle drew and the meshes.
+
+    Besides its parts it has the methods of the one-line API (see :class:`sylva._shown.Shown`):
+    :meth:`render` (a PIL image), :meth:`save` (an image or any export format, by
+    extension), :meth:`animate` (a GIF or MP4 of its growth or a turntable), :meth:`show`
+    (the notebook's three.js view), :attr:`stats`; in a notebook it displays as an image.
+    """
 
     program: Program
     seed: int
@@ -107,6 +118,74 @@ class Plant:
         bg = self.program.settings.get("bg")
         return tuple(float(c) for c in bg) if bg is not None else (1.0, 1.0, 1.0)
 
+    # ------------------------------------------------------------------ the one-line API
+    @property
+    def stats(self) -> dict:
+        """Counts and extent: ``name``, ``steps``, ``seed``, ``modules``, ``segments``,
+        ``leaves``, ``triangles``, ``size`` (the extent along x, y, z)."""
+        if self.scene.meshes:
+            lo, hi = self.scene.bounds()
+            extent = [round(float(b - a), 6) for a, b in zip(lo, hi, strict=True)]
+        else:
+            extent = [0.0, 0.0, 0.0]
+        return {
+            "name": self.program.name, "steps": self.steps, "seed": self.seed,
+            "modules": len(self.word), "segments": int(self.geometry.n_segments),
+            "leaves": int(getattr(self.geometry, "n_leaves", 0)),
+            "triangles": int(self.scene.n_triangles), "size": extent,
+        }  # fmt: skip
+
+    def _camera_mode(self) -> str:
+        return "2d" if self.is_2d else "perspective"
+
+    def _render_options(self, size: tuple[int, int]) -> dict:
+        return {"bg": self.background}
+
+    def _render_scene(self, mode: str, size: tuple[int, int]):
+        if mode == "2d" and self.geometry.n_segments:
+            # unit-thin branches of 2D systems vanish at image scale: 2 pixels at least
+            return self.with_min_radius(self.line_radius(2.0, size)).scene
+        return self.scene
+
+    def _write(self, path, fmt: str, options: dict) -> None:
+        from .geometry.exchange import write
+
+        write(self.geometry if fmt == "svg" else self.scene, path, format=fmt, **options)
+
+    def animate(self, path, *, kind: str = "growth", size=(640, 480), fps: float = 12.0,
+                substeps: int = 1, frames: int = 48, camera=None, **options) -> Path:
+        """Write a GIF or MP4 of the plant growing (one frame per step, or ``substeps``
+        smooth frames per step) or, with ``kind="turntable"``, of the camera orbiting it.
+
+        ``options`` go to :func:`sylva.render.render`.  Returns the path written.
+        """
+        from .render import growth_frames, turntable_frames, write_animation
+
+        path = Path(path)
+        if path.suffix.lower() not in (".gif", ".mp4", ".m4v", ".mov"):
+            raise SylvaError(f"{path}: an animation must end in .gif or .mp4")
+        if kind not in ("growth", "turntable"):
+            raise SylvaError(f"kind: expected 'growth' or 'turntable', got {kind!r}")
+        if isinstance(substeps, bool) or not isinstance(substeps, int) or substeps < 1:
+            raise SylvaError(f"substeps: expected a whole number >= 1, got {substeps!r}")
+        if not fps > 0:
+            raise SylvaError(f"fps: expected a positive number, got {fps!r}")
+        size = check_size(size)
+        mode = camera or self._camera_mode()
+        opts = {**self._render_options(size), **options}
+        if kind == "turntable":
+            if isinstance(frames, bool) or not isinstance(frames, int) or frames < 2:
+                raise SylvaError(f"frames: expected a whole number >= 2, got {frames!r}")
+            out = turntable_frames(self.scene, frames, size,
+                                   "perspective" if mode == "2d" else mode, **opts)
+        else:
+            scenes = list(growth_scenes(self.program, self.steps, seed=self.seed,
+                                        substeps=substeps, detail=self._detail,
+                                        mode=self._mode))
+            out = growth_frames(scenes, size, mode, **opts)
+        write_animation(out, path, fps=fps, progress=False)
+        return path
+
 
 def grow(
     source: Program | str | os.PathLike,
@@ -133,17 +212,39 @@ def grow(
     limit : int
         The module limit of the derivation.
     """
+    program, seed, n, word, rw, geometry = grow_geometry(source, steps, seed=seed, limit=limit)
+    dd = _detail(program, detail)
+    scene = build_mesh(geometry, detail=dd, mode=mode, taper=taper)
+    return Plant(program, seed, n, word, rw, geometry, scene, dd, mode, taper)
+
+
+def grow_geometry(source, steps: int | None = None, *, seed: int | None = None,
+                  limit: int = DEFAULT_MODULE_LIMIT):
+    """:func:`grow` up to the turtle, without the meshes.
+
+    Returns
+    -------
+    (Program, seed, steps, word, render word, Geometry)
+    """
     program = resolve(source)
     if seed is None:
         seed = program.seed if program.seed is not None else 1
+    n = steps if steps is not None else (program.steps or 0)
+    _check_count(n, "steps")
+    _check_count(seed, "seed", signed=True)
     n = check_steps(program, steps, limit=limit)
     d = Derivation(program, seed=seed, limit=limit)
     d.advance(n)
     rw = d.render_word()
-    geometry = interpret(rw, program, seed=seed)
-    dd = _detail(program, detail)
-    scene = build_mesh(geometry, detail=dd, mode=mode, taper=taper)
-    return Plant(program, seed, n, d.word, rw, geometry, scene, dd, mode, taper)
+    return program, seed, n, d.word, rw, interpret(rw, program, seed=seed)
+
+
+def _check_count(value, what: str, *, signed: bool = False) -> None:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or (
+        not signed and value < 0
+    ):
+        kind = "a whole number" if signed else "a whole number >= 0"
+        raise SylvaError(f"{what}: expected {kind}, got {value!r}")
 
 
 def _detail(program: Program, detail: int | None) -> int | None:

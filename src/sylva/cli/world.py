@@ -72,40 +72,12 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
-def _scene_lights(store):
-    from ..render import ATTENUATION, PointLight, Sun
-
-    w, d = store.size
-    ox, oz = store.origin
-    top = store.config.height
-    return [
-        Sun(direction=(-0.5, -1.0, -0.35), color=0.9, ambient=0.32, specular=0.15),
-        # seed 004's point light: attenuation 1 / (1 + 0.045 d + 0.0075 d^2)
-        PointLight(position=(ox + w / 2, top * 0.8, oz + d / 2), color=(1.0, 0.85, 0.6),
-                   specular=0.2, attenuation=ATTENUATION),
-    ]  # fmt: skip
-
-
 def render_store(store, out: Path, *, view: str, size, shadows: bool, grass: bool) -> None:
     """Render a generated world to an image file (terrain + expanded plants)."""
-    from ..render import Camera, render, save_image
-    from ..world.atlas import make_atlas, tile_materials
+    from ..grown import render_world
+    from ..render import save_image
 
-    with tempfile.TemporaryDirectory(prefix="sylva-tiles-") as tiles:
-        atlas = make_atlas(32, store.config.seed)
-        paths = atlas.save_tiles(tiles)
-        materials = tile_materials({k: str(v) for k, v in paths.items()})
-        scene = store.scene(materials=materials, grass=grass)
-        aspect = size[0] / size[1]
-        if view == "top":
-            cam = Camera.auto(scene, "orthographic", yaw=0.0, pitch=89.0, aspect=aspect,
-                              margin=0.02)  # fmt: skip
-        else:
-            cam = Camera.auto(scene, "perspective", yaw=35.0, pitch=38.0, aspect=aspect,
-                              margin=0.02)  # fmt: skip
-        img = render(scene, size=size, camera=cam, lights=_scene_lights(store), bg="#9fc8ef",
-                     ground=False, shadows=shadows, shadow_size=4096)  # fmt: skip
-        save_image(img, out)
+    save_image(render_world(store, size=size, view=view, shadows=shadows, grass=grass), out)
 
 
 def _plants(specs: list[str]) -> tuple[dict | None, dict | None]:
