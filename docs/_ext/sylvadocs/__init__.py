@@ -14,6 +14,9 @@ Pictures are rendered once, when the build starts, into ``_build/.sylva-cache`` 
 
 from __future__ import annotations
 
+import importlib
+import types
+
 import time
 from pathlib import Path
 
@@ -191,8 +194,14 @@ class ApiDirective(_Generated):
         out = [f".. automodule:: {module}", "   :no-members:", "", f".. currentmodule:: {module}",
                "", ".. rubric:: Contents", "", ".. autosummary::", ""]
         out += [f"   {n}" for n in functions + classes] + [""]
+        mod = importlib.import_module(module)
         for n in functions:
-            out += [f".. autofunction:: {module}.{n}", ""]
+            target = f"{module}.{n}"
+            if isinstance(getattr(mod, n), types.ModuleType):
+                # sylva.tree and sylva.world are callable subpackages with pages of their
+                # own: here they are documented as the functions the call runs
+                target = f"sylva.grown.{n}"
+            out += [f".. autofunction:: {target}", ""]
         for n in classes:
             out += [f".. autoclass:: {module}.{n}", "   :members:", ""]
         return out
