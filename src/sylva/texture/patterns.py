@@ -263,8 +263,9 @@ def grass(shape, *, scale=4.0, blade_stretch=1.0, patches=0.3, octaves=1, seed=N
     patch noise ``a`` has ``1.3 scale`` cells across the width, ``b`` ``5.1 scale`` and the
     blades ``40 scale`` (and ``43 scale / blade_stretch`` per width along y:
     ``blade_stretch > 1`` draws longer blades); ``octaves`` are the blade noise's octaves.
-    The weights keep ``v`` well inside [0, 1] (nothing saturates) and no noise is stretched
-    across the image, so the texture is as even as the shader's: no long dark streaks.
+    The weights keep ``v`` inside [0, 1] (all but a few pixels in a million) and no noise
+    is stretched across the image, so the texture is as even as the shader's: no long dark
+    streaks.
 
     Examples
     --------
