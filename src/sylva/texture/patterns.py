@@ -73,12 +73,14 @@ def wood(shape, *, scale=2.0, rings=10.0, turbulence=0.15, center=(0.5, 0.5), gr
     """Wood rings: ``frac(rings * r + turbulence * T(p))`` around ``center``, plus grain.
 
     ``r`` is the distance to ``center`` (fractions of the width/height), ``T`` turbulence as
-    in :func:`marble`; ``grain`` mixes in fine noise stretched along y (fibres).  When
-    tileable, ``r`` is the chord distance on the torus, ``sqrt(sin(pi dx)^2 + sin(pi dy)^2)
-    / pi`` (``dy`` in units of the height): smooth and periodic in both axes and equal to
-    the plane distance near the centre, so the rings close smoothly round the opposite
-    point instead of folding (a crease) at the joins; the turbulence and the grain are
-    periodic noises.
+    in :func:`marble`; ``grain`` mixes in fine noise stretched along y (fibres).
+
+    Tileable wood is a board's face rather than its end: concentric rings cannot repeat
+    without a fold (the old toroidal distance creased and mirrored them at the joins), so
+    the ring phase is ``k (x - center[0] + 0.3 B(p))`` with ``k = round(rings)`` whole rings
+    across the width and ``B`` a smooth periodic noise (one cell across) that bends them
+    into the figure of a flat-sawn plank; with the periodic turbulence and grain the tile
+    repeats seamlessly in both axes (``center[1]`` is then unused).
 
     Examples
     --------
