@@ -8,6 +8,8 @@ Examples::
     sylva texture --list
     sylva texture bark -o bark.png --save-preset bark.toml
     sylva texture --preset bark.toml -o again.png
+    sylva texture marble -o m.png --turbulence 4 --colors "0:#223344,0.6:#88aa55,1:white"
+    sylva texture worley -o f5.png --cell f5 --density 3 --colors sunset.gpl
 """
 
 from __future__ import annotations
@@ -28,8 +30,15 @@ _OPTIONS = (
     ("persistence", "--persistence", float, "P", "amplitude ratio between octaves"),
     ("lacunarity", "--lacunarity", float, "L", "frequency ratio between octaves"),
     ("colormap", "--colormap", str, "NAME", "colour map (see --list)"),
+    ("turbulence", "--turbulence", float, "A", "marble and wood: turbulence amplitude "
+     "(0: pure stripes or rings)"),
+    ("stripes", "--stripes", float, "N", "marble: stripe periods across the width"),
+    ("rings", "--rings", float, "N", "wood: rings across the width"),
+    ("density", "--density", float, "D", "Worley: mean feature points per cell (a Poisson "
+     "process; default one jittered point per cell)"),
     ("fractal", "--fractal", str, "MODE", "noise octave sum: fbm, turbulence or ridged"),
-    ("output", "--cell", str, "OUT", "Worley output: f1, f2, f2-f1, f1*f2, cell, ..."),
+    ("output", "--cell", str, "OUT", "Worley output: f1 .. fN (any order), f2-f1, f1+f2, "
+     "f1*f2, cell, ..."),
     ("metric", "--metric", str, "M", "Worley metric: euclidean, manhattan, chebyshev"),
     ("interpolation", "--interpolation", str, "I", "linear, cosine, cubic or quintic"),
     ("warp", "--warp", float, "A", "domain-warp amount in noise cells"),
@@ -52,6 +61,12 @@ def register(subparsers) -> None:
                    help="output file: .png (or .jpg, .tif, .bmp); .gif or .mp4 with --frames")
     for dest, flag, typ, meta, text in _OPTIONS:
         p.add_argument(flag, dest=dest, type=typ, metavar=meta, default=None, help=text)
+    p.add_argument("--colors", metavar="LIST|FILE", default=None,
+                   help="custom colour map: comma-separated colours (#rrggbb, #rgb or CSS "
+                        "names) with optional stop positions, e.g. '0:#223344,0.7:#88aa55,"
+                        "1:white', or a palette file (.gpl GIMP palette, .toml with colors "
+                        "= [...] or stops = [[pos, colour], ...], or text: one '[pos] colour'"
+                        " a line)")
     p.add_argument("--tileable", action="store_true", default=None,
                    help="seamless (periodic) output")
     p.add_argument("--frames", type=int, metavar="N", default=None,
@@ -80,6 +95,23 @@ def _listing() -> str:
     lines.append("")
     lines.append("Colour maps: " + ", ".join(sorted(COLORMAPS)))
     return "\n".join(lines)
+
+
+def _custom_colors(value: str, kind: str) -> list:
+    """``--colors``: a colour list or a palette file, as ``[position, "#rrggbb"]`` pairs."""
+    from ..texture.colormap import load_palette, parse_colors
+    from ..texture.presets import _DEFAULT_CMAP
+
+    if kind not in _DEFAULT_CMAP:
+        raise SylvaError(f"--colors: {kind} textures take no colour map")
+    path = Path(value)
+    if path.suffix.lower() in (".gpl", ".toml", ".txt", ".pal") or (
+            "," not in value and path.is_file()):
+        cmap = load_palette(path)
+    else:
+        cmap = parse_colors(value, option="--colors")
+    return [[float(p), "#" + "".join(f"{round(float(v) * 255):02x}" for v in c)]
+            for p, c in zip(cmap.positions, cmap.colors)]
 
 
 def _save_image(path: Path, frames: list[np.ndarray], fps: float) -> None:
@@ -130,6 +162,10 @@ def run(args: argparse.Namespace) -> int:
         v = getattr(args, dest)
         if v is not None:
             recipe[dest] = v
+    if args.colors is not None:
+        if args.colormap is not None:
+            raise SylvaError("give --colors or --colormap, not both")
+        recipe["colormap"] = _custom_colors(args.colors, recipe["kind"])
     if args.tileable:
         recipe["tileable"] = True
     if args.frames is not None:
@@ -168,6 +204,7 @@ def _run_lsystem(args: argparse.Namespace) -> int:
     ignored = [flag for dest, flag, *_ in _OPTIONS if dest not in ("size", "seed", "iterations")
                and getattr(args, dest) is not None]
     ignored += [f for f, v in (("--frames", args.frames), ("--preset", args.preset),
+                               ("--colors", args.colors),
                                ("--save-preset", args.save_preset)) if v is not None]
     if ignored:
         raise SylvaError(f"--lsystem takes --size, --seed, --iterations and --tileable; "

@@ -4,6 +4,21 @@ A :class:`Colormap` is a piecewise-linear gradient: sorted stop positions in [0,
 RGB colour (floats in [0, 1]) at each.  Named maps live in :data:`COLORMAPS`;
 :func:`gradient` builds one from ``(position, colour)`` pairs where a colour is ``"#rrggbb"``
 or an ``(r, g, b)`` triple of 0–255 integers.
+
+Custom colour maps come from a colour list (:func:`parse_colors`, the CLI's ``--colors``)
+or a palette file (:func:`load_palette`).  A colour list is comma-separated colours, each
+``#rrggbb``, ``#rgb`` or a CSS colour name (``white``, ``darkolivegreen``), optionally
+preceded by its stop position and a colon: ``"0.0:#223344,0.7:#88aa55,1:white"``.  Either
+every colour has a position or none has (then they are spaced evenly); positions run from
+0 to 1 and do not decrease.  Palette files:
+
+* GIMP palettes (``.gpl``): a ``GIMP Palette`` first line, optional ``Name:`` and
+  ``Columns:`` lines, ``#`` comments, then one ``R G B [name]`` line per colour (0–255),
+  spaced evenly;
+* TOML (``.toml``): ``colors = ["#223344", "white"]`` (even) or
+  ``stops = [[0.0, "#223344"], [1.0, "white"]]``;
+* text (any other name): one colour per line, ``[position] colour`` (position and colour
+  separated by blanks or a colon), ``#`` at the start of a line begins a comment.
 """
 
 from __future__ import annotations
@@ -22,9 +37,11 @@ __all__ = [
     "apply_colormap",
     "get_colormap",
     "gradient",
+    "load_palette",
     "normal_map",
     "normalize",
     "parse_color",
+    "parse_colors",
     "to_uint8",
 ]
 
@@ -36,13 +53,23 @@ class ColormapError(SylvaError, ValueError):
 def parse_color(color) -> tuple[float, float, float]:
     """A colour as RGB floats in [0, 1].
 
-    Accepts ``"#rrggbb"``, ``"#rgb"`` or a sequence of three numbers 0–255.
+    Accepts ``"#rrggbb"``, ``"#rgb"``, a CSS colour name (``"white"``, by Pillow's
+    ``ImageColor``) or a sequence of three numbers 0–255.
 
     Examples
     --------
     >>> parse_color("#ff8000")
     (1.0, 0.5019607843137255, 0.0)
     """
+    if isinstance(color, str) and not color.strip().startswith("#") and color.strip():
+        from PIL import ImageColor
+
+        try:
+            rgb = ImageColor.getrgb(color.strip())
+        except ValueError:
+            raise ColormapError(f"colour {color!r} is not #rrggbb, #rgb or a colour name"
+                                ) from None
+        return tuple(v / 255.0 for v in rgb[:3])
     if isinstance(color, str):
         s = color.strip().lstrip("#")
         if len(s) == 3:
@@ -154,10 +181,166 @@ COLORMAPS: dict[str, Colormap] = {k: gradient(v, k) for k, v in _NAMED.items()}
 """The named colour maps."""
 
 
+def _stops_colormap(pos, cols, where, name) -> Colormap:
+    """A :class:`Colormap` from parsed positions (all or none ``None``) and colours, with
+    errors that say ``where`` the bad value is."""
+    if len(cols) < 2:
+        raise ColormapError(f"{where}: a colour map needs at least two colours, got "
+                            f"{len(cols)}")
+    if all(p is None for p in pos):
+        pos = list(np.linspace(0.0, 1.0, len(cols)))
+    elif any(p is None for p in pos):
+        raise ColormapError(f"{where}: give a stop position to every colour or to none")
+    if pos[0] != 0.0 or pos[-1] != 1.0 or any(b < a for a, b in zip(pos, pos[1:])):
+        raise ColormapError(f"{where}: stop positions must not decrease and must run from 0 "
+                            f"to 1, got {', '.join(f'{p:g}' for p in pos)}")
+    return Colormap(np.array(pos, dtype=np.float64), np.array(cols, dtype=np.float64), name)
+
+
+def _position(text, where) -> float:
+    try:
+        p = float(text)
+    except ValueError:
+        raise ColormapError(f"{where}: stop position {text.strip()!r} is not a number") from None
+    if not 0.0 <= p <= 1.0:
+        raise ColormapError(f"{where}: stop position {p:g} is outside [0, 1]")
+    return p
+
+
+def _color_at(text, where):
+    try:
+        return parse_color(text)
+    except ColormapError as exc:
+        raise ColormapError(f"{where}: {exc}") from None
+
+
+def parse_colors(text: str, *, option: str = "--colors") -> Colormap:
+    """A colour map from a comma-separated colour list (see the module docstring).
+
+    Errors name ``option`` and the 1-based column of the bad item.
+
+    Examples
+    --------
+    >>> cm = parse_colors("0:#000000, 0.25:#ffffff, 1:black")
+    >>> cm.positions.tolist(), cm(0.25).tolist()
+    ([0.0, 0.25, 1.0], [1.0, 1.0, 1.0])
+    """
+    pos, cols = [], []
+    col = 1
+    for item in str(text).split(","):
+        where = f"{option} column {col + len(item) - len(item.lstrip())}"
+        if not item.strip():
+            raise ColormapError(f"{where}: empty colour (expected #rrggbb, #rgb or a name)")
+        head, sep, tail = item.partition(":")
+        if sep:
+            pos.append(_position(head, where))
+            cols.append(_color_at(tail, where))
+        else:
+            pos.append(None)
+            cols.append(_color_at(item, where))
+        col += len(item) + 1
+    return _stops_colormap(pos, cols, option, "custom")
+
+
+def _palette_gpl(lines, path):
+    pos, cols = [], []
+    if not lines or lines[0].strip() != "GIMP Palette":
+        raise ColormapError(f"{path}:1:1: a .gpl file starts with the line 'GIMP Palette'")
+    for n, line in enumerate(lines[1:], start=2):
+        s = line.strip()
+        if not s or s.startswith("#") or s.split(":")[0] in ("Name", "Columns"):
+            continue
+        parts = s.split()
+        try:
+            rgb = [int(v) for v in parts[:3]]
+        except ValueError:
+            rgb = []
+        if len(rgb) != 3 or not all(0 <= v <= 255 for v in rgb):
+            c = len(line) - len(line.lstrip()) + 1
+            raise ColormapError(f"{path}:{n}:{c}: expected 'R G B [name]' with R, G, B in "
+                                f"0..255, got {s!r}")
+        pos.append(None)
+        cols.append(tuple(v / 255.0 for v in rgb))
+    return pos, cols
+
+
+def _palette_text(lines, path):
+    pos, cols = [], []
+    for n, line in enumerate(lines, start=1):
+        s = line.strip()
+        if not s or (s.startswith("#") and (len(s) < 2 or s[1] in " #!")):
+            continue
+        where = f"{path}:{n}:{len(line) - len(line.lstrip()) + 1}"
+        parts = s.replace(":", " ", 1).split() if ":" in s else s.split()
+        if len(parts) == 1:
+            pos.append(None)
+            cols.append(_color_at(parts[0], where))
+        elif len(parts) == 2:
+            pos.append(_position(parts[0], where))
+            cols.append(_color_at(parts[1], where))
+        else:
+            raise ColormapError(f"{where}: expected '[position] colour', got {s!r}")
+    return pos, cols
+
+
+def _palette_toml(text, path):
+    import tomllib
+
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ColormapError(f"{path}: not valid TOML: {exc}") from None
+    keys = set(data) & {"colors", "stops"}
+    if len(keys) != 1 or set(data) - {"colors", "stops", "name"}:
+        raise ColormapError(f"{path}: a TOML palette holds 'colors = [...]' or "
+                            f"'stops = [[position, colour], ...]' (and optionally 'name')")
+    if "colors" in data:
+        vals = data["colors"]
+        if not isinstance(vals, list):
+            raise ColormapError(f"{path}: 'colors' must be a list of colours")
+        return [None] * len(vals), [_color_at(v, f"{path}: colors[{i}]")
+                                    for i, v in enumerate(vals)]
+    pos, cols = [], []
+    for i, st in enumerate(data["stops"] if isinstance(data["stops"], list) else [None]):
+        where = f"{path}: stops[{i}]"
+        if not (isinstance(st, list) and len(st) == 2 and isinstance(st[0], int | float)
+                and not isinstance(st[0], bool)):
+            raise ColormapError(f"{where}: expected [position, colour]")
+        pos.append(_position(str(st[0]), where))
+        cols.append(_color_at(st[1], where))
+    return pos, cols
+
+
+def load_palette(path) -> Colormap:
+    """A colour map from a palette file: GIMP ``.gpl``, ``.toml`` or text (see the module
+    docstring); errors give the file, line and column."""
+    from pathlib import Path
+
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ColormapError(f"cannot read palette {path}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise ColormapError(f"{path}: a palette file must be UTF-8 text") from None
+    suffix = path.suffix.lower()
+    if suffix == ".gpl":
+        pos, cols = _palette_gpl(text.splitlines(), path)
+    elif suffix == ".toml":
+        pos, cols = _palette_toml(text, path)
+    else:
+        pos, cols = _palette_text(text.splitlines(), path)
+    return _stops_colormap(pos, cols, str(path), path.stem)
+
+
 def get_colormap(cmap) -> Colormap:
-    """Look up a colour map by name (``"name_r"`` reverses it) or pass one through."""
+    """Look up a colour map by name (``"name_r"`` reverses it) or pass one through; a list
+    of colours or of ``[position, colour]`` pairs (as a preset stores ``--colors``) builds
+    a :func:`gradient`."""
     if isinstance(cmap, Colormap):
         return cmap
+    if isinstance(cmap, list | tuple):
+        return gradient(cmap)
     name = str(cmap).lower()
     rev = name.endswith("_r")
     base = name[:-2] if rev else name

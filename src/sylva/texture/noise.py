@@ -48,10 +48,13 @@ from ..errors import SylvaError
 from . import _gridkernels as _gk
 from . import _kernels as _k
 from . import _sampling as _s
+from . import _worleyfn as _wf
+from ._worleyfn import MAX_ORDER, worley_order, worley_range
 
 __all__ = [
     "FRACTALS",
     "INTERPOLATIONS",
+    "MAX_ORDER",
     "KINDS",
     "METRICS",
     "REFERENCE_PERMUTATION",
@@ -70,6 +73,8 @@ __all__ = [
     "value_noise",
     "worley",
     "worley_features",
+    "worley_order",
+    "worley_range",
 ]
 
 
@@ -550,7 +555,8 @@ def worley(
     x, y, z, w : array_like of float
         Coordinates, as for :func:`value_noise`.
     output : str
-        One of :data:`WORLEY_OUTPUTS`: ``f1``, ``f2``, ``f3``, ``f2-f1``, ``f1+f2``,
+        One of :data:`WORLEY_OUTPUTS`, or ``fN`` for any order ``N`` up to
+        :data:`MAX_ORDER` (the N-th nearest distance): ``f1``, ``f2``, ``f3``, ``f2-f1``, ``f1+f2``,
         ``f1*f2``, ``sqrt(f1*f2)``, ``sqrt(f2-f1)``, ``1-f1``, ``1-f2``, ``cell`` (the
         nearest cell's id in [0, 1), for flat-coloured mosaics) or ``linear``.
     metric : {"euclidean", "manhattan", "chebyshev", "euclidean2"}
@@ -577,22 +583,12 @@ def worley(
     >>> worley(0.5, 0.5, jitter=0.0)
     0.0
     """
-    return _single(
-        "worley",
-        x,
-        y,
-        z,
-        w,
-        seed,
-        None,
-        period,
-        dtype,
-        output=output,
-        metric=metric,
-        jitter=jitter,
-        coefficients=coefficients,
-        density=density,
-    )
+    n = worley_order(output)
+    if n is not None:
+        return worley_features(x, y, z, w, seed=seed, metric=metric, jitter=jitter,
+                               period=period, dtype=dtype, density=density, order=n)[n - 1]
+    return _single("worley", x, y, z, w, seed, None, period, dtype, output=output, metric=metric,
+                   jitter=jitter, coefficients=coefficients, density=density)
 
 
 def worley_features(
@@ -607,32 +603,27 @@ def worley_features(
     period=None,
     dtype=None,
     density=None,
+    order=3,
 ):
-    """F1, F2, F3 and the cell id at once, as a tuple of four arrays (see :func:`worley`;
-    ``density`` gives the Poisson point process, ``jitter`` is then ignored).
+    """F1 .. F(``order``) and the cell id at once, as a tuple of ``order + 1`` arrays (see
+    :func:`worley`; ``density`` gives the Poisson point process, ``jitter`` is then ignored).
+    ``order``: 1 to :data:`MAX_ORDER` (default 3); the search widens until F(order) is exact.
 
     Examples
     --------
     >>> f1, f2, f3, cell = worley_features([0.2, 3.7], [0.4, 1.1], seed=1)
     >>> bool((f1 <= f2).all() and (f2 <= f3).all())
     True
+    >>> fs = worley_features(0.3, 0.6, order=6)
+    >>> len(fs), fs[5] >= fs[4] >= fs[0]
+    (7, True)
     """
-    return tuple(
-        worley(
-            x,
-            y,
-            z,
-            w,
-            seed=seed,
-            output=o,
-            metric=metric,
-            jitter=jitter,
-            period=period,
-            dtype=dtype,
-            density=density,
-        )
-        for o in ("f1", "f2", "f3", "cell")
-    )
+    order = _wf.check_order(order)
+    if order != 3:
+        return _wf.features(x, y, z, w, seed, metric, jitter, period, dtype, density, order)
+    return tuple(worley(x, y, z, w, seed=seed, output=o, metric=metric, jitter=jitter,
+                        period=period, dtype=dtype, density=density)
+                 for o in ("f1", "f2", "f3", "cell"))
 
 
 # ----------------------------------------------------------------------------- fractal sums
@@ -980,7 +971,9 @@ def noise_grid(
     if ndim > 4:
         raise NoiseError("a 4D grid cannot take time as well (noise goes up to 4D)")
     mode = _lookup(FRACTALS, fractal, "fractal")
-    setup = _setup(kind, seed, interpolation, output, metric, jitter, density=density)
+    norder = worley_order(output) if str(kind).lower() == "worley" else None
+    setup = _setup(kind, seed, interpolation, "f3" if norder else output, metric, jitter,
+                   density=density)
     octaves, persistence, lacunarity = _octave_params(octaves, persistence, lacunarity)
     if np.ndim(scale) == 0:
         scales = None
@@ -1034,6 +1027,11 @@ def noise_grid(
     t = setup.tables
     gain = float(gain)
 
+    if norder:
+        if warp:
+            raise NoiseError(f"domain warping of Worley {output} is not supported")
+        return _wf.grid(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain,
+                        norder).astype(dt, copy=False).reshape(shape)
     with _threads(math.prod(shape) * octaves * (1 + ndim * bool(warp))):
         if warp:
             grids = np.meshgrid(*axes[:ndim][::-1], indexing="ij")[::-1]

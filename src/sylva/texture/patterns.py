@@ -72,9 +72,15 @@ def wood(shape, *, scale=2.0, rings=10.0, turbulence=0.15, center=(0.5, 0.5), gr
          dtype=None):
     """Wood rings: ``frac(rings * r + turbulence * T(p))`` around ``center``, plus grain.
 
-    ``r`` is the distance to ``center`` (fractions of the width/height; toroidal distance
-    when tileable), ``T`` turbulence as in :func:`marble`; ``grain`` mixes in fine noise
-    stretched along y (fibres).
+    ``r`` is the distance to ``center`` (fractions of the width/height), ``T`` turbulence as
+    in :func:`marble`; ``grain`` mixes in fine noise stretched along y (fibres).
+
+    Tileable wood is a board's face rather than its end: concentric rings cannot repeat
+    without a fold (the old toroidal distance creased and mirrored them at the joins), so
+    the ring phase is ``k (x - center[0] + 0.3 B(p))`` with ``k = round(rings)`` whole rings
+    across the width and ``B`` a smooth periodic noise (one cell across) that bends them
+    into the figure of a flat-sawn plank; with the periodic turbulence and grain the tile
+    repeats seamlessly in both axes (``center[1]`` is then unused).
 
     Examples
     --------
@@ -89,14 +95,20 @@ def wood(shape, *, scale=2.0, rings=10.0, turbulence=0.15, center=(0.5, 0.5), gr
                    tileable=tileable, time=time, dtype=np.float64)
     y = (np.arange(h, dtype=np.float64) / h)[:, None]
     x = (np.arange(w_, dtype=np.float64) / w_)[None, :]
-    dx = x - center[0]
-    dy = (y - center[1]) * h / w_
     if tileable:
-        dx = np.minimum(np.abs(dx), 1.0 - np.abs(dx))
-        span = h / w_
-        dy = np.minimum(np.abs(dy), span - np.abs(dy))
-    r = np.sqrt(dx * dx + dy * dy)
-    ring = np.mod(rings * r + turbulence * t, 1.0)
+        # a board's face, not its end: the rings run along y as the lines of a phase that
+        # grows by a whole number of rings across the width, bent by a periodic noise (the
+        # figure of a flat-sawn plank); no centre, so nothing folds or repeats at the joins
+        k = max(1, round(rings))
+        bend = noise_grid(shape, kind="improved", scale=(1.0, max(1.0, round(h / w_))),
+                          octaves=3, seed=None if seed is None else seed + 2, tileable=True,
+                          time=time, dtype=np.float64)
+        phase = k * (x - center[0] + 0.3 * bend)
+    else:
+        dx = x - center[0]
+        dy = (y - center[1]) * h / w_
+        phase = rings * np.sqrt(dx * dx + dy * dy)
+    ring = np.mod(phase + turbulence * t, 1.0)
     ring = ring * ring * (3.0 - 2.0 * ring)
     fib = noise_grid(shape, kind="improved", scale=(scale * 16.0, scale * 16.0 * h / w_ / 12.0),
                      octaves=2, seed=None if seed is None else seed + 1, tileable=tileable,
@@ -240,12 +252,22 @@ def leaf(shape, *, veins=9, vein_angle=0.6, vein_width=40.0, midrib=0.035, darke
     return _out(val, dtype)
 
 
-def grass(shape, *, scale=6.0, blade_stretch=10.0, patches=0.25, octaves=3, seed=None,
+def grass(shape, *, scale=4.0, blade_stretch=1.0, patches=0.3, octaves=1, seed=None,
           tileable=False, time=None, dtype=None):
-    """Grass seen from above (seed 000 §2.6): two 2D Perlin noises, the second at a shifted
-    position so no mirror "cross" appears, plus large patches of lighter and darker grass.
+    """Grass seen from above (seed 000 §2.6), the recipe of the renderer's grass shader
+    (``sylva_grass`` in ``render/shaders/textures.glsl``): two 2D Perlin noises, the second
+    at a shifted position and 5.1 / 1.3 times the frequency (so no mirror "cross" appears),
+    plus fine blade noise at 40 / 1.3 times it::
 
-    ``blade_stretch`` stretches the blade noise along y.
+        v = 0.5 + 1.35 (0.3 a + 0.18 b + 0.1 blades)      (0.3: ``patches``)
+
+    ``scale`` is the shader's: the width spans ``scale`` units of its ground plane, so the
+    patch noise ``a`` has ``1.3 scale`` cells across the width, ``b`` ``5.1 scale`` and the
+    blades ``40 scale`` (and ``43 scale / blade_stretch`` per width along y:
+    ``blade_stretch > 1`` draws longer blades); ``octaves`` are the blade noise's octaves.
+    The weights keep ``v`` inside [0, 1] (all but a few pixels in a million) and no noise
+    is stretched across the image, so the texture is as even as the shader's: no long dark
+    streaks.
 
     Examples
     --------
@@ -255,20 +277,17 @@ def grass(shape, *, scale=6.0, blade_stretch=10.0, patches=0.25, octaves=3, seed
     """
     shape = _shape2(shape)
     h, w = shape
-    sx = scale * 4.0
-    sy = sx / blade_stretch * h / w
-    if tileable:
-        sy = max(1.0, round(sy))
-    s1 = None if seed is None else seed
-    s2 = None if seed is None else seed + 1
-    n1 = noise_grid(shape, kind="improved", scale=(sx, sy), octaves=octaves, seed=s1,
-                    tileable=tileable, time=time, dtype=np.float64)
-    n2 = noise_grid(shape, kind="improved", scale=(sx * 1.37, sy * 1.37 if not tileable
-                                                   else max(1.0, round(sy * 1.37))),
-                    octaves=octaves, seed=s2, tileable=tileable, time=time,
-                    offset=(0.37, 0.61, 0.0, 0.0), dtype=np.float64)
-    p = noise_grid(shape, kind="simplex", scale=max(1.0, scale / 3.0), octaves=3,
-                   seed=None if seed is None else seed + 2, tileable=tileable, time=time,
-                   dtype=np.float64)
-    v = 0.5 + 0.9 * (0.6 * n1 + 0.4 * n2) + patches * p
+
+    def layer(fx, fy, k, offset, oct_=1):
+        sx, sy = fx * scale, fy * scale * h / w
+        if tileable:
+            sx, sy = max(1.0, round(sx)), max(1.0, round(sy))
+        return noise_grid(shape, kind="improved", scale=(sx, sy), octaves=oct_,
+                          seed=None if seed is None else seed + k, tileable=tileable,
+                          time=time, offset=offset, dtype=np.float64)
+
+    a = layer(1.3, 1.3, 2, (0.0, 0.0, 0.37, 0.0))
+    b = layer(5.1, 5.1, 1, (17.31, 41.73, 0.37, 0.0))
+    blades = layer(40.0, 43.0 / blade_stretch, 0, (3.1, 7.9, 0.61, 0.0), octaves)
+    v = 0.5 + 1.35 * (patches * a + 0.18 * b + 0.1 * blades)
     return _out(v, dtype)

@@ -7,7 +7,9 @@ animation.  Recipes are stored as TOML (:func:`save_preset` / :func:`load_preset
 tools offered (seed 003 §7: NF, LSE, UFR, MYS).  :data:`PRESETS` holds named recipes.
 
 Common keys: ``kind``, ``size`` (``[W, H]`` or ``"WxH"``), ``seed``, ``colormap``,
-``tileable``; noise keys ``scale``, ``octaves``, ``persistence``, ``lacunarity``,
+``tileable`` (``colormap`` is a name or a custom map: a list of colours, or of
+``[position, colour]`` pairs, as ``sylva texture --colors`` stores it); noise keys
+``scale``, ``octaves``, ``persistence``, ``lacunarity``,
 ``fractal``, ``interpolation``, ``warp``, ``output``/``metric``/``jitter``/``density`` (Worley;
 ``density`` gives Worley's Poisson point process, see :func:`.noise.worley`),
 ``vmin``/``vmax`` (the value range mapped onto the colour map); ``normal_map`` (a bump
@@ -27,7 +29,7 @@ import numpy as np
 from .._atomic import atomic_write
 from ..errors import SylvaError
 from . import fractals, noise, patterns
-from .colormap import apply_colormap, normal_map, normalize
+from .colormap import ColormapError, apply_colormap, gradient, normal_map, normalize
 from .lsystem_texture import LSYSTEM_EXAMPLES, lsystem_texture
 
 __all__ = [
@@ -120,7 +122,7 @@ PRESETS: dict[str, dict] = {
     "pink-granite": {"kind": "granite", "scale": 28.0, "seed": 8, "tileable": True},
     "oak-bark": {"kind": "bark", "scale": 8.0, "stretch": 0.04, "seed": 2, "tileable": True},
     "leaf-blade": {"kind": "leaf", "size": [256, 512]},
-    "lawn": {"kind": "grass", "scale": 8.0, "seed": 4, "tileable": True},
+    "lawn": {"kind": "grass", "scale": 6.0, "seed": 4, "tileable": True},
     "cells": {"kind": "worley", "output": "f1", "scale": 12.0, "colormap": "ocean",
               "seed": 1, "tileable": True},
     "cracks": {"kind": "worley", "output": "f2-f1", "scale": 10.0, "vmax": 0.5,
@@ -210,6 +212,17 @@ def resolve(recipe: Mapping | str) -> dict:
     r["size"] = list(parse_size(r["size"]))
     if kind in _DEFAULT_CMAP:
         r.setdefault("colormap", _DEFAULT_CMAP[kind])
+        cm = r["colormap"]
+        if isinstance(cm, list | tuple):  # a custom map: colours or [position, colour] pairs
+            try:
+                cmap = gradient(cm)
+            except (ColormapError, TypeError, ValueError) as exc:
+                raise PresetError(f"colormap: {exc}") from None
+            r["colormap"] = [[float(p), _hex(c)] for p, c in zip(cmap.positions, cmap.colors)]
+        elif not isinstance(cm, str):
+            raise PresetError(f"colormap must be a name or a list of colours, got {cm!r}")
+    elif "colormap" in r:
+        raise PresetError(f"{kind} textures take no colour map (colormap)")
     if kind == "lsystem":
         for key in ("axiom", "rules", "iterations", "angle"):
             if key not in r:
@@ -223,6 +236,14 @@ def resolve(recipe: Mapping | str) -> dict:
             raise PresetError("a stochastic rule is a list of [probability, successor] "
                               "pairs") from None
     return r
+
+
+# Worley outputs whose colour map spans their expected range (noise.worley_range), not [0, 1]
+_SPREAD = ("f2", "f3", "f1+f2")
+
+
+def _hex(rgb) -> str:
+    return "#" + "".join(f"{round(float(v) * 255):02x}" for v in rgb)
 
 
 def _pick(r, keys):
@@ -242,7 +263,13 @@ def _field(r: dict, time: float | None) -> tuple[np.ndarray, tuple[float, float]
         g = noise.noise_grid(shape, kind=kind, seed=seed, tileable=tile, time=time,
                              dtype=np.float64, **kw)
         frac = kw.get("fractal", "fbm")
-        if kind == "worley" or frac != "fbm":
+        out = str(kw.get("output", "f1")).lower()
+        if kind == "worley" and frac != "ridged" and (out in _SPREAD or noise.worley_order(out)):
+            # distances beyond F1 (and F1 + F2) reach past 1: spread the map over their range
+            rng = noise.worley_range(out, metric=kw.get("metric", "euclidean"),
+                                     ndim=len(shape) + (time is not None),
+                                     jitter=kw.get("jitter", 1.0), density=kw.get("density"))
+        elif kind == "worley" or frac != "fbm":
             rng = (0.0, 1.0)
         else:
             rng = (-1.0, 1.0) if kind in ("value", "simplex") else (-0.75, 0.75)

@@ -96,7 +96,9 @@ def tile_image(name: str, size: int = 32, seed: int = 0) -> np.ndarray:
     elif name in ("grass_top", "tundra_top", "jungle_top"):
         col = {"grass_top": ("#3f7a26", "#79b94a"), "tundra_top": ("#62775d", "#97a58d"),
                "jungle_top": ("#1f6a1c", "#4fa236")}[name]  # fmt: skip
-        img = _shade(grass((size, size), scale=2, seed=s, tileable=True), *col)
+        # 0.4 shader units a tile (16 blade cells), the contrast of the blocks before
+        g = grass((size, size), scale=0.4, seed=s, tileable=True, dtype=np.float64)
+        img = _shade(0.5 + 1.4 * (g - 0.5), *col)
     elif name in ("grass_side", "tundra_side", "jungle_side"):
         col = {"grass_side": ("#3f7a26", "#6ea943"), "tundra_side": ("#62775d", "#8d9c86"),
                "jungle_side": ("#1f6a1c", "#46962f")}[name]  # fmt: skip
