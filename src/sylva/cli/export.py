@@ -11,6 +11,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ..errors import SylvaError
+
 __all__ = ["register", "run"]
 
 
@@ -20,7 +22,9 @@ def register(subparsers) -> None:
         help="derive an L-system and write its geometry as a mesh (or SVG) file",
         description=__doc__.split("\n\n")[1] if __doc__ else None,
     )
-    p.add_argument("file", metavar="FILE", help="L-system file (.lsys, classic or engine format)")
+    p.add_argument("file", metavar="FILE",
+                   help="L-system file (.lsys, classic or engine format), or a built-in "
+                        "example name (`sylva examples` lists them)")  # fmt: skip
     p.add_argument("-o", "--output", required=True, metavar="OUT",
                    help="output file; its extension picks the format")  # fmt: skip
     p.add_argument(
@@ -39,17 +43,23 @@ def register(subparsers) -> None:
                    help="branch construction (default: tube)")  # fmt: skip
     p.add_argument("--taper", choices=("none", "leonardo"), default="none",
                    help="radii from the turtle, or by Leonardo's rule")  # fmt: skip
+    p.add_argument("--up", choices=("y", "z"), default=None,
+                   help="up axis of the file (default: the format's convention: Z for STL, "
+                        "PLY and OpenSCAD, Y for glTF, OBJ, USD and POV-Ray)")  # fmt: skip
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..geometry.build import build_mesh
     from ..geometry.exchange import format_of, write
-    from ..lsystem import derive, load, render_word
+    from ..lsystem import derive, render_word
     from ..turtle import interpret
+    from .derive import load_program
 
     fmt = format_of(args.output)  # fail before deriving when OUT is unusable
-    program = load(args.file)
+    if args.up is not None and fmt in ("svg", "pov"):
+        raise SylvaError(f"--up: {fmt.upper()} files have a fixed frame; leave --up out")
+    program = load_program(args.file)
     word = derive(program, args.steps, seed=args.seed)
     word = render_word(program, word)
     extra = {}
@@ -64,7 +74,8 @@ def run(args: argparse.Namespace) -> int:
             geometry, detail=args.detail, mode=args.mode,
             taper=None if args.taper == "none" else args.taper,
         )  # fmt: skip
-        write(scene, args.output, format=fmt)
+        options = {} if args.up is None else {"up": args.up}
+        write(scene, args.output, format=fmt, **options)
         what = f"{scene.n_triangles} triangles"
     print(f"sylva: wrote {args.output} ({len(word)} modules, {what})", file=sys.stderr)
     return 0

@@ -1,8 +1,12 @@
 """Universal Scene Description (``.usd``, ``.usda``, ``.usdc``), when ``usd-core`` is installed.
 
-Each mesh becomes a ``UsdGeom.Mesh`` (points, normals, ``primvars:st``, ``displayColor``)
-with a ``GeomSubset`` per material bound to a ``UsdPreviewSurface`` material.  The stage is
-Y-up with one metre per unit.
+Each mesh becomes a ``UsdGeom.Mesh`` (points, normals, ``primvars:st``, ``displayColor``:
+the colour each vertex is drawn with, its tint times its material colour) with a
+``GeomSubset`` per material bound to a ``UsdPreviewSurface`` material; the subsets form a
+``partition`` of the faces (every face in exactly one), the family type that
+``UsdValidation`` asks of material subsets.  Double-sided materials make their meshes
+``doubleSided``.  The stage has one metre per unit and its ``upAxis`` is ``up``: ``"y"``
+(the default, sylva's frame) or ``"z"`` (the points rotated, ``(x, y, z) -> (x, -z, y)``).
 
 Examples
 --------
@@ -19,7 +23,16 @@ import tempfile
 import numpy as np
 
 from ...errors import SylvaError
-from ._common import PathOrFile, as_scene, material_groups, material_of, safe_name
+from ._common import (
+    PathOrFile,
+    as_scene,
+    check_up,
+    material_groups,
+    material_of,
+    oriented_scene,
+    safe_name,
+    shaded_colors,
+)
 
 __all__ = ["available", "write_usd"]
 
@@ -38,13 +51,14 @@ def _ident(name: str) -> str:
     return s if not s[0].isdigit() else "_" + s
 
 
-def write_usd(scene, target: PathOrFile, *, suffix: str | None = None) -> None:
+def write_usd(scene, target: PathOrFile, *, suffix: str | None = None, up: str = "y") -> None:
     """Write a USD stage to a path (or a binary file object, via a temporary file)."""
     if not available():
         raise SylvaError("USD export needs the usd-core package: pip install usd-core")
     from pxr import Gf, Sdf, Usd, UsdGeom, UsdShade, Vt
 
-    scene = as_scene(scene)
+    up = check_up(up)
+    scene = oriented_scene(as_scene(scene), up)
     if isinstance(target, (str, os.PathLike)):
         path = os.fspath(target)
         tmpdir = None
@@ -53,7 +67,7 @@ def write_usd(scene, target: PathOrFile, *, suffix: str | None = None) -> None:
         path = os.path.join(tmpdir, "scene" + (suffix or ".usdc"))
     try:
         stage = Usd.Stage.CreateNew(path)
-        UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+        UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z if up == "z" else UsdGeom.Tokens.y)
         UsdGeom.SetStageMetersPerUnit(stage, 1.0)
         root = UsdGeom.Xform.Define(stage, "/" + _ident(scene.name))
         stage.SetDefaultPrim(root.GetPrim())
@@ -86,9 +100,13 @@ def write_usd(scene, target: PathOrFile, *, suffix: str | None = None) -> None:
                 st.Set(Vt.Vec2fArray.FromNumpy(mesh.uvs))
             if mesh.colors is not None:
                 dc = gm.CreateDisplayColorPrimvar(UsdGeom.Tokens.vertex)
-                dc.Set(Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(mesh.colors[:, :3])))
+                dc.Set(Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(shaded_colors(mesh)[:, :3])))
+            if any(m.double_sided for m in mesh.materials):
+                gm.CreateDoubleSidedAttr(True)
             binding = UsdShade.MaterialBindingAPI.Apply(gm.GetPrim())
-            for mid, tris in material_groups(mesh):
+            groups = material_groups(mesh)
+            mesh_looks = set()
+            for mid, tris in groups:
                 mat = material_of(mesh, mid)
                 key = _ident(mat.name)
                 if key not in looks:
@@ -103,16 +121,17 @@ def write_usd(scene, target: PathOrFile, *, suffix: str | None = None) -> None:
                     sh.CreateInput("metallic", Sdf.ValueTypeNames.Float).Set(float(mat.metallic))
                     m.CreateSurfaceOutput().ConnectToSource(sh.ConnectableAPI(), "surface")
                     looks[key] = m
-                subset = UsdGeom.Subset.CreateGeomSubset(
-                    gm,
-                    key,
-                    UsdGeom.Tokens.face,
-                    Vt.IntArray.FromNumpy(tris.astype(np.int32)),
-                    UsdShade.Tokens.materialBind,
+                mesh_looks.add(key)
+                if len(groups) == 1:
+                    continue
+                subset = binding.CreateMaterialBindSubset(
+                    key, Vt.IntArray.FromNumpy(np.sort(tris).astype(np.int32)), UsdGeom.Tokens.face
                 )
                 UsdShade.MaterialBindingAPI.Apply(subset.GetPrim()).Bind(looks[key])
-            if len(looks) == 1:
-                binding.Bind(next(iter(looks.values())))
+            if len(groups) == 1:
+                binding.Bind(looks[next(iter(mesh_looks))])
+            else:
+                binding.SetMaterialBindSubsetsFamilyType(UsdGeom.Tokens.partition)
         stage.GetRootLayer().Save()
         if tmpdir is not None:
             with open(path, "rb") as fh:
