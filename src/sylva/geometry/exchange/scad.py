@@ -168,7 +168,7 @@ def _union(points: np.ndarray, tris: np.ndarray, tol: float) -> tuple[np.ndarray
     if not shells:
         return np.zeros((0, 3)), np.zeros((0, 3), np.int64)
     whole = mf.Manifold.batch_boolean(shells, mf.OpType.Add) if len(shells) > 1 else shells[0]
-    mesh = whole.simplify(tol).to_mesh64()
+    mesh = whole.as_original().simplify(tol).to_mesh64()
     return (np.asarray(mesh.vert_properties, np.float64)[:, :3],
             np.asarray(mesh.tri_verts, np.int64))  # fmt: skip
 
@@ -246,6 +246,42 @@ def solids(scene, *, thickness: float | None = None, spread: float = 0.2) -> lis
     return out
 
 
+_GRID = 2.0**-20  # OpenSCAD 2021 rounds points to this grid before it makes a CGAL solid
+
+
+def _separate(pts: np.ndarray, faces: np.ndarray, grid: float = _GRID) -> np.ndarray:
+    """Move apart the distinct vertices that OpenSCAD's grid would merge into one.
+
+    A union may leave two parts touching at a point or nearly so (two vertices a hair
+    apart); OpenSCAD snaps both to one grid point, the solid pinches there and CGAL
+    refuses it ("mesh is not closed").  Each such vertex is slid a few grid steps
+    towards the middle of its own neighbours, which parts them (a move of a few
+    millionths of a unit)."""
+    pts = pts.copy()
+    if len(faces) == 0:
+        return pts
+    nbr = np.zeros_like(pts)
+    deg = np.zeros(len(pts))
+    for a, b in ((0, 1), (1, 2), (2, 0), (1, 0), (2, 1), (0, 2)):
+        np.add.at(nbr, faces[:, a], pts[faces[:, b]])
+        np.add.at(deg, faces[:, a], 1.0)
+    centre = nbr / np.maximum(deg, 1.0)[:, None]
+    from scipy.spatial import cKDTree
+
+    for _ in range(6):
+        # OpenSCAD snaps a point onto an occupied grid point up to one step away on each
+        # axis, so points within 2 steps (Chebyshev) can become one
+        pairs = cKDTree(pts).query_pairs(3 * grid, p=np.inf, output_type="ndarray")
+        if len(pairs) == 0:
+            break
+        clash = np.unique(pairs.reshape(-1))
+        d = centre[clash] - pts[clash]
+        ln = np.linalg.norm(d, axis=1, keepdims=True)
+        step = np.minimum(1.0, 16 * grid / np.maximum(ln, 1e-300))
+        pts[clash] += d * step
+    return pts
+
+
 def _list(fmt: str, arr: np.ndarray) -> str:
     if arr.shape[0] == 0:
         return "[]"
@@ -281,7 +317,7 @@ def write_scad(
         fh.write(f"// sylva: {scene.name}\n// {up.upper()} up; {scene.n_triangles} triangles "
                  f"as {len(parts)} closed solids, one per colour\nunion() {{\n")  # fmt: skip
         for s in parts:
-            pts = to_up(s.points * scale, up)
+            pts = _separate(to_up(s.points * scale, up), s.faces)
             r, g, b, a = s.color
             fh.write(f"  color([{r:.4g},{g:.4g},{b:.4g},{a:.4g}]) polyhedron(\n")
             fh.write("    points=" + _list("%.17g", pts) + ",\n")
