@@ -31,6 +31,7 @@ from PIL import Image
 from sylva.geometry.build import build_mesh
 from sylva.geometry.exchange import write
 from sylva.geometry.exchange.gltf_animation import write_animated_glb
+from sylva.geometry.exchange.gltf_instanced import write_glb_instanced
 from sylva.geometry.mesh import Scene
 from sylva.turtle import interpret
 
@@ -120,6 +121,9 @@ def files(scenes, tree, world_store, tmp_path_factory) -> dict[tuple[str, str], 
                        out["tree", "animated.glb"])  # fmt: skip
     out["world", "instanced.glb"] = folder / "world-instanced.glb"
     write_world_glb(world_store, out["world", "instanced.glb"], tiles=folder / "tiles")
+    for name in ("curve2d", "plant", "tree"):  # the instancing writer's static meshes
+        out[name, "static.glb"] = folder / f"{name}-static.glb"
+        write_glb_instanced(scenes[name], [], out[name, "static.glb"])
     return out
 
 
@@ -129,7 +133,7 @@ def test_khronos_validator_finds_no_error_or_warning_in_any_gltf(files):
     _need(node is not None and (NODE_DIR / "node_modules" / "gltf-validator").is_dir(),
           "the Khronos glTF validator (node, npm ci in tests/geometry/_node)")
     paths = [p for (_, ext), p in files.items() if ext.endswith(("glb", "gltf"))]
-    assert len(paths) == 2 * len(SCENES) + 2
+    assert len(paths) == 2 * len(SCENES) + 2 + 3
     run = subprocess.run([node, str(NODE_DIR / "validate.js"), *map(str, paths)],
                          capture_output=True, text=True, timeout=180, check=False)  # fmt: skip
     assert run.returncode == 0, run.stderr
@@ -245,6 +249,31 @@ def test_povray_colours_are_the_tint_times_the_material(tree, files):
     bark = tuple(round(c, 3) for c in tree.mesh.materials[0].color[:3])
     assert "pigment { rgb <1,1,1> }" not in text
     assert f"rgb <{bark[0]:.4g},{bark[1]:.4g},{bark[2]:.4g}>" in text
+
+
+def test_tree_colours_are_the_tint_times_the_material_in_ply_and_usd(tree, files):
+    """PLY vertex colours and USD ``displayColor`` carry bark and leaf colours, not the bare
+    tint (bark rgb 1, 1, 1, leaves grey)."""
+    import meshio
+
+    mesh = tree.mesh
+    bark = np.array(mesh.materials[0].color[:3])
+    back = meshio.read(files["tree", "ply"])
+    rgb = np.stack([back.point_data[k] for k in ("red", "green", "blue")], 1).astype(int) % 256
+    assert not (rgb == 255).all(axis=1).any()
+    top = np.unique(rgb, axis=0, return_counts=True)
+    common = top[0][np.argmax(top[1])]
+    np.testing.assert_allclose(common / 255.0, bark, atol=1 / 255)  # most vertices are bark
+    green = rgb[:, 1] > rgb[:, 0] + 20  # leaves
+    assert 0 < green.mean() < 1
+    _need(_have_module("pxr"), "usd-core")
+    from pxr import Usd, UsdGeom
+
+    stage = Usd.Stage.Open(str(files["tree", "usda"]))
+    (prim,) = [p for p in stage.Traverse() if p.IsA(UsdGeom.Mesh)]
+    dc = np.array(UsdGeom.Mesh(prim).GetDisplayColorPrimvar().Get())
+    assert dc.max() <= 1.0 and not np.isclose(dc, 1.0).all(axis=1).any()
+    np.testing.assert_allclose(np.median(dc, axis=0)[:3], bark, atol=0.02)
 
 
 # --------------------------------------------------------------------------- OpenSCAD

@@ -138,6 +138,20 @@ def test_gltf_validator_finds_no_errors_or_warnings(plant_scene, coloured_scene,
         assert report["info"]["totalTriangleCount"] > 0
 
 
+def test_leaves_are_one_face_and_double_sided_in_the_files(plant_scene, tmp_path):
+    # no triangle written twice (front and back on the same three points): Blender drops
+    # such duplicates and they make STL non-manifold; glTF says doubleSided instead
+    write(plant_scene, tmp_path / "plant.stl")
+    stl = trimesh.load(tmp_path / "plant.stl", force="mesh")  # merges equal points
+    key = np.sort(stl.faces, axis=1)
+    assert len(np.unique(key, axis=0)) == len(key) == plant_scene.n_triangles
+    write(plant_scene, tmp_path / "plant.gltf")
+    doc = json.loads((tmp_path / "plant.gltf").read_text())
+    leaf_mats = {p["material"] for m in doc["meshes"] if m["name"] in ("leaves", "polygons")
+                 for p in m["primitives"]}  # fmt: skip
+    assert leaf_mats and all(doc["materials"][i].get("doubleSided") for i in leaf_mats)
+
+
 def test_gltf_validator_big_index_buffer(tmp_path):
     # more than 65535 vertices: 32-bit indices
     g = interpret("F" * 3000, dialect="abop", thick=0.1)
