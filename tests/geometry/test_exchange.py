@@ -263,3 +263,28 @@ def test_format_comes_from_the_extension():
         format_of("plant.fbx")
     with pytest.raises(ExportError, match="needs format="):
         write(Scene(), io.BytesIO())
+
+
+def test_gltf_colour_is_the_tint_times_the_material_within_range():
+    """Tints above one (tree leaves, up to 1.6) fold into baseColorFactor: COLOR_0 stays in
+    [0, 1] (ACCESSOR_NON_CLAMPED otherwise) and COLOR_0 x baseColorFactor is unchanged."""
+    from sylva.geometry.exchange.gltf import gltf_document
+
+    rng = np.random.default_rng(1)
+    v = rng.uniform(-1, 1, (30, 3))
+    tint = np.concatenate([rng.uniform(0.3, 1.6, (30, 3)), np.ones((30, 1))], axis=1)
+    mats = [Material("bark", (0.4, 0.26, 0.13, 1.0)), Material("leaf", (0.16, 0.42, 0.1, 1.0))]
+    mesh = Mesh(v, np.arange(30).reshape(10, 3), colors=tint,
+                material_ids=np.repeat([0, 1], 5), materials=mats)  # fmt: skip
+    doc, blob = gltf_document(mesh)
+    (prim0, prim1) = doc["meshes"][0]["primitives"]
+    acc = doc["accessors"][prim0["attributes"]["COLOR_0"]]
+    view = doc["bufferViews"][acc["bufferView"]]
+    col = np.frombuffer(blob, np.float32, 4 * acc["count"], view["byteOffset"]).reshape(-1, 4)
+    assert col.min() >= 0.0 and col.max() <= 1.0 and tint.max() > 1.5
+    for prim, rows in ((prim0, slice(0, 15)), (prim1, slice(15, 30))):
+        base = np.array(doc["materials"][prim["material"]]["pbrMetallicRoughness"][
+            "baseColorFactor"])
+        mat = mats[0 if rows.start == 0 else 1]
+        np.testing.assert_allclose(col[rows, :3] * base[:3],
+                                   np.clip(tint[rows, :3] * mat.color[:3], 0, 1), atol=1e-6)
