@@ -190,7 +190,8 @@ def test_openscad_polyhedra_are_closed_solids_one_per_colour(plant_scene, tmp_pa
         assert np.einsum("ij,ij->i", t[:, 0], np.cross(t[:, 1], t[:, 2])).sum() < 0
     # Z-up: the plant's height (sylva's +Y) is OpenSCAD's +Z
     pts = np.array(_numbers(",".join(points))).reshape(-1, 3)
-    assert pts[:, 2].max() == pytest.approx(plant_scene.bounds()[1, 1], rel=0.01)
+    # in millimetres: sylva's unit is the metre
+    assert pts[:, 2].max() == pytest.approx(1000 * plant_scene.bounds()[1, 1], rel=0.01)
 
 
 def test_povray_scene_has_a_mesh2_per_material(plant_scene, tmp_path):

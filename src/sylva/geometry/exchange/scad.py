@@ -18,7 +18,9 @@ into solids first (:func:`solids`):
 Every polyhedron is then a closed, consistently oriented 2-manifold (each edge used once in
 each direction).  OpenSCAD is Z-up and wants faces clockwise seen from outside: points are
 rotated from sylva's Y-up (``(x, y, z) -> (x, -z, y)``, a proper rotation) and faces are
-reversed.  ``scale`` multiplies all coordinates (OpenSCAD works in millimetres).
+reversed.  sylva's unit is the metre (as the USD writer's ``metersPerUnit = 1`` says) and
+OpenSCAD's the millimetre, so ``scale`` defaults to 1000; it also keeps the finest details
+of a union well above OpenSCAD's merging grid (about 1e-6 units).
 
 Examples
 --------
@@ -268,17 +270,20 @@ def _separate(pts: np.ndarray, faces: np.ndarray, grid: float = _GRID) -> np.nda
     centre = nbr / np.maximum(deg, 1.0)[:, None]
     from scipy.spatial import cKDTree
 
-    for _ in range(6):
+    rng = np.random.default_rng(0)
+    for k in range(10):
         # OpenSCAD snaps a point onto an occupied grid point up to one step away on each
         # axis, so points within 2 steps (Chebyshev) can become one
         pairs = cKDTree(pts).query_pairs(3 * grid, p=np.inf, output_type="ndarray")
         if len(pairs) == 0:
             break
         clash = np.unique(pairs.reshape(-1))
-        d = centre[clash] - pts[clash]
-        ln = np.linalg.norm(d, axis=1, keepdims=True)
-        step = np.minimum(1.0, 16 * grid / np.maximum(ln, 1e-300))
-        pts[clash] += d * step
+        if k < 4:
+            d = centre[clash] - pts[clash]
+            ln = np.linalg.norm(d, axis=1, keepdims=True)
+            pts[clash] += d * np.minimum(1.0, 16 * grid / np.maximum(ln, 1e-300))
+        else:  # neighbours as close as the points themselves: part them at random
+            pts[clash] += rng.normal(size=(len(clash), 3)) * 8 * grid
     return pts
 
 
@@ -293,7 +298,7 @@ def write_scad(
     scene,
     target: PathOrFile,
     *,
-    scale: float = 1.0,
+    scale: float = 1000.0,
     convexity: int = 10,
     thickness: float | None = None,
     up: str = "z",
@@ -303,7 +308,8 @@ def write_scad(
     Parameters
     ----------
     scale : float
-        Multiplies every coordinate (OpenSCAD's unit is the millimetre).
+        Multiplies every coordinate: 1000 (the default) writes sylva's metres as
+        OpenSCAD's millimetres.
     convexity : int
         OpenSCAD's preview hint.
     thickness : float, optional
