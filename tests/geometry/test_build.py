@@ -17,6 +17,7 @@ from sylva.geometry.build import (
     build_leaves,
     build_mesh,
     build_polygons,
+    leaf_template,
 )
 from sylva.turtle import interpret
 
@@ -204,20 +205,28 @@ def test_bad_options_raise_build_errors():
         build_branches(g, taper="murray")
 
 
-def test_leaves_are_double_sided_and_visible_edge_on():
+def test_leaves_are_one_face_with_a_double_sided_material_and_visible_edge_on():
     g = interpret("[&L]", dialect="classic", rot=90)
     m = build_leaves(g)
-    half = m.n_triangles // 2
-    np.testing.assert_array_equal(m.indices[half:, ::-1] - m.n_vertices // 2, m.indices[:half])
-    np.testing.assert_allclose(m.normals[m.n_vertices // 2 :], -m.normals[: m.n_vertices // 2])
+    tv, _, tt = leaf_template()
+    # one face per template triangle (two coincident opposite faces are dropped as
+    # duplicates by Blender and make STL non-manifold); the material says double-sided
+    assert m.n_triangles == len(tt) * g.n_leaves and m.n_vertices == len(tv) * g.n_leaves
+    assert all(mat.double_sided for mat in (m.materials[i] for i in np.unique(m.material_ids)))
+    tri = m.vertices[m.indices].astype(np.float64)
+    key = np.sort(m.indices, axis=1)
+    assert len(np.unique(key, axis=0)) == m.n_triangles
     # the leaf lies along -Z (pitched down) in the XZ plane; seen edge-on (from +X) it
     # still shows an area thanks to its fold and droop
-    tri = m.vertices[m.indices[:half]].astype(np.float64)
     e1 = tri[:, 1, 1:] - tri[:, 0, 1:]
     e2 = tri[:, 2, 1:] - tri[:, 0, 1:]
     area = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]).sum()
-    assert area > 0.02
+    assert area > 0.01
     assert m.uvs.min() >= 0 and m.uvs.max() <= 1
+    # the scene agrees: the leaf material is double-sided wherever it appears
+    s = build_mesh(interpret("F[&L]", dialect="classic", rot=90))
+    leaf = {mat.name for mat in s.meshes[1].materials}
+    assert all(mat.double_sided for mesh in s.meshes for mat in mesh.materials if mat.name in leaf)
 
 
 def test_concave_polygon_triangulation_preserves_area():
@@ -228,8 +237,9 @@ def test_concave_polygon_triangulation_preserves_area():
     m = build_polygons(g)
     tri = m.vertices[m.indices].astype(np.float64)
     area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
-    assert m.n_triangles == 2 * 4  # a hexagon: 4 triangles per side
-    assert area.sum() == pytest.approx(2 * 3.0)  # both sides
+    assert m.n_triangles == 4  # a hexagon: 4 triangles, one face (double-sided material)
+    assert m.materials[int(m.material_ids[0])].double_sided
+    assert area.sum() == pytest.approx(3.0)
     assert (area > 1e-9).all()
 
 

@@ -76,3 +76,30 @@ def test_export_engine_program_as_blocks_per_buffer(tmp_path):
         names = {g.visual.material.name for g in scene.geometry.values()}
         assert names == {"buffer_0", "buffer_1"}  # trunk and leaves
     assert outs[0] == outs[1] and outs[0] != outs[2]
+
+
+def test_export_takes_an_example_name_as_every_other_command_does(tmp_path, capsys):
+    out = tmp_path / "plant.glb"
+    assert main(["export", "13-abop-1.24d-plant", "-o", str(out), "-n", "2"]) == 0
+    back = trimesh.load(out, force="mesh", process=False)
+    assert len(back.faces) > 0
+    assert main(["export", "no-such-example", "-o", str(out)]) == 2
+    assert "no built-in example of that name" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("ext", ["stl", "ply"])
+def test_export_up_axis_follows_the_format_and_the_option(t14, tmp_path, ext):
+    heights = {}
+    for up in (None, "y", "z"):
+        out = tmp_path / f"plant-{up}.{ext}"
+        extra = [] if up is None else ["--up", up]
+        assert main(["export", str(t14), "-o", str(out), "-n", "2", *extra]) == 0
+        heights[up] = trimesh.load(out, force="mesh", process=False).extents
+    assert heights["z"].tolist() == pytest.approx(heights[None].tolist())  # STL, PLY: Z up
+    assert heights["z"][2] == pytest.approx(heights["y"][1])
+    assert heights["z"][2] > heights["z"][1]  # the plant stands up
+
+
+def test_export_up_is_refused_for_fixed_frames(t14, tmp_path, capsys):
+    assert main(["export", str(t14), "-o", str(tmp_path / "p.pov"), "--up", "z"]) == 2
+    assert "--up" in capsys.readouterr().err

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 import trimesh
 
+from sylva.errors import SylvaError
 from sylva.geometry.build import build_mesh
 from sylva.geometry.exchange import WRITERS, ExportError, format_of, usd_available, write
 from sylva.geometry.mesh import Material, Mesh, Scene
@@ -48,7 +49,24 @@ def test_trimesh_reads_back_the_same_triangles(plant_scene, tmp_path, ext):
     write(plant_scene, path)
     back = trimesh.load(path, force="mesh", process=False)
     assert len(back.faces) == plant_scene.n_triangles
-    np.testing.assert_allclose(back.bounds, plant_scene.bounds(), atol=1e-4)
+    # STL and PLY follow the 3D-printing / scanning convention, Z up
+    v = np.concatenate([m.vertices for m in plant_scene.meshes]).astype(np.float64)
+    if ext in ("ply", "stl"):
+        v = np.stack([v[:, 0], -v[:, 2], v[:, 1]], axis=1)
+    np.testing.assert_allclose(back.bounds, [v.min(axis=0), v.max(axis=0)], atol=1e-4)
+    assert back.bounds[1, 2 if ext in ("ply", "stl") else 1] > 10  # the plant stands up
+
+
+@pytest.mark.parametrize("ext", ["glb", "obj", "ply", "stl"])
+def test_up_option_turns_the_frame(plant_scene, tmp_path, ext):
+    height = float(plant_scene.bounds()[1, 1])
+    for up, axis in (("y", 1), ("z", 2)):
+        path = tmp_path / f"plant-{up}.{ext}"
+        write(plant_scene, path, up=up)
+        back = trimesh.load(path, force="mesh", process=False)
+        assert back.bounds[1, axis] == pytest.approx(height, abs=1e-4)
+    with pytest.raises(SylvaError, match="up: expected 'y' or 'z'"):
+        write(plant_scene, tmp_path / f"bad.{ext}", up="x")
 
 
 @pytest.mark.parametrize("ext", ["obj", "ply", "stl"])
@@ -120,6 +138,20 @@ def test_gltf_validator_finds_no_errors_or_warnings(plant_scene, coloured_scene,
         assert report["info"]["totalTriangleCount"] > 0
 
 
+def test_leaves_are_one_face_and_double_sided_in_the_files(plant_scene, tmp_path):
+    # no triangle written twice (front and back on the same three points): Blender drops
+    # such duplicates and they make STL non-manifold; glTF says doubleSided instead
+    write(plant_scene, tmp_path / "plant.stl")
+    stl = trimesh.load(tmp_path / "plant.stl", force="mesh")  # merges equal points
+    key = np.sort(stl.faces, axis=1)
+    assert len(np.unique(key, axis=0)) == len(key) == plant_scene.n_triangles
+    write(plant_scene, tmp_path / "plant.gltf")
+    doc = json.loads((tmp_path / "plant.gltf").read_text())
+    leaf_mats = {p["material"] for m in doc["meshes"] if m["name"] in ("leaves", "polygons")
+                 for p in m["primitives"]}  # fmt: skip
+    assert leaf_mats and all(doc["materials"][i].get("doubleSided") for i in leaf_mats)
+
+
 def test_gltf_validator_big_index_buffer(tmp_path):
     # more than 65535 vertices: 32-bit indices
     g = interpret("F" * 3000, dialect="abop", thick=0.1)
@@ -135,21 +167,31 @@ def _numbers(text):
     return [float(x) for x in re.findall(r"-?\d+(?:\.\d*)?(?:e[-+]?\d+)?", text)]
 
 
-def test_openscad_polyhedra_hold_every_triangle(plant_scene, tmp_path):
+def test_openscad_polyhedra_are_closed_solids_one_per_colour(plant_scene, tmp_path):
     path = tmp_path / "plant.scad"
     write(plant_scene, path)
     text = path.read_text()
     faces = re.findall(r"faces=\[(.*?)\],\s*convexity", text, re.S)
     points = re.findall(r"points=\[(.*?)\],\s*faces", text, re.S)
-    assert len(faces) == len(points) == text.count("polyhedron(") >= 3
-    n_faces = sum(f.count("[") for f in faces)
-    assert n_faces == plant_scene.n_triangles
+    colors = re.findall(r"color\(\[([^\]]*)\]\) polyhedron", text)
+    assert len(faces) == len(points) == len(colors) == text.count("polyhedron(") >= 2
+    assert len(set(colors)) == len(colors)  # one solid per colour
     for f, p in zip(faces, points):
-        idx = np.array(_numbers(f), int)
-        assert idx.min() == 0 and idx.max() == p.count("[") - 1
+        idx = np.array(_numbers(f), int).reshape(-1, 3)
+        pts = np.array(_numbers(p)).reshape(-1, 3)
+        assert idx.min() == 0 and idx.max() == len(pts) - 1
+        # closed and oriented: every directed edge once, and its reverse once
+        e = np.concatenate([idx[:, [0, 1]], idx[:, [1, 2]], idx[:, [2, 0]]])
+        code = e[:, 0] * len(pts) + e[:, 1]
+        assert len(np.unique(code)) == len(code)
+        assert np.isin(e[:, 1] * len(pts) + e[:, 0], code).all()
+        # OpenSCAD's faces run clockwise seen from outside: the volume comes out negative
+        t = pts[idx]
+        assert np.einsum("ij,ij->i", t[:, 0], np.cross(t[:, 1], t[:, 2])).sum() < 0
     # Z-up: the plant's height (sylva's +Y) is OpenSCAD's +Z
     pts = np.array(_numbers(",".join(points))).reshape(-1, 3)
-    assert pts[:, 2].max() == pytest.approx(plant_scene.bounds()[1, 1], abs=1e-4)
+    # in millimetres: sylva's unit is the metre
+    assert pts[:, 2].max() == pytest.approx(1000 * plant_scene.bounds()[1, 1], rel=0.01)
 
 
 def test_povray_scene_has_a_mesh2_per_material(plant_scene, tmp_path):
@@ -222,3 +264,28 @@ def test_format_comes_from_the_extension():
         format_of("plant.fbx")
     with pytest.raises(ExportError, match="needs format="):
         write(Scene(), io.BytesIO())
+
+
+def test_gltf_colour_is_the_tint_times_the_material_within_range():
+    """Tints above one (tree leaves, up to 1.6) fold into baseColorFactor: COLOR_0 stays in
+    [0, 1] (ACCESSOR_NON_CLAMPED otherwise) and COLOR_0 x baseColorFactor is unchanged."""
+    from sylva.geometry.exchange.gltf import gltf_document
+
+    rng = np.random.default_rng(1)
+    v = rng.uniform(-1, 1, (30, 3))
+    tint = np.concatenate([rng.uniform(0.3, 1.6, (30, 3)), np.ones((30, 1))], axis=1)
+    mats = [Material("bark", (0.4, 0.26, 0.13, 1.0)), Material("leaf", (0.16, 0.42, 0.1, 1.0))]
+    mesh = Mesh(v, np.arange(30).reshape(10, 3), colors=tint,
+                material_ids=np.repeat([0, 1], 5), materials=mats)  # fmt: skip
+    doc, blob = gltf_document(mesh)
+    (prim0, prim1) = doc["meshes"][0]["primitives"]
+    acc = doc["accessors"][prim0["attributes"]["COLOR_0"]]
+    view = doc["bufferViews"][acc["bufferView"]]
+    col = np.frombuffer(blob, np.float32, 4 * acc["count"], view["byteOffset"]).reshape(-1, 4)
+    assert col.min() >= 0.0 and col.max() <= 1.0 and tint.max() > 1.5
+    for prim, rows in ((prim0, slice(0, 15)), (prim1, slice(15, 30))):
+        base = np.array(doc["materials"][prim["material"]]["pbrMetallicRoughness"][
+            "baseColorFactor"])
+        mat = mats[0 if rows.start == 0 else 1]
+        np.testing.assert_allclose(col[rows, :3] * base[:3],
+                                   np.clip(tint[rows, :3] * mat.color[:3], 0, 1), atol=1e-6)

@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import io
+import os
+import shutil
+import subprocess
 
 import httpx
 import numpy as np
@@ -330,6 +333,26 @@ def test_export_glb_and_obj(client):
     mesh = trimesh.load(io.BytesIO(o.content), file_type="obj", force="mesh")
     assert len(mesh.faces) == sum(len(x.faces) for x in glb_scene(g.content).geometry.values())
     assert client.get("/api/export.stl").status_code == 400
+
+
+def test_export_scad_is_solids_openscad_renders(client, tmp_path):
+    load(client, steps=2, filename="plant.lsys")
+    r = client.get("/api/export.scad")
+    assert r.status_code == 200 and 'filename="plant-step2.scad"' in \
+        r.headers["content-disposition"]
+    text = r.content.decode()
+    assert "color([" in text and "polyhedron(" in text
+    openscad = shutil.which("openscad")
+    if openscad is None:
+        if os.environ.get("SYLVA_REQUIRE_CLIENTS"):
+            pytest.fail("OpenSCAD is not installed (bash .ci/run installs it)")
+        return
+    src, out = tmp_path / "plant.scad", tmp_path / "plant.stl"
+    src.write_text(text)
+    run = subprocess.run([openscad, "-o", str(out), str(src)], capture_output=True, text=True,
+                         timeout=300, check=False)
+    assert run.returncode == 0 and "ERROR" not in run.stderr, run.stderr[-2000:]
+    assert len(trimesh.load(out, force="mesh").faces) > 0
 
 
 def test_export_png_at_any_size(client):

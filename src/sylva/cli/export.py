@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ..errors import SylvaError
 from ._common import steps_type
 
 __all__ = ["register", "run"]
@@ -22,7 +23,9 @@ def register(subparsers) -> None:
         help="derive an L-system and write its geometry as a mesh (or SVG) file",
         description=__doc__.split("\n\n")[1] if __doc__ else None,
     )
-    p.add_argument("file", metavar="FILE", help="L-system file (.lsys, classic or engine format)")
+    p.add_argument("file", metavar="FILE",
+                   help="L-system file (.lsys, classic or engine format), or a built-in "
+                        "example name (`sylva examples` lists them)")  # fmt: skip
     p.add_argument("-o", "--output", required=True, metavar="OUT",
                    help="output file; its extension picks the format")  # fmt: skip
     p.add_argument(
@@ -46,20 +49,26 @@ def register(subparsers) -> None:
     p.add_argument("--keep-last", action="store_true",
                    help="when the module limit stops the derivation, export the word of the "
                         "last step that fits")  # fmt: skip
+    p.add_argument("--up", choices=("y", "z"), default=None,
+                   help="up axis of the file (default: the format's convention: Z for STL, "
+                        "PLY and OpenSCAD, Y for glTF, OBJ, USD and POV-Ray)")  # fmt: skip
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from ..geometry.build import build_mesh
     from ..geometry.exchange import format_of, write
-    from ..lsystem import load, render_word
+    from ..lsystem import render_word
     from ..turtle import interpret
+    from .derive import load_program
 
     fmt = format_of(args.output)  # fail before deriving when OUT is unusable
+    if args.up is not None and fmt in ("svg", "pov"):
+        raise SylvaError(f"--up: {fmt.upper()} files have a fixed frame; leave --up out")
     from ..lsystem import DEFAULT_MODULE_LIMIT
     from .derive import derive_keeping
 
-    program = load(args.file)
+    program = load_program(args.file)
     limit = DEFAULT_MODULE_LIMIT if args.limit is None else args.limit
     word = derive_keeping(program, args.steps, seed=args.seed, limit=limit,
                           keep_last=args.keep_last)  # fmt: skip
@@ -76,7 +85,8 @@ def run(args: argparse.Namespace) -> int:
             geometry, detail=args.detail, mode=args.mode,
             taper=None if args.taper == "none" else args.taper,
         )  # fmt: skip
-        write(scene, args.output, format=fmt)
+        options = {} if args.up is None else {"up": args.up}
+        write(scene, args.output, format=fmt, **options)
         what = f"{scene.n_triangles} triangles"
     if what.startswith("0 "):  # a valid, empty file: the word draws nothing
         what += "; nothing to draw, the file holds an empty scene"

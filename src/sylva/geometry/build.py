@@ -37,6 +37,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -230,11 +231,13 @@ def leaf_template(
 
 
 def build_leaves(geometry: Geometry, *, template=None, colors: bool | None = None) -> Mesh:
-    """Leaves as shaped, double-sided meshes (both faces are real triangles).
+    """Leaves as shaped, one-faced meshes with double-sided materials.
 
-    Each leaf is :func:`leaf_template` scaled by its size and placed in its frame.  The
-    back face has its own vertices with flipped normals, so it shades correctly in every
-    renderer and format.
+    Each leaf is :func:`leaf_template` scaled by its size and placed in its frame.  A leaf
+    is one surface, written once: its materials are marked ``double_sided``, which the
+    renderer (no culling, the normal flipped on the back) and every format with such a flag
+    (glTF ``doubleSided``) honour.  Two coincident opposite faces would be dropped as
+    duplicates by Blender and make STL non-manifold.
     """
     k = geometry.n_leaves
     tv, tuv, tt = template if template is not None else leaf_template()
@@ -247,32 +250,38 @@ def build_leaves(geometry: Geometry, *, template=None, colors: bool | None = Non
     nrm /= np.linalg.norm(nrm, axis=2, keepdims=True)
     m = tv.shape[0]
     front = tt[None, :, :] + (np.arange(k) * m)[:, None, None]
-    back = front[:, :, ::-1] + k * m
-    V = np.concatenate([verts.reshape(-1, 3), verts.reshape(-1, 3)])
-    N = np.concatenate([nrm.reshape(-1, 3), -nrm.reshape(-1, 3)])
-    UV = np.tile(tuv, (2 * k, 1))
-    I = np.concatenate([front.reshape(-1, 3), back.reshape(-1, 3)])
-    M = np.tile(np.repeat(geometry.leaf_material, tt.shape[0]), 2)
+    M = np.repeat(geometry.leaf_material, tt.shape[0])
     want = geometry.vertex_colors if colors is None else bool(colors)
     C = None
     if want:
         c = np.concatenate([geometry.leaf_color, np.ones((k, 1), np.float32)], axis=1)
-        C = np.tile(np.repeat(c, m, axis=0), (2, 1))
+        C = np.repeat(c, m, axis=0)
     return Mesh(
-        V,
-        I,
-        normals=N,
-        uvs=UV,
+        verts.reshape(-1, 3),
+        front.reshape(-1, 3),
+        normals=nrm.reshape(-1, 3),
+        uvs=np.tile(tuv, (k, 1)),
         colors=C,
         material_ids=M,
-        materials=list(geometry.materials),
+        materials=_double_sided(geometry.materials, M),
         name="leaves",
     )
 
 
+def _double_sided(materials, ids: np.ndarray) -> list[Material]:
+    """``materials`` with those that ``ids`` uses marked double-sided (one-faced surfaces)."""
+    used = set(np.unique(ids).tolist()) if len(ids) else set()
+    return [
+        dataclasses.replace(mat, double_sided=True) if k in used and not mat.double_sided
+        else mat
+        for k, mat in enumerate(materials)
+    ]
+
+
 # --------------------------------------------------------------------------- polygons
 def build_polygons(geometry: Geometry, *, colors: bool | None = None) -> Mesh:
-    """Polygons ``{ … }`` triangulated by ear clipping (concave ones too), both sides."""
+    """Polygons ``{ … }`` triangulated by ear clipping (concave ones too), one-faced with
+    double-sided materials (as leaves are)."""
     tris, owner, pn = K.ear_clip(geometry.poly_vertices, geometry.poly_offsets)
     used = np.unique(tris)
     remap = np.full(geometry.poly_vertices.shape[0], -1, np.int64)
@@ -294,25 +303,19 @@ def build_polygons(geometry: Geometry, *, colors: bool | None = None) -> Mesh:
     span = np.maximum(hi - lo, 1e-12)
     uv = (uv - lo[pid]) / span[pid]
     nu = used.size
-    I = remap[tris]
-    V = np.concatenate([pv, pv])
-    N = np.concatenate([nrm, -nrm])
-    UV = np.concatenate([uv, uv])
-    I = np.concatenate([I, I[:, ::-1] + nu])
-    M = np.tile(geometry.poly_material[owner], 2)
+    M = geometry.poly_material[owner]
     want = geometry.vertex_colors if colors is None else bool(colors)
     C = None
     if want:
-        c = np.concatenate([geometry.poly_color[pid], np.ones((nu, 1), np.float32)], axis=1)
-        C = np.concatenate([c, c])
+        C = np.concatenate([geometry.poly_color[pid], np.ones((nu, 1), np.float32)], axis=1)
     return Mesh(
-        V,
-        I,
-        normals=N,
-        uvs=UV,
+        pv,
+        remap[tris],
+        normals=nrm,
+        uvs=uv,
         colors=C,
         material_ids=M,
-        materials=list(geometry.materials),
+        materials=_double_sided(geometry.materials, M),
         name="polygons",
     )
 
@@ -412,7 +415,7 @@ def build_mesh(
     >>> g = interpret("F(2)[&L]F", dialect="classic", reduction=0.9, radius=0.2)
     >>> s = build_mesh(g, detail=6)
     >>> [(m.name, m.n_triangles) for m in s.meshes]
-    [('branches', 36), ('leaves', 48)]
+    [('branches', 36), ('leaves', 24)]
     """
     meshes = []
     if geometry.n_segments:
@@ -426,6 +429,13 @@ def build_mesh(
     if blocks and geometry.n_blocks:
         meshes.append(build_blocks(geometry))
     meshes = [m for m in meshes if m.n_triangles]  # e.g. only degenerate polygons
+    # a material that a one-faced leaf or polygon uses is double-sided in every mesh, so
+    # that the scene's material table (unified by name) agrees
+    two = {mat.name for m in meshes for mat in m.materials if mat.double_sided}
+    for m in meshes:
+        m.materials = [dataclasses.replace(mat, double_sided=True)
+                       if mat.name in two and not mat.double_sided else mat
+                       for mat in m.materials]  # fmt: skip
     if prune_materials:
         meshes = [_prune(m) for m in meshes]
     return Scene(meshes, name="plant")

@@ -376,17 +376,17 @@ def mesh(session: Session, limits: Limits) -> Drawn:
 
 
 def export_mesh(session: Session, fmt: str, limits: Limits) -> bytes:
-    """The current mesh as ``glb`` or ``obj`` bytes."""
+    """The current mesh as ``glb``, ``obj`` or ``scad`` (OpenSCAD solids) bytes."""
     drawn = mesh(session, limits)
     if fmt == "glb":
         return drawn.glb
-    if fmt == "obj":
-        from ..geometry.exchange import write_obj
+    if fmt in ("obj", "scad"):
+        from ..geometry.exchange import write_obj, write_scad
 
         buf = io.StringIO()
-        write_obj(drawn.scene, buf)
+        (write_obj if fmt == "obj" else write_scad)(drawn.scene, buf)
         return buf.getvalue().encode("utf-8")
-    raise SylvaError(f"unknown export format {fmt!r}; expected glb or obj")
+    raise SylvaError(f"unknown export format {fmt!r}; expected glb, obj or scad")
 
 
 # --------------------------------------------------------------------------- rule trace

@@ -81,3 +81,117 @@ def rows(fmt: str, arr: np.ndarray) -> str:
         return ""
     line = fmt + "\n"
     return (line * arr.shape[0]) % tuple(arr.reshape(-1).tolist())
+
+
+# --------------------------------------------------------------------------- colours
+def vertex_materials(mesh: Mesh) -> np.ndarray:
+    """``int32[n]``: the material index of a triangle that uses each vertex (0 if none).
+
+    sylva's builders never share a vertex between materials, so this is *the* material
+    of the vertex."""
+    out = np.zeros(mesh.n_vertices, np.int32)
+    if mesh.n_triangles:
+        ids = mesh.triangle_materials()
+        for k in range(3):
+            out[mesh.indices[:, k]] = ids
+    return out
+
+
+def material_colors(mesh: Mesh) -> np.ndarray:
+    """``float32[len(materials) + 1, 4]``: the material colours (a grey default last)."""
+    table = [material_of(mesh, i).color for i in range(len(mesh.materials))]
+    return np.array([*table, Material("default").color], np.float32).reshape(-1, 4)
+
+
+def shaded_colors(mesh: Mesh) -> np.ndarray:
+    """``float32[n, 4]``: the colour every vertex is drawn with, clamped to [0, 1].
+
+    A mesh's vertex colours are a tint that multiplies the material colour (as glTF's
+    ``COLOR_0`` multiplies ``baseColorFactor``, and as the renderer draws it); formats that
+    carry one colour per vertex or per face (PLY, POV-Ray, USD ``displayColor``, OBJ,
+    OpenSCAD) write this product.  This is the one place that computes it."""
+    mids = vertex_materials(mesh)
+    mids = np.where(mids < len(mesh.materials), mids, len(mesh.materials))
+    col = material_colors(mesh)[mids]
+    if mesh.colors is not None:
+        col = col * mesh.colors
+    return np.clip(col, 0.0, 1.0).astype(np.float32)
+
+
+def tint_scales(meshes) -> dict[str, float]:
+    """Per material name, the factor ``k >= 1`` that glTF writers fold into
+    ``baseColorFactor`` so that the vertex tints, divided by it, fit ``COLOR_0``'s [0, 1]
+    (the validator's ``ACCESSOR_NON_CLAMPED``): ``base·k · tint/k = base·tint`` exactly
+    while ``base·k <= 1``; beyond that, the colour clamps as it would on screen."""
+    out: dict[str, float] = {}
+    for mesh in meshes:
+        if mesh.colors is None or mesh.n_triangles == 0:
+            continue
+        mids = vertex_materials(mesh)
+        used = np.zeros(mesh.n_vertices, bool)
+        used[mesh.indices.reshape(-1)] = True
+        peak = np.zeros(len(mesh.materials) + 1)
+        np.maximum.at(peak, np.minimum(mids[used], len(mesh.materials)),
+                      mesh.colors[used, :3].max(axis=1))  # fmt: skip
+        for i, mat in enumerate(mesh.materials):
+            top = float(max(mat.color[:3]))
+            k = min(float(peak[i]), 1.0 / top if top > 0 else 1.0)
+            out[mat.name] = max(out.get(mat.name, 1.0), k, 1.0)
+    return out
+
+
+def gltf_color0(mesh: Mesh, scales: dict[str, float]) -> np.ndarray:
+    """``float32[n, 4]`` ``COLOR_0`` of ``mesh``: its tint divided by its material's
+    :func:`tint_scales` factor, clamped to [0, 1]."""
+    k = np.array([scales.get(m.name, 1.0) for m in mesh.materials] + [1.0])
+    mids = np.minimum(vertex_materials(mesh), len(mesh.materials))
+    col = np.array(mesh.colors, np.float64)
+    col[:, :3] /= k[mids][:, None]
+    return np.clip(col, 0.0, 1.0).astype(np.float32)
+
+
+def scaled_base(mat: Material, scales: dict[str, float]) -> list[float]:
+    """The glTF ``baseColorFactor`` of ``mat``: its colour times its tint scale."""
+    k = scales.get(mat.name, 1.0)
+    r, g, b, a = (float(x) for x in mat.color)
+    return [min(r * k, 1.0), min(g * k, 1.0), min(b * k, 1.0), a]
+
+
+# --------------------------------------------------------------------------- up axis
+UP_AXES = ("y", "z")
+
+
+def check_up(up: str) -> str:
+    """``up`` lower-cased, or a SylvaError naming the option."""
+    from ...errors import SylvaError
+
+    u = str(up).lower()
+    if u not in UP_AXES:
+        raise SylvaError(f"up: expected 'y' or 'z', got {up!r}")
+    return u
+
+
+def to_up(arr: np.ndarray, up: str) -> np.ndarray:
+    """Points or normals of sylva's Y-up frame in the ``up`` frame: unchanged for ``"y"``;
+    for ``"z"`` the proper rotation ``(x, y, z) -> (x, -z, y)`` (right-handed, +Z up,
+    sylva's -Z, the view direction, becoming +Y)."""
+    if check_up(up) == "y":
+        return arr
+    a = np.asarray(arr)
+    return np.stack([a[:, 0], -a[:, 2], a[:, 1]], axis=1).astype(a.dtype, copy=False)
+
+
+def oriented(mesh: Mesh, up: str) -> Mesh:
+    """``mesh`` with its points and normals in the ``up`` frame (the same mesh for Y)."""
+    if check_up(up) == "y":
+        return mesh
+    return Mesh(to_up(mesh.vertices, up), mesh.indices, normals=to_up(mesh.normals, up),
+                uvs=mesh.uvs, colors=mesh.colors, material_ids=mesh.material_ids,
+                materials=mesh.materials, name=mesh.name)  # fmt: skip
+
+
+def oriented_scene(scene: Scene, up: str) -> Scene:
+    """``scene`` with every mesh :func:`oriented`."""
+    if check_up(up) == "y":
+        return scene
+    return Scene([oriented(m, up) for m in scene.meshes], name=scene.name)

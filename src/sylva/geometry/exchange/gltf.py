@@ -3,8 +3,12 @@
 One glTF mesh per scene mesh, one primitive per material it uses (the primitives share the
 vertex accessors: ``POSITION``, ``NORMAL``, ``TEXCOORD_0`` and ``COLOR_0`` when present),
 PBR metallic-roughness materials, one node per mesh.  glTF is right-handed with +Y up, as
-sylva is, so coordinates are written unchanged.  The output passes the Khronos
-``gltf-validator`` without errors or warnings (the tests run it).
+sylva is, so coordinates are written unchanged (``up="z"`` rotates them for tools that
+want Z up, against the glTF convention).  Vertex colours are a tint of the material colour
+and may pass one; ``COLOR_0`` must not, so tints are divided by a factor per material that
+``baseColorFactor`` carries instead (:func:`~._common.tint_scales`).  Double-sided
+materials (leaves, polygons: one face each) get ``doubleSided``.  The output passes the
+Khronos ``gltf-validator`` without errors or warnings (the tests run it).
 
 Examples
 --------
@@ -24,7 +28,16 @@ import struct
 
 import numpy as np
 
-from ._common import PathOrFile, as_scene, material_groups, open_target
+from ._common import (
+    PathOrFile,
+    as_scene,
+    gltf_color0,
+    material_groups,
+    open_target,
+    oriented_scene,
+    scaled_base,
+    tint_scales,
+)
 
 __all__ = ["gltf_document", "write_glb", "write_gltf"]
 
@@ -73,12 +86,12 @@ class _Builder:
         return b"".join(self.chunks + [b"\0" * pad] if pad else self.chunks)
 
 
-def _material_json(mat) -> dict:
-    r, g, b, a = (float(x) for x in mat.color)
+def _material_json(mat, scales: dict[str, float]) -> dict:
+    a = float(mat.color[3])
     out: dict = {
         "name": mat.name,
         "pbrMetallicRoughness": {
-            "baseColorFactor": [r, g, b, a],
+            "baseColorFactor": scaled_base(mat, scales),
             "metallicFactor": float(mat.metallic),
             "roughnessFactor": float(mat.roughness),
         },
@@ -93,9 +106,10 @@ def _material_json(mat) -> dict:
     return out
 
 
-def gltf_document(scene) -> tuple[dict, bytes]:
+def gltf_document(scene, *, up: str = "y") -> tuple[dict, bytes]:
     """The glTF JSON document (without ``buffers[0].uri``) and its binary buffer."""
-    scene = as_scene(scene)
+    scene = oriented_scene(as_scene(scene), up)
+    scales = tint_scales(scene.meshes)
     b = _Builder()
     materials: list[dict] = []
     mat_index: dict[str, int] = {}
@@ -124,7 +138,7 @@ def gltf_document(scene) -> tuple[dict, bytes]:
         if mesh.uvs is not None:
             attrs["TEXCOORD_0"] = b.accessor(sel(mesh.uvs), "VEC2", _FLOAT, _ARRAY)
         if mesh.colors is not None:
-            attrs["COLOR_0"] = b.accessor(sel(mesh.colors), "VEC4", _FLOAT, _ARRAY)
+            attrs["COLOR_0"] = b.accessor(sel(gltf_color0(mesh, scales)), "VEC4", _FLOAT, _ARRAY)
         nverts = int(used.size)
         prims = []
         for mid, tris in material_groups(mesh):
@@ -140,7 +154,7 @@ def gltf_document(scene) -> tuple[dict, bytes]:
             if mat is not None:
                 if mat.name not in mat_index:
                     mat_index[mat.name] = len(materials)
-                    materials.append(_material_json(mat))
+                    materials.append(_material_json(mat, scales))
                 prim["material"] = mat_index[mat.name]
             prims.append(prim)
         meshes.append({"name": mesh.name, "primitives": prims})
@@ -164,9 +178,10 @@ def gltf_document(scene) -> tuple[dict, bytes]:
     return doc, blob
 
 
-def write_glb(scene, target: PathOrFile) -> None:
-    """Write binary glTF (``.glb``) to a path or a binary file object."""
-    doc, blob = gltf_document(scene)
+def write_glb(scene, target: PathOrFile, *, up: str = "y") -> None:
+    """Write binary glTF (``.glb``) to a path or a binary file object (``up``: the up axis,
+    ``"y"`` as glTF specifies, or ``"z"``)."""
+    doc, blob = gltf_document(scene, up=up)
     js = json.dumps(doc, separators=(",", ":")).encode("utf-8")
     js += b" " * ((-len(js)) % 4)
     total = 12 + 8 + len(js) + (8 + len(blob) if blob else 0)
@@ -180,9 +195,9 @@ def write_glb(scene, target: PathOrFile) -> None:
             fh.write(blob)
 
 
-def write_gltf(scene, target: PathOrFile) -> None:
+def write_gltf(scene, target: PathOrFile, *, up: str = "y") -> None:
     """Write JSON glTF (``.gltf``) with the buffer embedded as a base64 data URI."""
-    doc, blob = gltf_document(scene)
+    doc, blob = gltf_document(scene, up=up)
     if "buffers" in doc:
         doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(
             blob

@@ -32,7 +32,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..mesh import Mesh
-from ._common import PathOrFile, material_groups, open_target
+from ._common import (
+    PathOrFile,
+    gltf_color0,
+    material_groups,
+    open_target,
+    scaled_base,
+    tint_scales,
+)
 
 __all__ = ["SkinnedAnimation", "animated_gltf_document", "write_animated_glb"]
 
@@ -150,6 +157,7 @@ def animated_gltf_document(anim: SkinnedAnimation) -> tuple[dict, bytes]:
     """The glTF JSON (without the buffer URI) and the binary buffer of ``anim``."""
     anim.check()
     mesh = anim.mesh
+    scales = tint_scales([mesh])
     J = len(anim.bind_matrices)
     n_pad = max(J, 4)  # at least four joints, so that the four JOINTS_0 slots differ
     b = _Buf()
@@ -160,8 +168,7 @@ def animated_gltf_document(anim: SkinnedAnimation) -> tuple[dict, bytes]:
     if mesh.uvs is not None:
         attrs["TEXCOORD_0"] = b.add(mesh.uvs.astype(np.float32), "VEC2", _FLOAT, _ARRAY)
     if mesh.colors is not None:
-        attrs["COLOR_0"] = b.add(np.clip(mesh.colors, 0, 1).astype(np.float32), "VEC4",
-                                 _FLOAT, _ARRAY)
+        attrs["COLOR_0"] = b.add(gltf_color0(mesh, scales), "VEC4", _FLOAT, _ARRAY)
     jt, wt = _joint_table(anim.vertex_joint, n_pad)
     attrs["JOINTS_0"] = b.add(jt, "VEC4", _USHORT, _ARRAY)
     attrs["WEIGHTS_0"] = b.add(wt, "VEC4", _FLOAT, _ARRAY)
@@ -177,7 +184,7 @@ def animated_gltf_document(anim: SkinnedAnimation) -> tuple[dict, bytes]:
             prim["targets"] = targets
         if mid < len(mesh.materials):
             prim["material"] = len(materials)
-            materials.append(_material_json(mesh.materials[mid]))
+            materials.append(_material_json(mesh.materials[mid], scales))
         prims.append(prim)
     gl_mesh: dict = {"name": mesh.name, "primitives": prims}
     if targets:
@@ -240,10 +247,10 @@ def animated_gltf_document(anim: SkinnedAnimation) -> tuple[dict, bytes]:
     return doc, blob
 
 
-def _material_json(mat) -> dict:
-    r, g, b, a = (float(x) for x in mat.color)
+def _material_json(mat, scales: dict[str, float]) -> dict:
+    a = float(mat.color[3])
     out: dict = {"name": mat.name, "pbrMetallicRoughness": {
-        "baseColorFactor": [r, g, b, a], "metallicFactor": float(mat.metallic),
+        "baseColorFactor": scaled_base(mat, scales), "metallicFactor": float(mat.metallic),
         "roughnessFactor": float(mat.roughness)}}
     if mat.double_sided:
         out["doubleSided"] = True

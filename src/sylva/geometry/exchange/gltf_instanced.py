@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from ..mesh import Material, Mesh, Scene
-from ._common import PathOrFile, open_target
+from ._common import PathOrFile, gltf_color0, open_target, scaled_base, tint_scales
 
 __all__ = ["EXTENSION", "InstancedMesh", "write_glb_instanced"]
 
@@ -83,7 +83,8 @@ class InstancedMesh:
 
 
 class _Doc:
-    def __init__(self) -> None:
+    def __init__(self, scales: dict[str, float] | None = None) -> None:
+        self.scales = scales or {}
         self.chunks: list[bytes] = []
         self.size = 0
         self.views: list[dict] = []
@@ -136,8 +137,9 @@ class _Doc:
     def material(self, mat: Material) -> int:
         if mat.name in self.mat_index:
             return self.mat_index[mat.name]
-        r, g, b, a = (float(x) for x in mat.color)
-        pbr: dict = {"baseColorFactor": [r, g, b, a], "metallicFactor": float(mat.metallic),
+        a = float(mat.color[3])
+        pbr: dict = {"baseColorFactor": scaled_base(mat, self.scales),
+                     "metallicFactor": float(mat.metallic),
                      "roughnessFactor": float(mat.roughness)}  # fmt: skip
         if mat.texture:
             t = self.texture(Path(mat.texture))
@@ -167,7 +169,7 @@ class _Doc:
             attrs["TEXCOORD_0"] = self.accessor(mesh.uvs.astype(np.float32), "VEC2", _FLOAT,
                                                 _ARRAY)  # fmt: skip
         if mesh.colors is not None:
-            attrs["COLOR_0"] = self.accessor(mesh.colors.astype(np.float32), "VEC4", _FLOAT,
+            attrs["COLOR_0"] = self.accessor(gltf_color0(mesh, self.scales), "VEC4", _FLOAT,
                                              _ARRAY)  # fmt: skip
         tm = mesh.triangle_materials()
         prims = []
@@ -248,7 +250,7 @@ def write_glb_instanced(
         static = [static]
     elif isinstance(static, Scene):
         static = list(static.meshes)
-    doc = _Doc()
+    doc = _Doc(tint_scales([*static, *(inst.mesh for inst in instanced if len(inst))]))
     for i, m in enumerate(static):
         mi = doc.mesh(m, m.name or f"mesh_{i}")
         if mi is not None:

@@ -1,9 +1,11 @@
 """Wavefront OBJ with its MTL material library.
 
-Vertices carry their colour as the common ``v x y z r g b`` extension when the mesh has
-vertex colours; ``vt`` and ``vn`` follow; faces are grouped by ``usemtl``.  Writing to a path
-also writes ``<stem>.mtl`` beside it (``mtllib``); writing to a file object writes the MTL to
-``mtl_file`` when given.
+Vertices carry their colour (the vertex tint times the material colour) as the common
+``v x y z r g b`` extension when the mesh has vertex colours; ``vt`` and ``vn`` follow;
+faces are grouped by ``usemtl``.  Writing to a path also writes ``<stem>.mtl`` beside it
+(``mtllib``); writing to a file object writes the MTL to ``mtl_file`` when given.  OBJ has
+no up axis of its own; importers (Blender's among them) assume +Y, sylva's, which
+``up="y"`` (the default) keeps; ``up="z"`` rotates to +Z.
 
 Examples
 --------
@@ -29,8 +31,10 @@ from ._common import (
     material_groups,
     material_of,
     open_target,
+    oriented_scene,
     rows,
     safe_name,
+    shaded_colors,
     target_path,
 )
 
@@ -63,9 +67,9 @@ def mtl_text(scene) -> str:
     return "\n".join(out) + "\n"
 
 
-def write_obj(scene, target: PathOrFile, *, mtl_file=None) -> None:
+def write_obj(scene, target: PathOrFile, *, mtl_file=None, up: str = "y") -> None:
     """Write OBJ (text) to a path or a text file object, with an MTL library."""
-    scene = as_scene(scene)
+    scene = oriented_scene(as_scene(scene), up)
     path = target_path(target)
     mtl_name = None
     with contextlib.ExitStack() as stack:
@@ -96,7 +100,7 @@ def _write_obj_body(fh, scene, mtl_name) -> None:
             continue
         fh.write(f"o {safe_name(mesh.name)}\n")
         if mesh.colors is not None:
-            vc = np.concatenate([mesh.vertices, mesh.colors[:, :3]], axis=1)
+            vc = np.concatenate([mesh.vertices, shaded_colors(mesh)[:, :3]], axis=1)
             fh.write(rows("v %.7g %.7g %.7g %.4g %.4g %.4g", vc))
         else:
             fh.write(rows("v %.7g %.7g %.7g", mesh.vertices))

@@ -1,9 +1,12 @@
 """Stanford PLY, binary little-endian.
 
-Vertices: ``x y z nx ny nz s t`` (float) and ``red green blue alpha`` (uchar, from the vertex
-colours or the material colour); faces: ``vertex_indices`` (a uchar-counted int list) and
-the material table is written as comments (``comment material <i> <name>``): PLY has no
-standard per-face property for it that common readers accept.
+Vertices: ``x y z nx ny nz s t`` (float) and ``red green blue alpha`` (uchar: the colour
+the vertex is drawn with, its tint times its material colour); faces: ``vertex_indices`` (a
+uchar-counted int list) and the material table is written as comments (``comment material
+<i> <name>``): PLY has no standard per-face property for it that common readers accept.
+PLY files go to scanners' tools, slicers and Blender, which take +Z as up: the default
+``up="z"`` rotates sylva's Y-up frame (``(x, y, z) -> (x, -z, y)``); ``up="y"`` writes it
+unchanged.
 
 Examples
 --------
@@ -19,29 +22,21 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import PathOrFile, as_scene, open_target, safe_name
+from ._common import PathOrFile, as_scene, open_target, oriented, safe_name, shaded_colors
 
 __all__ = ["write_ply"]
 
 
-def write_ply(scene, target: PathOrFile) -> None:
-    """Write the scene, merged into one mesh, as binary PLY."""
-    mesh = as_scene(scene).merged()
+def write_ply(scene, target: PathOrFile, *, up: str = "z") -> None:
+    """Write the scene, merged into one mesh, as binary PLY (``up``: ``"z"`` or ``"y"``)."""
+    mesh = oriented(as_scene(scene).merged(), up)
     n, m = mesh.n_vertices, mesh.n_triangles
     vdt = np.dtype([("p", "<f4", 3), ("n", "<f4", 3), ("uv", "<f4", 2), ("c", "u1", 4)])
     v = np.empty(n, vdt)
     v["p"] = mesh.vertices
     v["n"] = mesh.normals
     v["uv"] = mesh.uvs if mesh.uvs is not None else 0.0
-    if mesh.colors is not None:
-        col = mesh.colors
-    else:
-        table = np.array([mat.color for mat in mesh.materials], np.float32).reshape(-1, 4)
-        col = np.ones((n, 4), np.float32)
-        if m:
-            col[mesh.indices[:, 0]] = table[mesh.triangle_materials()]
-            col[mesh.indices[:, 1]] = table[mesh.triangle_materials()]
-            col[mesh.indices[:, 2]] = table[mesh.triangle_materials()]
+    col = shaded_colors(mesh)
     v["c"] = np.clip(np.rint(col * 255.0), 0, 255).astype(np.uint8)
     fdt = np.dtype([("k", "u1"), ("i", "<i4", 3)])
     f = np.empty(m, fdt)

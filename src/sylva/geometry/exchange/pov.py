@@ -3,8 +3,9 @@ second back end, which wrote "a textual scene description for POV-Ray").
 
 POV-Ray is left-handed with +Y up; sylva is right-handed with +Y up, so z is negated (in
 points and normals).  Each (mesh, material) becomes a ``mesh2`` with its vertex, normal and
-uv vectors and a texture from the material; vertex colours become a ``texture_list`` of the
-distinct colours, referenced per vertex.  Render with ``povray +Iplant.pov +W800 +H600``.
+uv vectors and a texture from the material; vertex colours (the tint times the material
+colour, :func:`~._common.shaded_colors`) become a ``texture_list`` of the distinct colours,
+referenced per vertex.  Render with ``povray +Iplant.pov +W800 +H600``.
 
 Examples
 --------
@@ -20,7 +21,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import PathOrFile, as_scene, material_groups, material_of, open_target, rows
+from ._common import (
+    PathOrFile,
+    as_scene,
+    material_groups,
+    material_of,
+    open_target,
+    rows,
+    shaded_colors,
+)
 
 __all__ = ["write_pov"]
 
@@ -57,6 +66,7 @@ def write_pov(
         w(f"light_source {{ <{cx - dist:.6g},{cy + dist:.6g},{cz - dist:.6g}> "
           "color rgb <0.35,0.35,0.4> shadowless }\n")  # fmt: skip
         for mesh in scene.meshes:
+            shaded = shaded_colors(mesh) if mesh.colors is not None else None
             for mid, tris in material_groups(mesh):
                 idx = mesh.indices[tris]
                 used, inv = np.unique(idx, return_inverse=True)
@@ -83,8 +93,8 @@ def write_pov(
                 if mesh.uvs is not None:
                     uv = mesh.uvs[used]
                     w(f"  uv_vectors {{ {len(p)},\n" + rows("  <%.6g,%.6g>,", uv)[:-2] + "\n  }\n")
-                if mesh.colors is not None:
-                    cols = mesh.colors[used, :3]
+                if shaded is not None:
+                    cols = shaded[used, :3]
                     uniq, cidx = np.unique(np.round(cols, 3), axis=0, return_inverse=True)
                     cidx = cidx.reshape(-1)
                     w(f"  texture_list {{ {len(uniq)},\n")

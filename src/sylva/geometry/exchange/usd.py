@@ -1,8 +1,12 @@
 """Universal Scene Description (``.usd``, ``.usda``, ``.usdc``), when ``usd-core`` is installed.
 
-Each mesh becomes a ``UsdGeom.Mesh`` (points, normals, ``primvars:st``, ``displayColor``)
-with a ``GeomSubset`` per material bound to a ``UsdPreviewSurface`` material.  The stage is
-Y-up with one metre per unit.
+Each mesh becomes a ``UsdGeom.Mesh`` (points, normals, ``primvars:st``, ``displayColor``:
+the colour each vertex is drawn with, its tint times its material colour) with a
+``GeomSubset`` per material bound to a ``UsdPreviewSurface`` material; the subsets form a
+``partition`` of the faces (every face in exactly one), the family type that
+``UsdValidation`` asks of material subsets.  Double-sided materials make their meshes
+``doubleSided``.  The stage has one metre per unit and its ``upAxis`` is ``up``: ``"y"``
+(the default, sylva's frame) or ``"z"`` (the points rotated, ``(x, y, z) -> (x, -z, y)``).
 
 Examples
 --------
@@ -20,7 +24,16 @@ import numpy as np
 
 from ..._atomic import atomic_path, os_error_from_text
 from ...errors import SylvaError
-from ._common import PathOrFile, as_scene, material_groups, material_of, safe_name
+from ._common import (
+    PathOrFile,
+    as_scene,
+    check_up,
+    material_groups,
+    material_of,
+    oriented_scene,
+    safe_name,
+    shaded_colors,
+)
 
 __all__ = ["available", "write_usd"]
 
@@ -39,37 +52,40 @@ def _ident(name: str) -> str:
     return s if not s[0].isdigit() else "_" + s
 
 
-def write_usd(scene, target: PathOrFile, *, suffix: str | None = None) -> None:
+def write_usd(scene, target: PathOrFile, *, suffix: str | None = None, up: str = "y") -> None:
     """Write a USD stage to a path (or a binary file object, via a temporary file).
 
     usd-core writes by file name: a path target gets a temporary file beside it (same
-    suffix, so the same format) that replaces it only once the stage is saved."""
+    suffix, so the same format) that replaces it only once the stage is saved.  ``up`` is
+    the stage's ``upAxis`` (``"y"``, USD's default, or ``"z"``)."""
     if not available():
         raise SylvaError("USD export needs the usd-core package: pip install usd-core")
     from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdShade, Vt
 
-    scene = as_scene(scene)
+    up = check_up(up)
+    scene = oriented_scene(as_scene(scene), up)
+    pxr = (Gf, Sdf, Usd, UsdGeom, UsdShade, Vt)
     if isinstance(target, (str, os.PathLike)):
         with atomic_path(target) as tmp:
             try:
-                _write_stage(scene, tmp, (Gf, Sdf, Usd, UsdGeom, UsdShade, Vt))
+                _write_stage(scene, tmp, up, pxr)
             except Tf.ErrorException as exc:  # a full disk, in usd-core's words
                 raise os_error_from_text(str(exc), tmp, "usd-core") from None
         return
     tmpdir = tempfile.mkdtemp(prefix="sylva-usd-")
     try:
         path = os.path.join(tmpdir, "scene" + (suffix or ".usdc"))
-        _write_stage(scene, path, (Gf, Sdf, Usd, UsdGeom, UsdShade, Vt))
+        _write_stage(scene, path, up, pxr)
         with open(path, "rb") as fh:
             shutil.copyfileobj(fh, target)  # type: ignore[arg-type]
     finally:
         shutil.rmtree(tmpdir, ignore_errors=True)
 
 
-def _write_stage(scene, path: str, pxr) -> None:
+def _write_stage(scene, path: str, up: str, pxr) -> None:
     Gf, Sdf, Usd, UsdGeom, UsdShade, Vt = pxr
     stage = Usd.Stage.CreateNew(path)
-    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z if up == "z" else UsdGeom.Tokens.y)
     UsdGeom.SetStageMetersPerUnit(stage, 1.0)
     root = UsdGeom.Xform.Define(stage, "/" + _ident(scene.name))
     stage.SetDefaultPrim(root.GetPrim())
@@ -102,9 +118,13 @@ def _write_stage(scene, path: str, pxr) -> None:
             st.Set(Vt.Vec2fArray.FromNumpy(mesh.uvs))
         if mesh.colors is not None:
             dc = gm.CreateDisplayColorPrimvar(UsdGeom.Tokens.vertex)
-            dc.Set(Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(mesh.colors[:, :3])))
+            dc.Set(Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(shaded_colors(mesh)[:, :3])))
+        if any(m.double_sided for m in mesh.materials):
+            gm.CreateDoubleSidedAttr(True)
         binding = UsdShade.MaterialBindingAPI.Apply(gm.GetPrim())
-        for mid, tris in material_groups(mesh):
+        groups = material_groups(mesh)
+        mesh_looks = set()
+        for mid, tris in groups:
             mat = material_of(mesh, mid)
             key = _ident(mat.name)
             if key not in looks:
@@ -119,14 +139,15 @@ def _write_stage(scene, path: str, pxr) -> None:
                 sh.CreateInput("metallic", Sdf.ValueTypeNames.Float).Set(float(mat.metallic))
                 m.CreateSurfaceOutput().ConnectToSource(sh.ConnectableAPI(), "surface")
                 looks[key] = m
-            subset = UsdGeom.Subset.CreateGeomSubset(
-                gm,
-                key,
-                UsdGeom.Tokens.face,
-                Vt.IntArray.FromNumpy(tris.astype(np.int32)),
-                UsdShade.Tokens.materialBind,
+            mesh_looks.add(key)
+            if len(groups) == 1:
+                continue
+            subset = binding.CreateMaterialBindSubset(
+                key, Vt.IntArray.FromNumpy(np.sort(tris).astype(np.int32)), UsdGeom.Tokens.face
             )
             UsdShade.MaterialBindingAPI.Apply(subset.GetPrim()).Bind(looks[key])
-        if len(looks) == 1:
-            binding.Bind(next(iter(looks.values())))
+        if len(groups) == 1:
+            binding.Bind(looks[next(iter(mesh_looks))])
+        else:
+            binding.SetMaterialBindSubsetsFamilyType(UsdGeom.Tokens.partition)
     stage.GetRootLayer().Save()

@@ -655,7 +655,7 @@ app.exportImage = exportImage;
 const actions = {
   new: newFile, open: openDialog, save, "save-as": saveAs,
   "export-image": exportImageDialog, "export-glb": () => exportMesh("glb"),
-  "export-obj": () => exportMesh("obj"),
+  "export-obj": () => exportMesh("obj"), "export-scad": () => exportMesh("scad"),
   derive: deriveSteps, reset: resetAction, step: () => simpleAction("step", { n: 1 }),
   back: () => simpleAction("back"), stop,
   "reset-camera": () => viewer.resetCamera(),
