@@ -273,7 +273,8 @@ def test_tree_colours_are_the_tint_times_the_material_in_ply_and_usd(tree, files
     (prim,) = [p for p in stage.Traverse() if p.IsA(UsdGeom.Mesh)]
     dc = np.array(UsdGeom.Mesh(prim).GetDisplayColorPrimvar().Get())
     assert dc.max() <= 1.0 and not np.isclose(dc, 1.0).all(axis=1).any()
-    np.testing.assert_allclose(np.median(dc, axis=0)[:3], bark, atol=0.02)
+    rows, counts = np.unique(np.round(dc[:, :3], 3), axis=0, return_counts=True)
+    np.testing.assert_allclose(rows[np.argmax(counts)], bark, atol=0.02)  # the bark, again
 
 
 # --------------------------------------------------------------------------- OpenSCAD

@@ -21,7 +21,7 @@ API (all under ``/api``; JSON unless said otherwise; errors are ``{"error": kind
 ``GET  mesh``            the current (render) word as binary glTF (``model/gltf-binary``)
 ``POST pick``            ``{point}``: the module drawn there and the rule/step that made it
 ``GET  module?index=``   module ``index`` of the word: what it drew and its rule and step
-``GET  export.glb`` / ``export.obj``   downloads of the mesh
+``GET  export.FMT``      downloads of the mesh: ``glb``, ``obj``, ``scad`` (solids)
 ``POST export.png``      ``{width, height, camera, focus}``: a PNG rendered by the server
 ``GET  files``           the workspace's definition files
 ``GET  file?path=``      a file's text;  ``PUT file`` ``{path, text, overwrite}`` saves it
@@ -549,8 +549,9 @@ async def export(request: Request) -> Response:
     fmt = request.path_params["fmt"]
     session = studio.session(request)
     _need(session)
-    if fmt not in ("glb", "obj"):
-        raise ApiError(400, "invalid", f"unknown export format {fmt!r}; expected glb or obj")
+    if fmt not in ("glb", "obj", "scad"):
+        raise ApiError(400, "invalid",
+                       f"unknown export format {fmt!r}; expected glb, obj or scad")  # fmt: skip
     data = await _with_mesh(studio, session, _work.export_mesh, session, fmt, studio.limits)
     media = "model/gltf-binary" if fmt == "glb" else "text/plain; charset=utf-8"
     name = _download_name(session, fmt)
