@@ -13,7 +13,9 @@
     X(x) --> ;F(x)
     endlsystem
 
-Read: ``/* … */`` and ``//`` comments; ``#define NAME value`` (a constant); ``Lsystem:``
+Read: the C preprocessor's directives and comments that cpfg files use (:mod:`._cpp`:
+``#define`` with parameters, ``#include``, ``#ifdef`` / ``#if`` …; a ``#`` that is not the
+first character of a line is the module ``#``, cpfg's width increment); ``Lsystem:``
 (the name); ``derivation length:``; ``seed:``; ``Axiom:``; ``ignore:`` and ``consider:``;
 productions ``[lc <] pred [> rc] [: condition] --> successor [: probability]`` (a condition
 ``*`` means none, a successor ``*`` is the empty word; probabilities are weights);
@@ -27,12 +29,15 @@ as cpfg does), ``initial elasticity:`` and ``elasticity increment:`` (ABOP §2.3
 ``endlsystem`` (the rest of the file is ignored).  Inside expressions ``^`` is cpfg's power
 (sylva's ``**``).  The turtle is ABOP's (``turtle = abop``), with cpfg's ``@`` functions
 (``@O @v @M @R``, and ``@Ts(1, e)`` / ``@Ti`` / ``@Td`` whose first parameter is the
-tropism's index: sylva has one, 1).  Not supported, with an error that says so:
-``#include``.
+tropism's index: sylva has one, 1).  A production may run over several lines: a line that
+is not a keyword, a section or a production continues the successor above it, and so does
+any line after one that ends with ``\\``.  Not supported, with an error that names the
+construct: ``ring L-system``, the statement blocks ``Start:`` ``StartEach:`` ``EndEach:``
+``End:`` ``Define:``, ``group`` and sub-L-systems.
 
 The reader turns each line into one line of sylva's ``.lsys`` language and parses that, so
-errors name the file's lines and columns (a column right of a ``^`` that became ``**`` may
-be off by one per power).
+errors name the file's (or the included file's) lines and columns (a column right of a
+``^`` that became ``**`` may be off by one per power).
 
 Examples
 --------
@@ -46,11 +51,12 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import replace
 
 from ...errors import LSystemSyntaxError, SylvaError
 from ..ast import Program, Span
 from ..expr import evaluate_constant
-from . import lsysvis
+from . import _cpp, lsysvis
 
 __all__ = ["parse"]
 
@@ -59,29 +65,13 @@ _KEY = re.compile(r"\s*(lsystem|derivation\s+length|seed|axiom|ignore|consider|m
                   r"\s*:(.*)\Z", re.IGNORECASE)  # fmt: skip
 _VIEW = {"tropism direction": "tropism", "initial elasticity": "elasticity",
          "elasticity increment": "elasticity_step"}  # fmt: skip
-_DEFINE = re.compile(r"\s*#\s*define\s+([A-Za-z_]\w*)\s+(.+?)\s*\Z")
+#: cpfg constructs that sylva does not read, named in the error (with the reason).
+_UNSUPPORTED = re.compile(r"\s*(ring\s+l-?system|start\s*:|starteach\s*:|endeach\s*:"
+                          r"|end\s*:|define\s*:|group\b|sub-?l-?system)",
+                          re.IGNORECASE)  # fmt: skip
+_UNSUPPORTED_WHY = {"ring l-system": "ring L-systems, whose first and last modules are "
+                    "neighbours, are not implemented"}  # fmt: skip
 _SECTION = re.compile(r"\s*(homomorphism|decomposition|endlsystem)\b(.*)\Z", re.IGNORECASE)
-
-
-def _strip_comments(text: str) -> str:
-    """``/* … */`` and ``//`` comments blanked out, line breaks kept (so are columns)."""
-    out = []
-    i, n = 0, len(text)
-    while i < n:
-        if text.startswith("/*", i):
-            j = text.find("*/", i + 2)
-            j = n if j < 0 else j + 2
-            out.append(re.sub(r"[^\n]", " ", text[i:j]))
-            i = j
-        elif text.startswith("//", i):
-            j = text.find("\n", i)
-            j = n if j < 0 else j
-            out.append(" " * (j - i))
-            i = j
-        else:
-            out.append(text[i])
-            i += 1
-    return "".join(out)
 
 
 def _power(expr: str) -> str:
@@ -132,7 +122,56 @@ def _production(line: str, render: bool, where) -> tuple[str, list[tuple[int, in
     return f"{head} {arrow} {_in_parens_power(succ.strip())}", sorted(parts)
 
 
-def _relocate(err: LSystemSyntaxError, lines: list[str], parts: dict) -> LSystemSyntaxError:
+def _quote_hash(line: _cpp.Line) -> _cpp.Line:
+    """cpfg's ``#`` module (width increment) outside parentheses as ``.lsys``'s ``"#"``."""
+    if "#" not in line.text:
+        return line
+    text, origin, depth = [], [], 0
+    for ch, at in zip(line.text, line.origin, strict=False):
+        depth += (ch == "(") - (ch == ")")
+        piece = '"#"' if ch == "#" and depth <= 0 else ch
+        text.append(piece)
+        origin.extend([at] * len(piece))
+    return _cpp.Line("".join(text), origin + line.origin[-1:], line.define)
+
+
+def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
+    """The preprocessed lines with multi-line productions joined: a line that is not a
+    keyword, section or production continues the production above it (cpfg reads a
+    successor over several lines), and so does any line after one that ends with ``\\``.
+    The joined production takes the first line's place; the others become empty."""
+    out: list[_cpp.Line] = []
+    open_at: int | None = None  # index in out of the production that may continue
+    forced = False
+    for line in pre.lines:
+        text = line.text
+        plain = bool(text.strip()) and line.define is None
+        continues = open_at is not None and plain and (
+            forced or ("-->" not in text and not _KEY.match(text) and not _SECTION.match(text)
+                       and not _UNSUPPORTED.match(text)))  # fmt: skip
+        if continues:
+            body = line.slice(0, len(text.rstrip()))
+            forced = body.text.endswith("\\")
+            if forced:
+                body = body.slice(0, len(body.text) - 1)
+            out[open_at] = out[open_at] + _cpp.Line(" ", [body.origin[0]] * 2) + body
+            out.append(_cpp.Line("", line.origin[-1:]))
+            continue
+        forced = False
+        if plain and "-->" in text:
+            open_at = len(out)
+            stripped = text.rstrip()
+            if stripped.endswith("\\"):
+                forced = True
+                line = line.slice(0, len(stripped) - 1)
+        elif text.strip():
+            open_at = None
+        out.append(line)
+    return out
+
+
+def _relocate(err: LSystemSyntaxError, lines: list[_cpp.Line], parts: dict,
+              pre: _cpp.Result) -> LSystemSyntaxError:  # fmt: skip
     """``err``, raised on a translated line, pointed at the cpfg line it came from."""
     if err.line is None or not 1 <= err.line <= len(lines):
         return err
@@ -140,14 +179,24 @@ def _relocate(err: LSystemSyntaxError, lines: list[str], parts: dict) -> LSystem
     if column is not None and err.line in parts:
         here, there = max((p for p in parts[err.line] if p[0] <= column - 1), default=(0, 0))
         column = column - here + there
-    return type(err)(err.message, filename=err.filename, line=err.line, column=column,
-                     source_line=lines[err.line - 1].rstrip())  # fmt: skip
+    file, number, col = lines[err.line - 1].at(column or 1)
+    return type(err)(err.message, filename=file, line=number,
+                     column=col if column is not None else None,
+                     source_line=pre.sources.get((file, number)))  # fmt: skip
+
+
+def _remap(span: Span | None, lines: list[_cpp.Line]) -> Span | None:
+    """A span of the translation as the place in the user's files."""
+    if span is None or not 1 <= span.line <= len(lines):
+        return span
+    file, number, col = lines[span.line - 1].at(span.column)
+    return Span(number, col, file)
 
 
 def parse(text: str, filename: str | None = None) -> Program:
     """Read a cpfg L-system (see the module notes); errors name the file, line and column."""
-    original = text.removeprefix("\ufeff").split("\n")
-    lines = _strip_comments(text.removeprefix("\ufeff")).split("\n")
+    pre = _cpp.preprocess(text, filename)
+    lines = [_quote_hash(line) for line in _logical_lines(pre)]
     out: list[str] = []
     parts: dict[int, list[tuple[int, int]]] = {}
     name: str | None = None
@@ -156,25 +205,26 @@ def parse(text: str, filename: str | None = None) -> Program:
     trop_at = None
     section = "production"
     depths: dict[str, tuple[str, LSystemSyntaxError]] = {}
-    recursive = _homomorphism_has_depth(lines)
+    recursive = _homomorphism_has_depth([ln.text for ln in lines])
     steps_col = 1
-    for number, raw in enumerate(lines, start=1):
+    for number, logical in enumerate(lines, start=1):
 
-        def where(message: str, column: int = 1, _n=number, _raw=raw) -> LSystemSyntaxError:
-            return LSystemSyntaxError(message, filename=filename, line=_n, column=column,
-                                      source_line=_raw)  # fmt: skip
+        def where(message: str, column: int = 1, _l=logical) -> LSystemSyntaxError:
+            return pre.error(message, _l.at(column))
 
-        line = raw.rstrip()
+        line = logical.text.rstrip()
         if ended or not line.strip():
             out.append("")
             continue
-        if m := _DEFINE.match(line):
-            out.append(f"{m.group(1)} = {_power(m.group(2))}")
+        if logical.define is not None:
+            out.append(f"{logical.define} = {_power(line.strip())}")
+            parts[number] = [(0, 0), (len(logical.define) + 3, len(line) - len(line.lstrip()))]
             continue
-        if line.lstrip().startswith("#"):
-            word = line.split()[0]
-            raise where(f"{word} is not supported; expected #define NAME value",
-                        line.index("#") + 1)  # fmt: skip
+        if m := _UNSUPPORTED.match(line):
+            construct = " ".join(m.group(1).split())
+            raise where(f"cpfg's {construct!r} is not supported by sylva's cpfg reader "
+                        f"({_UNSUPPORTED_WHY.get(construct.lower(), 'not implemented yet')})",
+                        m.start(1) + 1)  # fmt: skip
         if m := _SECTION.match(line):
             key = m.group(1).lower()
             section = key
@@ -226,7 +276,7 @@ def parse(text: str, filename: str | None = None) -> Program:
     try:
         program = lsysvis.parse("\n".join(out), filename)
     except LSystemSyntaxError as err:  # semantic errors too: the subclass is kept
-        raise _relocate(err, original, parts) from None
+        raise _relocate(err, lines, parts, pre) from None
     settings = dict(program.settings)
     settings.setdefault("turtle", "abop")
     if "tropism" in settings:  # cpfg normalises the direction (interpret.c)
@@ -248,9 +298,11 @@ def parse(text: str, filename: str | None = None) -> Program:
         fields[field] = int(v)
     at = program.steps_at
     if at is not None:
-        at = Span(at.line, steps_col, at.filename)
+        at = _remap(Span(at.line, steps_col, at.filename), lines)
+    rules = tuple(r if r.span is None else replace(r, span=_remap(r.span, lines))
+                  for r in program.rules)  # fmt: skip
     return program.replace(settings=settings, dialect="cpfg", name=name or program.name,
-                           steps_at=at, **fields)  # fmt: skip
+                           steps_at=at, rules=rules, **fields)  # fmt: skip
 
 
 _DEPTH_OF = {"decomposition": "decomposition_depth", "homomorphism": "interpretation_depth"}
