@@ -63,3 +63,18 @@ def test_python_dash_m_sylva_runs():
         capture_output=True, text=True, timeout=120,
     )
     assert out.returncode == 0 and out.stdout.strip() == "F-F++F-F++F-F++F-F++F-F++F-F"
+
+
+def test_derive_reads_a_named_cpfg_view_file_and_warns_on_stderr(capsys, tmp_path):
+    import pytest
+
+    from sylva.errors import SylvaWarning
+
+    f = tmp_path / "p.l"
+    f.write_text("#define N 2\nLsystem: 1\nderivation length: 1\nAxiom: A\n"
+                 "A --> F(N)#A\nendlsystem\n")  # fmt: skip
+    v = tmp_path / "other.v"
+    v.write_text("angle increment: 30\nz buffer: on\n")
+    with pytest.warns(SylvaWarning, match="other.v:2: view setting 'z buffer'"):
+        code, out, _ = run(capsys, "derive", str(f), "--view", str(v))
+    assert code == 0 and out == 'F(2)"#"A\n'

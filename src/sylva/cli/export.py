@@ -46,6 +46,8 @@ def register(subparsers) -> None:
     p.add_argument("--keep-last", action="store_true",
                    help="when the module limit stops the derivation, export the word of the "
                         "last step that fits")  # fmt: skip
+    p.add_argument("--view", metavar="V", default=None,
+                   help="cpfg: the view file (.v) to read (default: the one beside FILE)")
     p.set_defaults(func=run)
 
 
@@ -59,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
     from ..lsystem import DEFAULT_MODULE_LIMIT
     from .derive import derive_keeping
 
-    program = load(args.file)
+    program = load(args.file, view=args.view)
     limit = DEFAULT_MODULE_LIMIT if args.limit is None else args.limit
     word = derive_keeping(program, args.steps, seed=args.seed, limit=limit,
                           keep_last=args.keep_last)  # fmt: skip

@@ -180,3 +180,66 @@ def test_stochastic_productions_choose_by_their_probabilities():
     w = _word(text)
     assert w.count("B") + w.count("C") == 4000
     assert 0.21 < w.count("B") / 4000 < 0.29
+
+
+# ------------------------------------------------------------------------------ view files
+KOCH = """Lsystem: koch
+derivation length: 1
+Axiom: F-F-F-F
+F --> F-F+F+FF-F-F+F
+endlsystem
+"""
+
+
+def test_the_view_file_beside_the_l_sets_angle_width_and_tropism(tmp_path):
+    from sylva.errors import SylvaWarning
+
+    (tmp_path / "koch.l").write_text(KOCH)
+    (tmp_path / "koch.v").write_text(
+        "angle increment: 60\nline style: cylinder\ninitial line width: 0.25\n"
+        "tropism direction: 0 -3 0\ninitial elasticity: 0.2\nelasticity increment: 0.01\n"
+        "viewpoint: 0,0,1\nview reference point: 0,0,0\n"
+        "frobnicate: 1\n"
+    )
+    with pytest.warns(SylvaWarning) as record:
+        p = load(tmp_path / "koch.l")
+    assert p.settings["rot"] == 60.0 and p.settings["thick"] == 0.25
+    assert p.settings["tropism"] == (0.0, -1.0, 0.0)  # normalised, as cpfg does
+    assert (p.settings["elasticity"], p.settings["elasticity_step"]) == (0.2, 0.01)
+    messages = [str(w.message) for w in record]
+    # one warning per line that is not honoured, each naming its line
+    assert len(messages) == 3
+    assert messages[0].endswith(
+        "koch.v:7: view setting 'viewpoint' is not honoured "
+        "(the camera is chosen by the renderer (yaw, pitch))"
+    )
+    assert ":8: view setting 'view reference point'" in messages[1]
+    assert ":9: unknown view setting 'frobnicate: 1'" in messages[2]
+    # the turtle turns by the view file's 60 degrees: F++F++F is a closed equilateral
+    # triangle of side 1 (width 1, height sqrt(3)/2), ABOP Fig. 1.10's snowflake axiom
+    import numpy as np
+
+    from sylva.turtle import interpret
+
+    g = interpret("F++F++F", p.replace(settings={**p.settings, "elasticity": 0.0}))
+    lo, hi = g.bounds()
+    extent = sorted(hi - lo)
+    assert np.allclose(extent, [0.0, 3**0.5 / 2, 1.0], atol=1e-9)
+
+
+def test_view_file_angle_factor_pixel_widths_and_named_view(tmp_path):
+    from sylva.errors import SylvaWarning
+
+    other = tmp_path / "other.v"
+    other.write_text("angle factor: 8\ninitial line width: 3\n")
+    with pytest.warns(SylvaWarning, match=r"other.v:2: 'initial line width' is in pixels"):
+        p = loads(KOCH, view=other)
+    assert p.settings["rot"] == 45.0 and "thick" not in p.settings
+    (tmp_path / "koch.l").write_text(KOCH)
+    (tmp_path / "koch.v").write_text("angle increment: 60\n")
+    assert load(tmp_path / "koch.l", view=False).settings.get("rot") is None
+    assert load(tmp_path / "koch.l").settings["rot"] == 60.0
+    (tmp_path / "koch.v").write_text("angle increment: ninety\n")
+    with pytest.raises(LSystemSyntaxError) as e:
+        load(tmp_path / "koch.l")
+    assert (e.value.filename, e.value.line, e.value.column) == (str(tmp_path / "koch.v"), 1, 17)

@@ -56,7 +56,7 @@ from dataclasses import replace
 from ...errors import LSystemSyntaxError, SylvaError
 from ..ast import Program, Span
 from ..expr import evaluate_constant
-from . import _cpp, lsysvis
+from . import _cpfg_view, _cpp, lsysvis
 
 __all__ = ["parse"]
 
@@ -193,8 +193,14 @@ def _remap(span: Span | None, lines: list[_cpp.Line]) -> Span | None:
     return Span(number, col, file)
 
 
-def parse(text: str, filename: str | None = None) -> Program:
-    """Read a cpfg L-system (see the module notes); errors name the file, line and column."""
+def parse(text: str, filename: str | None = None, *, view=None) -> Program:
+    """Read a cpfg L-system (see the module notes); errors name the file, line and column.
+
+    ``view`` is the view file (:mod:`._cpfg_view`): a path, ``None`` for the ``.v`` beside
+    ``filename`` (same stem) if there is one, or ``False`` for none.  Its settings apply
+    where the L-system does not set its own; lines sylva cannot honour are warned about
+    (:class:`~sylva.errors.SylvaWarning`).
+    """
     pre = _cpp.preprocess(text, filename)
     lines = [_quote_hash(line) for line in _logical_lines(pre)]
     out: list[str] = []
@@ -285,6 +291,8 @@ def parse(text: str, filename: str | None = None) -> Program:
         if norm == 0.0:
             raise trop_at
         settings["tropism"] = tuple(c / norm for c in t)  # type: ignore[union-attr]
+    for key, value in _cpfg_view.load_view(view, filename).items():
+        settings.setdefault(key, value)
     fields = {}
     for field, (text, at) in depths.items():
         try:
