@@ -128,7 +128,8 @@ def test_an_error_in_an_included_file_names_that_file(tmp_path):
         ("#define N 2\n#define N 3\n", 2, 9, "again with another value"),
         ("#if 1 +\n#endif\n", 1, 5, "constant expression"),
         ("Lsystem: 1\nring L-system: on\n", 2, 1, "ring l-system"),
-        ("Lsystem: 1\nAxiom: A\nStart: { x = 1; }\n", 3, 1, "start:"),
+        ("Lsystem: 1\nAxiom: A\nStartEach: { x = 1; }\n", 3, 1, "StartEach: block is not"),
+        ("Lsystem: 1\nEndEach: {\n x = 1; }\n", 2, 1, "EndEach: block is not"),
     ],
 )
 def test_bad_directives_and_unsupported_constructs(text, line, column, words):
@@ -243,3 +244,74 @@ def test_view_file_angle_factor_pixel_widths_and_named_view(tmp_path):
     with pytest.raises(LSystemSyntaxError) as e:
         load(tmp_path / "koch.l")
     assert (e.value.filename, e.value.line, e.value.column) == (str(tmp_path / "koch.v"), 1, 17)
+
+
+# ------------------------------------------------------------------------------ statements
+STATEMENTS = """#define K 2
+Lsystem: 1
+Define: { array a[4]; }
+Start: {
+  n = 0;
+  for (i = 0; i < 4; i++) {   /* a[i] = i^2 */
+    a[i] = i^2;
+    n += a[i];                 // 0 + 1 + 4 + 9 = 14
+  }
+  if (n > 10) big = 1; else big = 0;
+  j = K; j *= 3; j -= 1; j /= 5; j++; ++j; j--;   // ((2*3-1)/5)+1+1-1 = 2
+  k = 10; while (k > 3) k = k - 4;                // 10, 6, 2
+  do { k += 1; } while (k < 5);                   // 3, 4, 5
+  m = max(fabs(-3), min(7, 9)) + sign(-2) + trunc(2.7) + floor(-0.5);  // 7 - 1 + 2 - 1
+}
+derivation length: 2
+Axiom: A(0)
+A(x) : big && x < n --> F(x) A(x + n/7)
+End: { done = 1; }
+endlsystem
+"""
+
+
+def test_define_and_start_blocks_set_the_globals_the_productions_read():
+    p = loads(STATEMENTS, filename="plant.l")
+    c = dict(p.constants)
+    assert (c["n"], c["big"], c["i"], c["K"]) == (14.0, 1.0, 4.0, 2.0)
+    assert (c["j"], c["k"], c["m"]) == (2.0, 5.0, 7.0)
+    # Start runs before the first step: n = 14, so A(x) grows by 14/7 = 2 while x < 14
+    assert str(derive(p, 2)) == "F(0)F(2)A(4)"
+    assert "done" not in c  # End: runs after the last step; it cannot change the word
+
+
+def test_random_functions_follow_the_seed_and_srand():
+    text = (
+        "Lsystem: 1\nseed: {}\nStart: {{ {} r = ran(10); s = nran(0, 1); }}\nAxiom: A\nendlsystem\n"
+    )
+    a = dict(loads(text.format(3, "")).constants)
+    b = dict(loads(text.format(3, "")).constants)
+    c = dict(loads(text.format(4, "")).constants)
+    d = dict(loads(text.format(4, "srand(3);")).constants)
+    assert a == b and a != c and {k: d[k] for k in "rs"} == {k: a[k] for k in "rs"}
+    assert 0.0 <= a["r"] < 10.0
+
+
+def test_a_statement_block_that_never_ends_stops_at_the_budget():
+    from sylva.errors import SylvaError
+    from sylva.lsystem.dialects._cpfg_statements import STEP_BUDGET
+
+    text = "Lsystem: 1\nAxiom: A\nStart: {\n  x = 0;\n  while (1) x++;\n}\nendlsystem\n"
+    with pytest.raises(SylvaError, match=rf"plant.l:3 \(Start: block\): .*{STEP_BUDGET:,} steps"):
+        loads(text, filename="plant.l")
+
+
+def test_a_bad_statement_names_its_line_and_column_inside_a_multi_line_block():
+    text = "Lsystem: 1\nStart: {\n  x = 1;\n  y = (x + ;\n}\nAxiom: A\nendlsystem\n"
+    with pytest.raises(LSystemSyntaxError) as e:
+        loads(text, filename="plant.l")
+    err = e.value
+    assert (err.line, err.column, err.source_line) == (4, 12, "  y = (x + ;")
+
+
+def test_errors_after_a_block_and_a_define_keep_their_columns():
+    # a derivation length and a #define value that are wrong, after a multi-line block
+    text = "#define N (1 +\nLsystem: 1\nStart: {\n x = 1;\n}\nderivation length: 2 +\n"
+    with pytest.raises(LSystemSyntaxError) as e:
+        loads(text, filename="plant.l")
+    assert (e.value.line, e.value.source_line) == (6, "derivation length: 2 +")

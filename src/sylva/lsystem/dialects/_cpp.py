@@ -89,6 +89,7 @@ class Result:
     lines: list[Line]
     constants: list[tuple[str, Line]] = field(default_factory=list)
     sources: dict[tuple[str | None, int], str] = field(default_factory=dict)
+    values: dict[str, float] = field(default_factory=dict)  # of the constants
 
     def error(self, message: str, origin: Origin, cls=LSystemSyntaxError) -> SylvaError:
         file, line, column = origin
@@ -354,6 +355,7 @@ def _define(state: _State, line: Line, rest: int) -> None:
         if v is not None:
             state.constants[name] = v
             state.result.constants.append((name, expanded))
+            state.result.values[name] = v
             state.result.lines[-1] = Line(expanded.text, expanded.origin, define=name)
             return
     state.macros[name] = _Macro(name, params, body.text)

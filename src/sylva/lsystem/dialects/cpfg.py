@@ -31,9 +31,14 @@ as cpfg does), ``initial elasticity:`` and ``elasticity increment:`` (ABOP §2.3
 (``@O @v @M @R``, and ``@Ts(1, e)`` / ``@Ti`` / ``@Td`` whose first parameter is the
 tropism's index: sylva has one, 1).  A production may run over several lines: a line that
 is not a keyword, a section or a production continues the successor above it, and so does
-any line after one that ends with ``\\``.  Not supported, with an error that names the
-construct: ``ring L-system``, the statement blocks ``Start:`` ``StartEach:`` ``EndEach:``
-``End:`` ``Define:``, ``group`` and sub-L-systems.
+any line after one that ends with ``\\``.  Statement blocks (:mod:`._cpfg_statements`):
+``Define: { array a[10]; }`` and ``Start: { … }`` run when the file is read (``Start:`` runs
+before the first step, and without blocks between steps nothing changes the globals after
+it), and the globals they leave are the program's constants, which conditions and successors
+read; ``End: { … }`` is read but not run (it cannot change the word).  Not supported, with an
+error that names the construct: ``StartEach:`` and ``EndEach:`` blocks and the statement
+blocks of productions (they need the engine to run statements during a derivation),
+``ring L-system``, ``group`` and sub-L-systems.
 
 The reader turns each line into one line of sylva's ``.lsys`` language and parses that, so
 errors name the file's (or the included file's) lines and columns (a column right of a
@@ -56,7 +61,7 @@ from dataclasses import replace
 from ...errors import LSystemSyntaxError, SylvaError
 from ..ast import Program, Span
 from ..expr import evaluate_constant
-from . import _cpfg_view, _cpp, lsysvis
+from . import _cpfg_statements, _cpfg_view, _cpp, lsysvis
 
 __all__ = ["parse"]
 
@@ -66,6 +71,7 @@ _KEY = re.compile(r"\s*(lsystem|derivation\s+length|seed|axiom|ignore|consider|m
 _VIEW = {"tropism direction": "tropism", "initial elasticity": "elasticity",
          "elasticity increment": "elasticity_step"}  # fmt: skip
 #: cpfg constructs that sylva does not read, named in the error (with the reason).
+_BLOCK = re.compile(r"\s*(define|start|starteach|endeach|end)\s*:\s*(?=\{)", re.IGNORECASE)
 _UNSUPPORTED = re.compile(r"\s*(ring\s+l-?system|start\s*:|starteach\s*:|endeach\s*:"
                           r"|end\s*:|define\s*:|group\b|sub-?l-?system)",
                           re.IGNORECASE)  # fmt: skip
@@ -143,8 +149,18 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
     out: list[_cpp.Line] = []
     open_at: int | None = None  # index in out of the production that may continue
     forced = False
+    depth = block_at = 0  # of braces in an open statement block; where it began
     for line in pre.lines:
         text = line.text
+        if depth > 0:  # a statement block continues
+            out[block_at] = out[block_at] + _cpp.Line(" ", [line.origin[0]] * 2) + line
+            out.append(_cpp.Line("", line.origin[-1:]))
+            depth += text.count("{") - text.count("}")
+            continue
+        if _BLOCK.match(text):
+            block_at, depth, open_at = len(out), text.count("{") - text.count("}"), None
+            out.append(line)
+            continue
         plain = bool(text.strip()) and line.define is None
         continues = open_at is not None and plain and (
             forced or ("-->" not in text and not _KEY.match(text) and not _SECTION.match(text)
@@ -213,18 +229,39 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
     depths: dict[str, tuple[str, LSystemSyntaxError]] = {}
     recursive = _homomorphism_has_depth([ln.text for ln in lines])
     steps_col = 1
-    for number, logical in enumerate(lines, start=1):
+    src: list[_cpp.Line] = []  # the logical line of each line of ``out``
+    seed = _seed_of(lines)
+    globals_ = None
+    for logical in lines:
+
+        def emit(translated: str, _l=logical) -> None:
+            out.append(translated)
+            src.append(_l)
 
         def where(message: str, column: int = 1, _l=logical) -> LSystemSyntaxError:
             return pre.error(message, _l.at(column))
 
         line = logical.text.rstrip()
         if ended or not line.strip():
-            out.append("")
+            emit("")
             continue
         if logical.define is not None:
-            out.append(f"{logical.define} = {_power(line.strip())}")
-            parts[number] = [(0, 0), (len(logical.define) + 3, len(line) - len(line.lstrip()))]
+            emit(f"{logical.define} = {_power(line.strip())}")
+            lead = len(line) - len(line.lstrip())
+            parts[len(out)] = [(0, 0), (len(logical.define) + 3, lead)]
+            continue
+        if m := _BLOCK.match(line):
+            kind = " ".join(m.group(1).lower().split())
+            if kind in ("starteach", "endeach"):
+                raise where(f"cpfg's {m.group(1)}: block is not supported yet (the engine does "
+                            "not run statements between steps)", m.start(1) + 1)  # fmt: skip
+            if globals_ is None:
+                globals_ = _cpfg_statements.Globals(seed)
+                globals_.values.update(pre.values)  # the #define constants, read only
+            for name, value in _block(logical, m, kind, globals_, where, pre):
+                emit(f"{name} = {value!r}")
+            if len(src) == 0 or src[-1] is not logical:
+                emit("")
             continue
         if m := _UNSUPPORTED.match(line):
             construct = " ".join(m.group(1).split())
@@ -236,24 +273,24 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
             section = key
             if key == "decomposition":
                 render = False
-                out.append("decomposition:")
+                emit("decomposition:")
             elif key == "homomorphism":
                 render = not recursive  # no maximum depth: seed 001's render rules
-                out.append("production:" if render else "interpretation:")
+                emit("production:" if render else "interpretation:")
             else:
                 ended = True
-                out.append("")
+                emit("")
             continue
         if m := _KEY.match(line):
             key = " ".join(m.group(1).lower().split())
             value = m.group(2).strip()
             if key == "lsystem":
                 name = value or None
-                out.append("")
+                emit("")
             elif key == "derivation length":
-                out.append(f"steps = {value}")
+                emit(f"steps = {value}")
                 at = m.start(2) + len(m.group(2)) - len(m.group(2).lstrip())
-                parts[number] = [(0, 0), (8, at)]  # "steps = " is 8 characters
+                parts[len(out)] = [(0, 0), (8, at)]  # "steps = " is 8 characters
                 steps_col = at + 1
             elif key == "maximum depth":
                 if section not in _DEPTH_OF:
@@ -261,18 +298,18 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
                                 "section; expected it after 'decomposition' or "
                                 "'homomorphism'", 1 + len(line) - len(line.lstrip()))  # fmt: skip
                 depths[_DEPTH_OF[section]] = (value, where("", line.index(":") + 2))
-                out.append("")
+                emit("")
             elif key in _VIEW:
-                out.append(f"{_VIEW[key]} = {_power(value)}")
+                emit(f"{_VIEW[key]} = {_power(value)}")
                 if key == "tropism direction":
                     trop_at = where("the tropism direction is the zero vector; expected a "
                                     "direction such as 0,-1,0", line.index(":") + 2)  # fmt: skip
             else:
-                out.append(f"{key} = {_in_parens_power(value)}")
+                emit(f"{key} = {_in_parens_power(value)}")
             continue
         if "-->" in line:
-            rule, parts[number] = _production(line, render, where)
-            out.append(rule)
+            rule, parts[len(out) + 1] = _production(line, render, where)
+            emit(rule)
             continue
         raise where(
             "expected a production 'pred --> successor', a 'keyword: value' line, "
@@ -282,7 +319,7 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
     try:
         program = lsysvis.parse("\n".join(out), filename)
     except LSystemSyntaxError as err:  # semantic errors too: the subclass is kept
-        raise _relocate(err, lines, parts, pre) from None
+        raise _relocate(err, src, parts, pre) from None
     settings = dict(program.settings)
     settings.setdefault("turtle", "abop")
     if "tropism" in settings:  # cpfg normalises the direction (interpret.c)
@@ -306,8 +343,8 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
         fields[field] = int(v)
     at = program.steps_at
     if at is not None:
-        at = _remap(Span(at.line, steps_col, at.filename), lines)
-    rules = tuple(r if r.span is None else replace(r, span=_remap(r.span, lines))
+        at = _remap(Span(at.line, steps_col, at.filename), src)
+    rules = tuple(r if r.span is None else replace(r, span=_remap(r.span, src))
                   for r in program.rules)  # fmt: skip
     return program.replace(settings=settings, dialect="cpfg", name=name or program.name,
                            steps_at=at, rules=rules, **fields)  # fmt: skip
@@ -325,3 +362,38 @@ def _homomorphism_has_depth(lines: list[str]) -> bool:
         elif inside and (k := _KEY.match(line)) and "depth" in k.group(1).lower():
             return True
     return False
+
+
+def _seed_of(lines: list[_cpp.Line]) -> int:
+    """The ``seed:`` of the L-system (0 without one), for the statements' random numbers."""
+    for line in lines:
+        m = _KEY.match(line.text)
+        if m and m.group(1).lower() == "seed":
+            try:
+                return int(float(m.group(2)))
+            except ValueError:
+                return 0
+    return 0
+
+
+def _block(logical: _cpp.Line, m, kind: str, g, where, pre) -> list[tuple[str, float]]:
+    """Run a ``Define:`` or ``Start:`` block (``End:`` is only read: it runs after the last
+    step, where it cannot change the word); the globals it leaves, as constants."""
+    text = logical.text[m.end() :]
+    start = m.end()
+
+    def error(message: str, offset: int) -> LSystemSyntaxError:
+        return where(message, start + offset + 1)
+
+    tree = _cpfg_statements.parse_block(text, error)
+    if kind == "end":
+        return []
+    file, number, _ = logical.at(1)
+    _cpfg_statements.run(tree, g, f"{file or '<string>'}:{number} ({m.group(1)}: block)")
+    if kind == "define":
+        return []
+    clash = sorted(set(g.values) & lsysvis.SPECIAL_VARIABLES)
+    if clash:
+        raise where(f"the global variable {clash[0]!r} is also a sylva setting; expected "
+                    "another name", 1)  # fmt: skip
+    return sorted((k, v) for k, v in g.values.items() if pre.values.get(k) != v)
