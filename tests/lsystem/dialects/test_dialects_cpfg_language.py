@@ -130,6 +130,7 @@ def test_an_error_in_an_included_file_names_that_file(tmp_path):
         ("Lsystem: 1\nring L-system: on\n", 2, 1, "ring l-system"),
         ("Lsystem: 1\nAxiom: A\nStartEach: { x = 1; }\n", 3, 1, "StartEach: block is not"),
         ("Lsystem: 1\nEndEach: {\n x = 1; }\n", 2, 1, "EndEach: block is not"),
+        ("Lsystem: 1\nAxiom: A(1)\nA(x) : {y = x;} y > 0 --> B\n", 3, 8, "statement blocks"),
     ],
 )
 def test_bad_directives_and_unsupported_constructs(text, line, column, words):
@@ -315,3 +316,13 @@ def test_errors_after_a_block_and_a_define_keep_their_columns():
     with pytest.raises(LSystemSyntaxError) as e:
         loads(text, filename="plant.l")
     assert (e.value.line, e.value.source_line) == (6, "derivation length: 2 +")
+
+
+def test_a_blank_line_ends_a_production_and_a_directive_continues_with_a_backslash():
+    text = ("#define BRANCH(a) [+(a) \\\n   F]\nLsystem: 1\nderivation length: 1\n"
+            "Axiom: A#\nA --> BRANCH(20) B\n\nstray words\nendlsystem\n")
+    with pytest.raises(LSystemSyntaxError) as e:
+        loads(text, filename="p.l")
+    assert e.value.line == 8  # not read as more of the successor above the blank line
+    p = loads(text.replace("stray words\n", ""))
+    assert str(derive(p, 1)) == '[+(20)F]B"#"'  # the axiom's '#' is a module too

@@ -113,6 +113,11 @@ def _production(line: str, render: bool, where) -> tuple[str, list[tuple[int, in
     cond_at = lhs.find(":")
     if cond_at >= 0:
         cond = lhs[cond_at + 1 :].strip()
+        if "{" in cond:  # cpfg's  pred : {pre} condition {post} --> successor
+            raise where("cpfg's pre-/post-condition statement blocks of a production "
+                        "('pred : { … } condition { … } -->') are not supported yet (the "
+                        "engine does not run statements during a derivation)",
+                        line.index("{", cond_at) + 1)  # fmt: skip
         lhs = lhs[:cond_at] + (f": {_power(cond)}" if cond and cond != "*" else "")
     succ, prob = _split_probability(rhs)
     if render and prob is not None:
@@ -142,9 +147,10 @@ def _quote_hash(line: _cpp.Line) -> _cpp.Line:
 
 
 def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
-    """The preprocessed lines with multi-line productions joined: a line that is not a
-    keyword, section or production continues the production above it (cpfg reads a
-    successor over several lines), and so does any line after one that ends with ``\\``.
+    """The preprocessed lines with multi-line productions and statement blocks joined: a
+    line that is not empty, a keyword, a section or a production continues the production
+    right above it (cpfg reads a successor over several lines), and so does any line after
+    one that ends with ``\\``; a block ``Start: {`` runs to its closing brace.
     The joined production takes the first line's place; the others become empty."""
     out: list[_cpp.Line] = []
     open_at: int | None = None  # index in out of the production that may continue
@@ -180,7 +186,7 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
             if stripped.endswith("\\"):
                 forced = True
                 line = line.slice(0, len(stripped) - 1)
-        elif text.strip():
+        else:  # anything else, an empty line too, ends the production
             open_at = None
         out.append(line)
     return out
