@@ -128,8 +128,7 @@ def test_an_error_in_an_included_file_names_that_file(tmp_path):
         ("#define N 2\n#define N 3\n", 2, 9, "again with another value"),
         ("#if 1 +\n#endif\n", 1, 5, "constant expression"),
         ("Lsystem: 1\nring L-system: on\n", 2, 1, "ring l-system"),
-        ("Lsystem: 1\nAxiom: A\nStartEach: { x = 1; }\n", 3, 1, "StartEach: block is not"),
-        ("Lsystem: 1\nEndEach: {\n x = 1; }\n", 2, 1, "EndEach: block is not"),
+        ("Lsystem: 1\nAxiom: A\nStartEach: { x = ; }\n", 3, 18, "unexpected ';'"),
         ("Lsystem: 1\nAxiom: A(1)\nA(x) : {y = x;} y > 0 --> B\n", 3, 8, "statement blocks"),
     ],
 )
@@ -326,3 +325,44 @@ def test_a_blank_line_ends_a_production_and_a_directive_continues_with_a_backsla
     assert e.value.line == 8  # not read as more of the successor above the blank line
     p = loads(text.replace("stray words\n", ""))
     assert str(derive(p, 1)) == '[+(20)F]B"#"'  # the axiom's '#' is a module too
+
+
+EACH = """Lsystem: 1
+Start: { t = 1; }
+StartEach: { t = t * 2; }   /* before each step */
+EndEach: {
+  c++;                      // after each step: c counts the steps done
+}
+derivation length: 3
+Axiom: A
+A : c < 2 --> F(t) A
+A : c >= 2 --> G(t) A
+endlsystem
+"""
+
+
+def test_starteach_and_endeach_run_around_every_step():
+    from sylva.lsystem import Derivation
+
+    p = loads(EACH, filename="plant.l")
+    # step 1: t = 2, c = 0 -> F(2) A, then c = 1; step 2: t = 4, c = 1 -> F(4); then c = 2;
+    # step 3: t = 8, c = 2 -> G(8)
+    assert str(derive(p)) == "F(2)F(4)G(8)A"
+    d = Derivation(p)
+    d.advance(3)
+    assert str(d.back()) == "F(2)F(4)A"  # the globals step back with the word
+    assert str(d.advance()) == "F(2)F(4)G(8)A"
+    assert str(derive(p, 3)) == str(derive(p, 3))  # a fresh copy of the globals per run
+    assert dict(p.constants) == {"t": 1.0, "c": 0.0}  # c is first set between steps: 0
+    with pytest.raises(ValueError, match="no .lsys form"):
+        dumps(p)
+    assert loads(EACH) == p
+
+
+def test_an_endeach_loop_that_never_ends_stops_with_the_step_it_ran_after():
+    from sylva.errors import SylvaError
+
+    text = "Lsystem: 1\nEndEach: { while (1) x = 1; }\nAxiom: A\nA --> AA\nendlsystem\n"
+    p = loads(text, filename="plant.l")
+    with pytest.raises(SylvaError, match=r"plant.l:2 \(EndEach: block\), after step 1: .* steps"):
+        derive(p, 2)

@@ -267,3 +267,40 @@ def _call(name: str, args, g: Globals, where: str) -> float:
         raise SylvaError(f"{where}: {name} takes {lo}..{hi} argument(s), got {len(values)}")
     with np.errstate(all="ignore"):
         return float(f(*values))
+
+
+def assigned_names(tree: Tree) -> set[str]:
+    """The plain variables that the statements of ``tree`` assign (not arrays)."""
+    return {str(t.children[0]) for t in tree.find_data("lvalue") if len(t.children) == 1}
+
+
+class Schedule:
+    """cpfg's ``StartEach:`` and ``EndEach:`` blocks, for :attr:`Program.statements`: the
+    engine runs :meth:`before` ahead of each derivation step and :meth:`after` behind it,
+    over its own copy of the globals (:meth:`fresh`: as ``Start:`` left them)."""
+
+    def __init__(self, initial: Globals, before=None, after=None, source: str = ""):
+        self.initial = initial
+        self._before = before  # (tree, where) or None
+        self._after = after
+        self.source = source
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Schedule):
+            return NotImplemented
+        return self.source == other.source and self.initial.values == other.initial.values
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def fresh(self) -> Globals:
+        import copy
+
+        return copy.deepcopy(self.initial)
+
+    def before(self, g: Globals, step: int) -> None:
+        if self._before is not None:
+            run(self._before[0], g, f"{self._before[1]}, before step {step + 1}")
+
+    def after(self, g: Globals, step: int) -> None:
+        if self._after is not None:
+            run(self._after[0], g, f"{self._after[1]}, after step {step + 1}")

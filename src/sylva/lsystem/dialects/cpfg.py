@@ -33,12 +33,14 @@ tropism's index: sylva has one, 1).  A production may run over several lines: a 
 is not a keyword, a section or a production continues the successor above it, and so does
 any line after one that ends with ``\\``.  Statement blocks (:mod:`._cpfg_statements`):
 ``Define: { array a[10]; }`` and ``Start: { … }`` run when the file is read (``Start:`` runs
-before the first step, and without blocks between steps nothing changes the globals after
-it), and the globals they leave are the program's constants, which conditions and successors
-read; ``End: { … }`` is read but not run (it cannot change the word).  Not supported, with an
-error that names the construct: ``StartEach:`` and ``EndEach:`` blocks and the statement
-blocks of productions (they need the engine to run statements during a derivation),
-``ring L-system``, ``group`` and sub-L-systems.
+before the first step), and the globals they leave are the program's constants, which
+conditions and successors read; ``StartEach: { … }`` and ``EndEach: { … }`` run before and
+after every derivation step (:attr:`Program.statements`: the engine compiles the rules again
+over the new globals each step, on its general road; a global first set in them starts at
+0; homomorphism rules see the values ``Start:`` left); ``End: { … }`` is read but not run (it
+cannot change the word).  Not supported, with an error that names the construct: the
+statement blocks of productions (``pred : { … } condition { … } -->``), ``ring L-system``,
+``group`` and sub-L-systems.
 
 The reader turns each line into one line of sylva's ``.lsys`` language and parses that, so
 errors name the file's (or the included file's) lines and columns (a column right of a
@@ -236,6 +238,8 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
     recursive = _homomorphism_has_depth([ln.text for ln in lines])
     steps_col = 1
     src: list[_cpp.Line] = []  # the logical line of each line of ``out``
+    each: dict[str, tuple] = {}  # StartEach / EndEach: (statements, where)
+    each_text: list[str] = []
     seed = _seed_of(lines)
     globals_ = None
     for logical in lines:
@@ -259,8 +263,13 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
         if m := _BLOCK.match(line):
             kind = " ".join(m.group(1).lower().split())
             if kind in ("starteach", "endeach"):
-                raise where(f"cpfg's {m.group(1)}: block is not supported yet (the engine does "
-                            "not run statements between steps)", m.start(1) + 1)  # fmt: skip
+                tree = _cpfg_statements.parse_block(
+                    logical.text[m.end() :], lambda msg, o, _m=m: where(msg, _m.end() + o + 1))
+                file, at_line, _ = logical.at(1)
+                each[kind] = (tree, f"{file or '<string>'}:{at_line} ({m.group(1)}: block)")
+                each_text.append(logical.text)
+                emit("")
+                continue
             if globals_ is None:
                 globals_ = _cpfg_statements.Globals(seed)
                 globals_.values.update(pre.values)  # the #define constants, read only
@@ -322,6 +331,23 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
             "#define, homomorphism or endlsystem",
             len(line) - len(line.lstrip()) + 1,
         )
+    statements = None
+    if each:
+        globals_ = globals_ or _cpfg_statements.Globals(seed)
+        if globals_ is not None and not globals_.values:
+            globals_.values.update(pre.values)
+        known = set(globals_.values)
+        fresh = sorted(set().union(*(_cpfg_statements.assigned_names(t) for t, _ in
+                                     each.values())) - known)  # fmt: skip
+        for k in fresh:  # a global first set between steps starts at 0
+            globals_.values[k] = 0.0
+        declare = [f"{k} = 0.0" for k in fresh]
+        out[:0] = declare  # before every use (their lines: the first line's)
+        src[:0] = [lines[0]] * len(declare)
+        parts = {k + len(declare): v for k, v in parts.items()}
+        statements = _cpfg_statements.Schedule(globals_, each.get("starteach"),
+                                               each.get("endeach"),
+                                               "\n".join(each_text))  # fmt: skip
     try:
         program = lsysvis.parse("\n".join(out), filename)
     except LSystemSyntaxError as err:  # semantic errors too: the subclass is kept
@@ -353,7 +379,8 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
     rules = tuple(r if r.span is None else replace(r, span=_remap(r.span, src))
                   for r in program.rules)  # fmt: skip
     return program.replace(settings=settings, dialect="cpfg", name=name or program.name,
-                           steps_at=at, rules=rules, **fields)  # fmt: skip
+                           steps_at=at, rules=rules, statements=statements,
+                           **fields)  # fmt: skip
 
 
 _DEPTH_OF = {"decomposition": "decomposition_depth", "homomorphism": "interpretation_depth"}
