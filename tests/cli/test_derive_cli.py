@@ -78,3 +78,12 @@ def test_derive_reads_a_named_cpfg_view_file_and_warns_on_stderr(capsys, tmp_pat
     with pytest.warns(SylvaWarning, match="other.v:2: view setting 'z buffer'"):
         code, out, _ = run(capsys, "derive", str(f), "--view", str(v))
     assert code == 0 and out == 'F(2)"#"A\n'
+
+
+def test_a_view_file_for_a_file_that_is_not_cpfg_is_an_error(capsys, tmp_path):
+    f = tmp_path / "a.lsys"
+    f.write_text("axiom = a\na -> ab\n")
+    v = tmp_path / "a.v"
+    v.write_text("angle increment: 30\n")
+    code, _, err = run(capsys, "derive", str(f), "--view", str(v))
+    assert code == 2 and "view= (a cpfg view file) is for cpfg files" in err

@@ -32,7 +32,7 @@ def load_program(source: str, dialect: str | None = None, view: str | None = Non
             f"{source}: no such file, and no built-in example of that name "
             "(`sylva examples` lists them)"
         ) from None
-    return load(ex.path, dialect=dialect)
+    return load(ex.path, dialect=dialect, view=view)
 
 
 def add_common(p: argparse.ArgumentParser) -> None:
