@@ -366,3 +366,8 @@ def test_an_endeach_loop_that_never_ends_stops_with_the_step_it_ran_after():
     p = loads(text, filename="plant.l")
     with pytest.raises(SylvaError, match=r"plant.l:2 \(EndEach: block\), after step 1: .* steps"):
         derive(p, 2)
+
+
+def test_a_start_block_after_the_productions_still_runs_before_the_first_step():
+    text = "Lsystem: 1\nAxiom: A\nA : go --> B\nStart: { go = 1; }\nendlsystem\n"
+    assert str(derive(loads(text), 1)) == "B"

@@ -240,6 +240,7 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
     src: list[_cpp.Line] = []  # the logical line of each line of ``out``
     each: dict[str, tuple] = {}  # StartEach / EndEach: (statements, where)
     each_text: list[str] = []
+    top: list[tuple[str, _cpp.Line]] = []  # assignments that go before everything
     seed = _seed_of(lines)
     globals_ = None
     for logical in lines:
@@ -274,9 +275,8 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
                 globals_ = _cpfg_statements.Globals(seed)
                 globals_.values.update(pre.values)  # the #define constants, read only
             for name, value in _block(logical, m, kind, globals_, where, pre):
-                emit(f"{name} = {value!r}")
-            if len(src) == 0 or src[-1] is not logical:
-                emit("")
+                top.append((f"{name} = {value!r}", logical))  # Start: runs before all
+            emit("")
             continue
         if m := _UNSUPPORTED.match(line):
             construct = " ".join(m.group(1).split())
@@ -341,13 +341,14 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
                                      each.values())) - known)  # fmt: skip
         for k in fresh:  # a global first set between steps starts at 0
             globals_.values[k] = 0.0
-        declare = [f"{k} = 0.0" for k in fresh]
-        out[:0] = declare  # before every use (their lines: the first line's)
-        src[:0] = [lines[0]] * len(declare)
-        parts = {k + len(declare): v for k, v in parts.items()}
+        top.extend((f"{k} = 0.0", lines[0]) for k in fresh)
         statements = _cpfg_statements.Schedule(globals_, each.get("starteach"),
                                                each.get("endeach"),
                                                "\n".join(each_text))  # fmt: skip
+    if top:  # before every use
+        out[:0] = [t for t, _ in top]
+        src[:0] = [ln for _, ln in top]
+        parts = {k + len(top): v for k, v in parts.items()}
     try:
         program = lsysvis.parse("\n".join(out), filename)
     except LSystemSyntaxError as err:  # semantic errors too: the subclass is kept
