@@ -13,6 +13,7 @@ __all__ = [
     "LSystemSyntaxError",
     "StepsError",
     "SylvaError",
+    "SylvaWarning",
 ]
 
 
@@ -140,3 +141,7 @@ class StepsError(GrowthLimitError):
         if line is not None:
             message = _located(message, filename, line, column, source_line)
         super().__init__(message, word=None, step=0)
+
+
+class SylvaWarning(UserWarning):
+    """Input that sylva reads but cannot honour in full (a setting it does not draw)."""

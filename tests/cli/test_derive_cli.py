@@ -63,3 +63,24 @@ def test_python_dash_m_sylva_runs():
         capture_output=True, text=True, timeout=120,
     )
     assert out.returncode == 0 and out.stdout.strip() == "F-F++F-F++F-F++F-F++F-F++F-F"
+
+
+def test_derive_reads_a_named_cpfg_view_file_and_warns_on_stderr(capsys, tmp_path):
+    f = tmp_path / "p.l"
+    f.write_text("#define N 2\nLsystem: 1\nderivation length: 1\nAxiom: A\n"
+                 "A --> F(N)#A\nendlsystem\n")  # fmt: skip
+    v = tmp_path / "other.v"
+    v.write_text("angle increment: 30\nz buffer: on\n")
+    code, out, err = run(capsys, "derive", str(f), "--view", str(v))
+    assert code == 0 and out == 'F(2)"#"A\n'
+    assert err == f"sylva: warning: {v}:2: view setting 'z buffer' is not honoured (the " \
+        "renderer always hides what is behind)\n"
+
+
+def test_a_view_file_for_a_file_that_is_not_cpfg_is_an_error(capsys, tmp_path):
+    f = tmp_path / "a.lsys"
+    f.write_text("axiom = a\na -> ab\n")
+    v = tmp_path / "a.v"
+    v.write_text("angle increment: 30\n")
+    code, _, err = run(capsys, "derive", str(f), "--view", str(v))
+    assert code == 2 and "view= (a cpfg view file) is for cpfg files" in err

@@ -17,9 +17,10 @@ import importlib
 import os
 import pkgutil
 import sys
+import warnings
 
 from .._atomic import describe_os_error, is_write_error
-from ..errors import SylvaError
+from ..errors import SylvaError, SylvaWarning
 
 __all__ = ["build_parser", "main"]
 
@@ -63,7 +64,19 @@ def _check_output_folder(args: argparse.Namespace) -> None:
     raise exc
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    """Input warnings (a view-file line sylva cannot honour) as one line on stderr."""
+    print(f"sylva: warning: {message}", file=sys.stderr)
+
+
 def main(argv: list[str] | None = None) -> int:
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", SylvaWarning)  # each input line once, on stderr
+        warnings.showwarning = _show_warning
+        return _main(argv)
+
+
+def _main(argv: list[str] | None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

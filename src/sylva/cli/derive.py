@@ -15,13 +15,14 @@ from ._common import steps_type
 __all__ = ["derive_keeping", "load_program", "register"]
 
 
-def load_program(source: str, dialect: str | None = None) -> Program:
-    """A program from a path, or the name of a built-in example."""
+def load_program(source: str, dialect: str | None = None, view: str | None = None) -> Program:
+    """A program from a path, or the name of a built-in example (``view``: a cpfg view file
+    other than the ``.v`` beside the file)."""
     from ..lsystem import load
 
     p = Path(source)
     if p.exists():
-        return load(p, dialect=dialect)
+        return load(p, dialect=dialect, view=view)
     from ..data import find
 
     try:
@@ -31,7 +32,7 @@ def load_program(source: str, dialect: str | None = None) -> Program:
             f"{source}: no such file, and no built-in example of that name "
             "(`sylva examples` lists them)"
         ) from None
-    return load(ex.path, dialect=dialect)
+    return load(ex.path, dialect=dialect, view=view)
 
 
 def add_common(p: argparse.ArgumentParser) -> None:
@@ -42,6 +43,8 @@ def add_common(p: argparse.ArgumentParser) -> None:
                    help="seed of the random choices (-r as in seed 000)")
     p.add_argument("--dialect", choices=["lsys", "classic", "engine", "cpfg"], default=None,
                    help="force the language of FILE (default: detected)")
+    p.add_argument("--view", metavar="V", default=None,
+                   help="cpfg: the view file (.v) to read (default: the one beside FILE)")
     p.add_argument("--limit", type=int, default=DEFAULT_MODULE_LIMIT,
                    help=f"stop before a word passes this many modules "
                         f"(default {DEFAULT_MODULE_LIMIT:,})")
@@ -132,7 +135,7 @@ def derive_keeping(program: Program, steps: int | None, *, seed: int | None, lim
 
 
 def run(args) -> int:
-    program = load_program(args.file, args.dialect)
+    program = load_program(args.file, args.dialect, args.view)
     try:
         steps = check_steps(program, args.steps, limit=args.limit, option="-n")
     except StepsError as exc:

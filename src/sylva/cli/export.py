@@ -52,6 +52,8 @@ def register(subparsers) -> None:
     p.add_argument("--up", choices=("y", "z"), default=None,
                    help="up axis of the file (default: the format's convention: Z for STL, "
                         "PLY and OpenSCAD, Y for glTF, OBJ, USD and POV-Ray)")  # fmt: skip
+    p.add_argument("--view", metavar="V", default=None,
+                   help="cpfg: the view file (.v) to read (default: the one beside FILE)")
     p.set_defaults(func=run)
 
 
@@ -68,7 +70,7 @@ def run(args: argparse.Namespace) -> int:
     from ..lsystem import DEFAULT_MODULE_LIMIT
     from .derive import derive_keeping
 
-    program = load_program(args.file)
+    program = load_program(args.file, view=args.view)
     limit = DEFAULT_MODULE_LIMIT if args.limit is None else args.limit
     word = derive_keeping(program, args.steps, seed=args.seed, limit=limit,
                           keep_last=args.keep_last)  # fmt: skip

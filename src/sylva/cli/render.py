@@ -20,6 +20,8 @@ def register(sub) -> None:
     add_growth(p)
     add_camera(p)
     p.add_argument("-o", "--output", required=True, metavar="OUT", help="OUT.png or OUT.jpg")
+    p.add_argument("--view", metavar="V", default=None,
+                   help="cpfg: the view file (.v) to read (default: the one beside FILE)")
     p.add_argument("--line-width", type=float, default=2.0,
                    help="in 2D, draw branches at least this many pixels wide (default 2)")
     p.set_defaults(func=run)
@@ -31,7 +33,12 @@ def run(args) -> int:
 
     check_suffix(args.output, (".png", ".jpg", ".jpeg"), "the image file")
     t0 = time.perf_counter()
-    plant = grow(args.file, args.steps, seed=args.seed, detail=args.detail, mode=args.mode)
+    source = args.file
+    if args.view is not None:
+        from .derive import load_program
+
+        source = load_program(args.file, view=args.view)
+    plant = grow(source, args.steps, seed=args.seed, detail=args.detail, mode=args.mode)
     t1 = time.perf_counter()
     w, h = args.size
     mode = camera_for(args, plant)

@@ -198,6 +198,11 @@ class Program:
         ``None`` uses group 0 only.
     steps_at : Span or None
         Where the source set :attr:`steps` (the start of its value), for errors about it.
+    statements : object or None
+        Statements that run between derivation steps and change the global constants
+        (cpfg's ``StartEach:`` / ``EndEach:`` blocks): an object with ``fresh()`` (the
+        globals at the start, with ``numbers()``), ``before(globals, step)`` and
+        ``after(globals, step)``.  Programs with them take the engine's general road.
     """
 
     axiom: tuple[Module, ...]
@@ -215,6 +220,7 @@ class Program:
     interpretation_depth: int = 1
     group: Expr | None = None
     steps_at: Span | None = field(default=None, compare=False)
+    statements: object | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "axiom", tuple(self.axiom))
@@ -240,6 +246,7 @@ class Program:
             and self.decomposition_depth == other.decomposition_depth
             and self.interpretation_depth == other.interpretation_depth
             and self.group == other.group
+            and self.statements == other.statements
         )
 
     __hash__ = None  # type: ignore[assignment]

@@ -30,8 +30,9 @@ Examples
 from __future__ import annotations
 
 import contextlib
+import copy
 import os
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -373,6 +374,18 @@ class _Compiled:
         if self.ignored.shape[0] < len(word.alphabet):
             self.ignored = ignored_table(len(word.alphabet), self._ign, self._cons)
         return self.ignored
+
+
+def _with_constants(comp: _Compiled, constants: Mapping[str, float]) -> _Compiled:
+    """``comp`` with its rules compiled again over other values of the globals (the same
+    alphabet, so the word needs no re-coding)."""
+    new = copy.copy(comp)
+    new._constants = {**comp._constants, **constants}
+    new._groups = {}
+    new.productions = new.group_rules(0)
+    program = comp.program
+    new.decomposition = _RuleSet(program.decompositions, comp.alphabet, new._constants)
+    return new
 
 
 def _compiled(program: Program) -> _Compiled:
@@ -839,6 +852,7 @@ class Derivation:
         self.lineage = bool(lineage)
         self._compiled = _compiled(program)
         self._history: list = []
+        self._globals = None  # of program.statements, between steps
         self.reset()
 
     def _axiom(self) -> ModuleString:
@@ -893,6 +907,8 @@ class Derivation:
     def reset(self) -> ModuleString:
         """Back to the axiom."""
         self._keys = None
+        if self.program.statements is not None:
+            self._globals = self.program.statements.fresh()
         self.word = self._axiom()
         self.step = 0
         self._history.clear()
@@ -912,6 +928,7 @@ class Derivation:
         return bool(
             not self.trace
             and not self.lineage
+            and self.program.statements is None
             and comp.group_fn is None
             and not comp.decomposition.rules
             and rs.rules
@@ -949,10 +966,16 @@ class Derivation:
 
     def _advance_one(self) -> None:
         comp = self._compiled
+        stm = self.program.statements
+        if stm is not None:  # statements between steps change the globals: recompile
+            before = copy.deepcopy(self._globals)
+            stm.before(self._globals, self.step)
+            comp = _with_constants(comp, self._globals.numbers())
         key = step_key(self.seed, self.step)
         rs = comp.rules_for(self.step)
         decompose = comp.decomposition.rules
-        saved = (self.word, self._origin_rule, self._origin_step, self._keys)
+        saved = (self.word, self._origin_rule, self._origin_step, self._keys,
+                 before if stm is not None else None)  # fmt: skip
         if self.trace or self.lineage:
             new, src, rule, keys = _traced_step(self.word, rs, comp, key, self.limit,
                                                 self.step, self._keys)  # fmt: skip
@@ -978,6 +1001,8 @@ class Derivation:
                 new, _ = _passes(new, comp.decomposition, comp, self.seed, self.step + 1,
                                  self.program.decomposition_depth, "decomposition",
                                  self.limit)  # fmt: skip
+        if stm is not None:
+            stm.after(self._globals, self.step)
         self._history.append(saved)
         if len(self._history) > 8:
             self._history.pop(0)
@@ -989,7 +1014,9 @@ class Derivation:
         if self.step == 0:
             return self.word
         if self._history:
-            self.word, self._origin_rule, self._origin_step, self._keys = self._history.pop()
+            self.word, self._origin_rule, self._origin_step, self._keys, g = self._history.pop()
+            if g is not None:
+                self._globals = g
             self.step -= 1
             return self.word
         target = self.step - 1

@@ -14,6 +14,8 @@ MODULES = [
     "sylva.lsystem.dialects.engine",
     "sylva.lsystem.dialects._writer",
     "sylva.lsystem.dialects._diagnostics",
+    "sylva.lsystem.dialects.cpfg",
+    "sylva.lsystem.dialects._cpfg_view",
 ]
 
 

@@ -38,7 +38,7 @@ from collections.abc import Callable
 from pathlib import Path
 from types import SimpleNamespace
 
-from ...errors import LSystemSemanticError, LSystemSyntaxError
+from ...errors import LSystemSemanticError, LSystemSyntaxError, SylvaError
 from ..ast import Program
 from . import classic, cpfg, engine, lsysvis
 from ._writer import format_expr, format_program, format_rule, format_word
@@ -228,6 +228,7 @@ def load(
     filename: str | None = None,
     dialect: str | None = None,
     index: int | None = None,
+    view=None,
 ) -> Program:
     """Read one L-system from a file or a text.
 
@@ -243,6 +244,9 @@ def load(
     index : int, optional
         Which system to return when the file holds several (engine format).  Without it a
         file with several systems is an error.
+    view : path-like or False, optional
+        cpfg only: its view file (``.v``).  By default the one beside the file, same stem,
+        if there is one; ``False`` reads none.
 
     Returns
     -------
@@ -262,7 +266,13 @@ def load(
     (Module(symbol='F', args=()), Module(symbol='F', args=()))
     """
     text, name = _read(source, filename)
-    return _pick(_dialect(dialect, text, name).parse_all(text, name), index, name, "file")
+    ns = _dialect(dialect, text, name)
+    if ns.name == "cpfg":
+        return _pick([cpfg.parse(text, name, view=view)], index, name, "file")
+    if view is not None:
+        raise SylvaError(f"view= (a cpfg view file) is for cpfg files; {name or 'this'} "
+                         f"is {ns.name}")
+    return _pick(ns.parse_all(text, name), index, name, "file")
 
 
 def loads(
@@ -271,6 +281,7 @@ def loads(
     filename: str | None = None,
     dialect: str | None = None,
     index: int | None = None,
+    view=None,
 ) -> Program:
     """Read one L-system from a text (never a path); see :func:`load`.
 
@@ -281,8 +292,12 @@ def loads(
     """
     if not isinstance(text, str):
         raise TypeError(f"expected a str, got {type(text).__name__}")
-    programs = _dialect(dialect, text, filename).parse_all(text, filename)
-    return _pick(programs, index, filename, "text")
+    ns = _dialect(dialect, text, filename)
+    if ns.name == "cpfg":
+        return _pick([cpfg.parse(text, filename, view=view)], index, filename, "text")
+    if view is not None:
+        raise SylvaError(f"view= (a cpfg view file) is for cpfg texts; this is {ns.name}")
+    return _pick(ns.parse_all(text, filename), index, filename, "text")
 
 
 def dumps(program: Program) -> str:

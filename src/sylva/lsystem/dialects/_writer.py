@@ -206,6 +206,9 @@ def format_program(program: Program) -> str:
     F -> F[+F][-F]F
     """
     lines: list[str] = []
+    if program.statements is not None:
+        raise ValueError("statements between steps (cpfg's StartEach:/EndEach:) have no "
+                         ".lsys form")  # fmt: skip
     settings = dict(program.settings)
     unknown = set(settings) - set(NUMERIC_SETTINGS) - set(COLOUR_SETTINGS) - {"turtle"}
     if unknown:

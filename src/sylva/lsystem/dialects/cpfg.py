@@ -13,7 +13,9 @@
     X(x) --> ;F(x)
     endlsystem
 
-Read: ``/* … */`` and ``//`` comments; ``#define NAME value`` (a constant); ``Lsystem:``
+Read: the C preprocessor's directives and comments that cpfg files use (:mod:`._cpp`:
+``#define`` with parameters, ``#include``, ``#ifdef`` / ``#if`` …; a ``#`` that is not the
+first character of a line is the module ``#``, cpfg's width increment); ``Lsystem:``
 (the name); ``derivation length:``; ``seed:``; ``Axiom:``; ``ignore:`` and ``consider:``;
 productions ``[lc <] pred [> rc] [: condition] --> successor [: probability]`` (a condition
 ``*`` means none, a successor ``*`` is the empty word; probabilities are weights);
@@ -27,12 +29,22 @@ as cpfg does), ``initial elasticity:`` and ``elasticity increment:`` (ABOP §2.3
 ``endlsystem`` (the rest of the file is ignored).  Inside expressions ``^`` is cpfg's power
 (sylva's ``**``).  The turtle is ABOP's (``turtle = abop``), with cpfg's ``@`` functions
 (``@O @v @M @R``, and ``@Ts(1, e)`` / ``@Ti`` / ``@Td`` whose first parameter is the
-tropism's index: sylva has one, 1).  Not supported, with an error that says so:
-``#include``.
+tropism's index: sylva has one, 1).  A production may run over several lines: a line that
+is not a keyword, a section or a production continues the successor above it, and so does
+any line after one that ends with ``\\``.  Statement blocks (:mod:`._cpfg_statements`):
+``Define: { array a[10]; }`` and ``Start: { … }`` run when the file is read (``Start:`` runs
+before the first step), and the globals they leave are the program's constants, which
+conditions and successors read; ``StartEach: { … }`` and ``EndEach: { … }`` run before and
+after every derivation step (:attr:`Program.statements`: the engine compiles the rules again
+over the new globals each step, on its general road; a global first set in them starts at
+0; homomorphism rules see the values ``Start:`` left); ``End: { … }`` is read but not run (it
+cannot change the word).  Not supported, with an error that names the construct: the
+statement blocks of productions (``pred : { … } condition { … } -->``), ``ring L-system``,
+``group`` and sub-L-systems.
 
 The reader turns each line into one line of sylva's ``.lsys`` language and parses that, so
-errors name the file's lines and columns (a column right of a ``^`` that became ``**`` may
-be off by one per power).
+errors name the file's (or the included file's) lines and columns (a column right of a
+``^`` that became ``**`` may be off by one per power).
 
 Examples
 --------
@@ -46,11 +58,12 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import replace
 
 from ...errors import LSystemSyntaxError, SylvaError
 from ..ast import Program, Span
 from ..expr import evaluate_constant
-from . import lsysvis
+from . import _cpfg_statements, _cpfg_view, _cpp, lsysvis
 
 __all__ = ["parse"]
 
@@ -59,29 +72,14 @@ _KEY = re.compile(r"\s*(lsystem|derivation\s+length|seed|axiom|ignore|consider|m
                   r"\s*:(.*)\Z", re.IGNORECASE)  # fmt: skip
 _VIEW = {"tropism direction": "tropism", "initial elasticity": "elasticity",
          "elasticity increment": "elasticity_step"}  # fmt: skip
-_DEFINE = re.compile(r"\s*#\s*define\s+([A-Za-z_]\w*)\s+(.+?)\s*\Z")
+#: cpfg constructs that sylva does not read, named in the error (with the reason).
+_BLOCK = re.compile(r"\s*(define|start|starteach|endeach|end)\s*:\s*(?=\{)", re.IGNORECASE)
+_UNSUPPORTED = re.compile(r"\s*(ring\s+l-?system|start\s*:|starteach\s*:|endeach\s*:"
+                          r"|end\s*:|define\s*:|group\b|sub-?l-?system)",
+                          re.IGNORECASE)  # fmt: skip
+_UNSUPPORTED_WHY = {"ring l-system": "ring L-systems, whose first and last modules are "
+                    "neighbours, are not implemented"}  # fmt: skip
 _SECTION = re.compile(r"\s*(homomorphism|decomposition|endlsystem)\b(.*)\Z", re.IGNORECASE)
-
-
-def _strip_comments(text: str) -> str:
-    """``/* … */`` and ``//`` comments blanked out, line breaks kept (so are columns)."""
-    out = []
-    i, n = 0, len(text)
-    while i < n:
-        if text.startswith("/*", i):
-            j = text.find("*/", i + 2)
-            j = n if j < 0 else j + 2
-            out.append(re.sub(r"[^\n]", " ", text[i:j]))
-            i = j
-        elif text.startswith("//", i):
-            j = text.find("\n", i)
-            j = n if j < 0 else j
-            out.append(" " * (j - i))
-            i = j
-        else:
-            out.append(text[i])
-            i += 1
-    return "".join(out)
 
 
 def _power(expr: str) -> str:
@@ -117,6 +115,11 @@ def _production(line: str, render: bool, where) -> tuple[str, list[tuple[int, in
     cond_at = lhs.find(":")
     if cond_at >= 0:
         cond = lhs[cond_at + 1 :].strip()
+        if "{" in cond:  # cpfg's  pred : {pre} condition {post} --> successor
+            raise where("cpfg's pre-/post-condition statement blocks of a production "
+                        "('pred : { … } condition { … } -->') are not supported yet (the "
+                        "engine does not run statements during a derivation)",
+                        line.index("{", cond_at) + 1)  # fmt: skip
         lhs = lhs[:cond_at] + (f": {_power(cond)}" if cond and cond != "*" else "")
     succ, prob = _split_probability(rhs)
     if render and prob is not None:
@@ -132,7 +135,67 @@ def _production(line: str, render: bool, where) -> tuple[str, list[tuple[int, in
     return f"{head} {arrow} {_in_parens_power(succ.strip())}", sorted(parts)
 
 
-def _relocate(err: LSystemSyntaxError, lines: list[str], parts: dict) -> LSystemSyntaxError:
+def _quote_hash(line: _cpp.Line) -> _cpp.Line:
+    """cpfg's ``#`` module (width increment) outside parentheses as ``.lsys``'s ``"#"``."""
+    if "#" not in line.text:
+        return line
+    text, origin, depth = [], [], 0
+    for ch, at in zip(line.text, line.origin, strict=False):
+        depth += (ch == "(") - (ch == ")")
+        piece = '"#"' if ch == "#" and depth <= 0 else ch
+        text.append(piece)
+        origin.extend([at] * len(piece))
+    return _cpp.Line("".join(text), origin + line.origin[-1:], line.define)
+
+
+def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
+    """The preprocessed lines with multi-line productions and statement blocks joined: a
+    line that is not empty, a keyword, a section or a production continues the production
+    right above it (cpfg reads a successor over several lines), and so does any line after
+    one that ends with ``\\``; a block ``Start: {`` runs to its closing brace.
+    The joined production takes the first line's place; the others become empty."""
+    out: list[_cpp.Line] = []
+    open_at: int | None = None  # index in out of the production that may continue
+    forced = False
+    depth = block_at = 0  # of braces in an open statement block; where it began
+    for line in pre.lines:
+        text = line.text
+        if depth > 0:  # a statement block continues
+            out[block_at] = out[block_at] + _cpp.Line(" ", [line.origin[0]] * 2) + line
+            out.append(_cpp.Line("", line.origin[-1:]))
+            depth += text.count("{") - text.count("}")
+            continue
+        if _BLOCK.match(text):
+            block_at, depth, open_at = len(out), text.count("{") - text.count("}"), None
+            out.append(line)
+            continue
+        plain = bool(text.strip()) and line.define is None
+        continues = open_at is not None and plain and (
+            forced or ("-->" not in text and not _KEY.match(text) and not _SECTION.match(text)
+                       and not _UNSUPPORTED.match(text)))  # fmt: skip
+        if continues:
+            body = line.slice(0, len(text.rstrip()))
+            forced = body.text.endswith("\\")
+            if forced:
+                body = body.slice(0, len(body.text) - 1)
+            out[open_at] = out[open_at] + _cpp.Line(" ", [body.origin[0]] * 2) + body
+            out.append(_cpp.Line("", line.origin[-1:]))
+            continue
+        forced = False
+        if plain and "-->" in text:
+            open_at = len(out)
+            stripped = text.rstrip()
+            if stripped.endswith("\\"):
+                forced = True
+                line = line.slice(0, len(stripped) - 1)
+        else:  # anything else, an empty line too, ends the production
+            open_at = None
+        out.append(line)
+    return out
+
+
+def _relocate(err: LSystemSyntaxError, lines: list[_cpp.Line], parts: dict,
+              pre: _cpp.Result) -> LSystemSyntaxError:  # fmt: skip
     """``err``, raised on a translated line, pointed at the cpfg line it came from."""
     if err.line is None or not 1 <= err.line <= len(lines):
         return err
@@ -140,14 +203,30 @@ def _relocate(err: LSystemSyntaxError, lines: list[str], parts: dict) -> LSystem
     if column is not None and err.line in parts:
         here, there = max((p for p in parts[err.line] if p[0] <= column - 1), default=(0, 0))
         column = column - here + there
-    return type(err)(err.message, filename=err.filename, line=err.line, column=column,
-                     source_line=lines[err.line - 1].rstrip())  # fmt: skip
+    file, number, col = lines[err.line - 1].at(column or 1)
+    return type(err)(err.message, filename=file, line=number,
+                     column=col if column is not None else None,
+                     source_line=pre.sources.get((file, number)))  # fmt: skip
 
 
-def parse(text: str, filename: str | None = None) -> Program:
-    """Read a cpfg L-system (see the module notes); errors name the file, line and column."""
-    original = text.removeprefix("\ufeff").split("\n")
-    lines = _strip_comments(text.removeprefix("\ufeff")).split("\n")
+def _remap(span: Span | None, lines: list[_cpp.Line]) -> Span | None:
+    """A span of the translation as the place in the user's files."""
+    if span is None or not 1 <= span.line <= len(lines):
+        return span
+    file, number, col = lines[span.line - 1].at(span.column)
+    return Span(number, col, file)
+
+
+def parse(text: str, filename: str | None = None, *, view=None) -> Program:
+    """Read a cpfg L-system (see the module notes); errors name the file, line and column.
+
+    ``view`` is the view file (:mod:`._cpfg_view`): a path, ``None`` for the ``.v`` beside
+    ``filename`` (same stem) if there is one, or ``False`` for none.  Its settings apply
+    where the L-system does not set its own; lines sylva cannot honour are warned about
+    (:class:`~sylva.errors.SylvaWarning`).
+    """
+    pre = _cpp.preprocess(text, filename)
+    lines = [_quote_hash(line) for line in _logical_lines(pre)]
     out: list[str] = []
     parts: dict[int, list[tuple[int, int]]] = {}
     name: str | None = None
@@ -156,48 +235,77 @@ def parse(text: str, filename: str | None = None) -> Program:
     trop_at = None
     section = "production"
     depths: dict[str, tuple[str, LSystemSyntaxError]] = {}
-    recursive = _homomorphism_has_depth(lines)
+    recursive = _homomorphism_has_depth([ln.text for ln in lines])
     steps_col = 1
-    for number, raw in enumerate(lines, start=1):
+    src: list[_cpp.Line] = []  # the logical line of each line of ``out``
+    each: dict[str, tuple] = {}  # StartEach / EndEach: (statements, where)
+    each_text: list[str] = []
+    top: list[tuple[str, _cpp.Line]] = []  # assignments that go before everything
+    seed = _seed_of(lines)
+    globals_ = None
+    for logical in lines:
 
-        def where(message: str, column: int = 1, _n=number, _raw=raw) -> LSystemSyntaxError:
-            return LSystemSyntaxError(message, filename=filename, line=_n, column=column,
-                                      source_line=_raw)  # fmt: skip
+        def emit(translated: str, _l=logical) -> None:
+            out.append(translated)
+            src.append(_l)
 
-        line = raw.rstrip()
+        def where(message: str, column: int = 1, _l=logical) -> LSystemSyntaxError:
+            return pre.error(message, _l.at(column))
+
+        line = logical.text.rstrip()
         if ended or not line.strip():
-            out.append("")
+            emit("")
             continue
-        if m := _DEFINE.match(line):
-            out.append(f"{m.group(1)} = {_power(m.group(2))}")
+        if logical.define is not None:
+            emit(f"{logical.define} = {_power(line.strip())}")
+            lead = len(line) - len(line.lstrip())
+            parts[len(out)] = [(0, 0), (len(logical.define) + 3, lead)]
             continue
-        if line.lstrip().startswith("#"):
-            word = line.split()[0]
-            raise where(f"{word} is not supported; expected #define NAME value",
-                        line.index("#") + 1)  # fmt: skip
+        if m := _BLOCK.match(line):
+            kind = " ".join(m.group(1).lower().split())
+            if kind in ("starteach", "endeach"):
+                tree = _cpfg_statements.parse_block(
+                    logical.text[m.end() :], lambda msg, o, _m=m: where(msg, _m.end() + o + 1))
+                file, at_line, _ = logical.at(1)
+                each[kind] = (tree, f"{file or '<string>'}:{at_line} ({m.group(1)}: block)")
+                each_text.append(logical.text)
+                emit("")
+                continue
+            if globals_ is None:
+                globals_ = _cpfg_statements.Globals(seed)
+                globals_.values.update(pre.values)  # the #define constants, read only
+            for name, value in _block(logical, m, kind, globals_, where, pre):
+                top.append((f"{name} = {value!r}", logical))  # Start: runs before all
+            emit("")
+            continue
+        if m := _UNSUPPORTED.match(line):
+            construct = " ".join(m.group(1).split())
+            raise where(f"cpfg's {construct!r} is not supported by sylva's cpfg reader "
+                        f"({_UNSUPPORTED_WHY.get(construct.lower(), 'not implemented yet')})",
+                        m.start(1) + 1)  # fmt: skip
         if m := _SECTION.match(line):
             key = m.group(1).lower()
             section = key
             if key == "decomposition":
                 render = False
-                out.append("decomposition:")
+                emit("decomposition:")
             elif key == "homomorphism":
                 render = not recursive  # no maximum depth: seed 001's render rules
-                out.append("production:" if render else "interpretation:")
+                emit("production:" if render else "interpretation:")
             else:
                 ended = True
-                out.append("")
+                emit("")
             continue
         if m := _KEY.match(line):
             key = " ".join(m.group(1).lower().split())
             value = m.group(2).strip()
             if key == "lsystem":
                 name = value or None
-                out.append("")
+                emit("")
             elif key == "derivation length":
-                out.append(f"steps = {value}")
+                emit(f"steps = {value}")
                 at = m.start(2) + len(m.group(2)) - len(m.group(2).lstrip())
-                parts[number] = [(0, 0), (8, at)]  # "steps = " is 8 characters
+                parts[len(out)] = [(0, 0), (8, at)]  # "steps = " is 8 characters
                 steps_col = at + 1
             elif key == "maximum depth":
                 if section not in _DEPTH_OF:
@@ -205,28 +313,46 @@ def parse(text: str, filename: str | None = None) -> Program:
                                 "section; expected it after 'decomposition' or "
                                 "'homomorphism'", 1 + len(line) - len(line.lstrip()))  # fmt: skip
                 depths[_DEPTH_OF[section]] = (value, where("", line.index(":") + 2))
-                out.append("")
+                emit("")
             elif key in _VIEW:
-                out.append(f"{_VIEW[key]} = {_power(value)}")
+                emit(f"{_VIEW[key]} = {_power(value)}")
                 if key == "tropism direction":
                     trop_at = where("the tropism direction is the zero vector; expected a "
                                     "direction such as 0,-1,0", line.index(":") + 2)  # fmt: skip
             else:
-                out.append(f"{key} = {_in_parens_power(value)}")
+                emit(f"{key} = {_in_parens_power(value)}")
             continue
         if "-->" in line:
-            rule, parts[number] = _production(line, render, where)
-            out.append(rule)
+            rule, parts[len(out) + 1] = _production(line, render, where)
+            emit(rule)
             continue
         raise where(
             "expected a production 'pred --> successor', a 'keyword: value' line, "
             "#define, homomorphism or endlsystem",
             len(line) - len(line.lstrip()) + 1,
         )
+    statements = None
+    if each:
+        globals_ = globals_ or _cpfg_statements.Globals(seed)
+        if globals_ is not None and not globals_.values:
+            globals_.values.update(pre.values)
+        known = set(globals_.values)
+        fresh = sorted(set().union(*(_cpfg_statements.assigned_names(t) for t, _ in
+                                     each.values())) - known)  # fmt: skip
+        for k in fresh:  # a global first set between steps starts at 0
+            globals_.values[k] = 0.0
+        top.extend((f"{k} = 0.0", lines[0]) for k in fresh)
+        statements = _cpfg_statements.Schedule(globals_, each.get("starteach"),
+                                               each.get("endeach"),
+                                               "\n".join(each_text))  # fmt: skip
+    if top:  # before every use
+        out[:0] = [t for t, _ in top]
+        src[:0] = [ln for _, ln in top]
+        parts = {k + len(top): v for k, v in parts.items()}
     try:
         program = lsysvis.parse("\n".join(out), filename)
     except LSystemSyntaxError as err:  # semantic errors too: the subclass is kept
-        raise _relocate(err, original, parts) from None
+        raise _relocate(err, src, parts, pre) from None
     settings = dict(program.settings)
     settings.setdefault("turtle", "abop")
     if "tropism" in settings:  # cpfg normalises the direction (interpret.c)
@@ -235,6 +361,8 @@ def parse(text: str, filename: str | None = None) -> Program:
         if norm == 0.0:
             raise trop_at
         settings["tropism"] = tuple(c / norm for c in t)  # type: ignore[union-attr]
+    for key, value in _cpfg_view.load_view(view, filename).items():
+        settings.setdefault(key, value)
     fields = {}
     for field, (text, at) in depths.items():
         try:
@@ -248,9 +376,12 @@ def parse(text: str, filename: str | None = None) -> Program:
         fields[field] = int(v)
     at = program.steps_at
     if at is not None:
-        at = Span(at.line, steps_col, at.filename)
+        at = _remap(Span(at.line, steps_col, at.filename), src)
+    rules = tuple(r if r.span is None else replace(r, span=_remap(r.span, src))
+                  for r in program.rules)  # fmt: skip
     return program.replace(settings=settings, dialect="cpfg", name=name or program.name,
-                           steps_at=at, **fields)  # fmt: skip
+                           steps_at=at, rules=rules, statements=statements,
+                           **fields)  # fmt: skip
 
 
 _DEPTH_OF = {"decomposition": "decomposition_depth", "homomorphism": "interpretation_depth"}
@@ -265,3 +396,38 @@ def _homomorphism_has_depth(lines: list[str]) -> bool:
         elif inside and (k := _KEY.match(line)) and "depth" in k.group(1).lower():
             return True
     return False
+
+
+def _seed_of(lines: list[_cpp.Line]) -> int:
+    """The ``seed:`` of the L-system (0 without one), for the statements' random numbers."""
+    for line in lines:
+        m = _KEY.match(line.text)
+        if m and m.group(1).lower() == "seed":
+            try:
+                return int(float(m.group(2)))
+            except ValueError:
+                return 0
+    return 0
+
+
+def _block(logical: _cpp.Line, m, kind: str, g, where, pre) -> list[tuple[str, float]]:
+    """Run a ``Define:`` or ``Start:`` block (``End:`` is only read: it runs after the last
+    step, where it cannot change the word); the globals it leaves, as constants."""
+    text = logical.text[m.end() :]
+    start = m.end()
+
+    def error(message: str, offset: int) -> LSystemSyntaxError:
+        return where(message, start + offset + 1)
+
+    tree = _cpfg_statements.parse_block(text, error)
+    if kind == "end":
+        return []
+    file, number, _ = logical.at(1)
+    _cpfg_statements.run(tree, g, f"{file or '<string>'}:{number} ({m.group(1)}: block)")
+    if kind == "define":
+        return []
+    clash = sorted(set(g.values) & lsysvis.SPECIAL_VARIABLES)
+    if clash:
+        raise where(f"the global variable {clash[0]!r} is also a sylva setting; expected "
+                    "another name", 1)  # fmt: skip
+    return sorted((k, v) for k, v in g.values.items() if pre.values.get(k) != v)

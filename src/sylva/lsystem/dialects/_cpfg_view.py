@@ -1,0 +1,188 @@
+"""cpfg's view file (``.v``): the drawing settings of an L-system, read beside the ``.l``.
+
+Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
+
+``angle increment: a``
+    the turn angle ``rot`` in degrees; ``angle factor: n`` sets it to ``360/n``.
+``initial line width: w``
+    the width ``thick``, when ``line style:`` is ``polygon`` or ``cylinder`` (a width in
+    units, as sylva draws); with cpfg's default ``pixel`` style the width is in pixels of the
+    screen, which sylva's cylinders do not have, and a warning says so.
+``line style: pixel | polygon | cylinder``
+    decides what the width means (above).
+``tropism direction: x, y, z`` (normalised), ``initial elasticity: e``, ``elasticity increment: d``
+    ABOP §2.3's tropism (``tropism``, ``elasticity``, ``elasticity_step``), as when these lines
+    appear in the ``.l``.
+
+Every other line (``projection``, ``viewpoint``, ``view reference point``, ``twist``,
+``scale``, ``front distance``, ``back distance``, ``z buffer``, ``render mode``, ``light:``,
+``surface:``, ``texture:``, ``color map``, ``material``, ``initial color``, ``color
+increment``, ``line width increment``, ``contour:``, ``generalized cylinders`` …, and lines
+sylva does not know) is reported once as a :class:`~sylva.errors.SylvaWarning` naming the
+file and line, never dropped silently.  Settings of the ``.l`` itself win over the view
+file's.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import warnings
+from pathlib import Path
+
+from ...errors import LSystemSyntaxError, SylvaError, SylvaWarning
+from . import _cpp
+
+__all__ = ["read_view", "view_path"]
+
+_LINE = re.compile(r"\s*([A-Za-z][A-Za-z _-]*?)\s*:(.*)\Z")
+_NUMBER = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)")
+#: Lines of cpfg's view files that sylva knows but does not draw, with what it lacks.
+_UNHONOURED = {
+    "projection": "the camera is chosen by the renderer (yaw, pitch)",
+    "viewpoint": "the camera is chosen by the renderer (yaw, pitch)",
+    "view reference point": "the camera is chosen by the renderer (yaw, pitch)",
+    "twist": "the camera is chosen by the renderer (yaw, pitch)",
+    "scale": "the renderer fits the plant to the image",
+    "front distance": "the renderer clips nothing",
+    "back distance": "the renderer clips nothing",
+    "z buffer": "the renderer always hides what is behind",
+    "render mode": "the renderer's shading is its own",
+    "light": "the renderer's lights are its own",
+    "surface": "predefined surfaces are sylva's own leaf",
+    "texture": "textures of cpfg surfaces are not read",
+    "color map": "colour maps are not read; indices use sylva's palette",
+    "colormap": "colour maps are not read; indices use sylva's palette",
+    "material": "material files are not read; indices use sylva's palette",
+    "initial color": "colour indices start at 0",
+    "color increment": "colour indices step by 1",
+    "line width increment": "the width module '#' is not drawn",
+    "contour": "contours of generalised cylinders are not read",
+    "generalized cylinders": "generalised cylinders are drawn as plain segments",
+    "maximum depth": "the stack depth is not limited",
+    "box": "bounding boxes are not drawn",
+    "shadow map": "the renderer's shadows are its own",
+}
+
+
+def view_path(lsystem_file: str | None) -> Path | None:
+    """The view file beside ``lsystem_file`` (same stem, ``.v``), if there is one."""
+    if not lsystem_file:
+        return None
+    path = Path(lsystem_file).with_suffix(".v")
+    return path if path.is_file() else None
+
+
+def _numbers(text: str, count: int, err) -> list[float]:
+    values, pos = [], 0
+    for _ in range(count):
+        m = _NUMBER.match(text, pos)
+        if m is None:
+            raise err(pos)
+        values.append(float(m.group(1)))
+        pos = m.end()
+        while pos < len(text) and text[pos] in " ,\t":
+            pos += 1
+    return values
+
+
+def read_view(text: str, filename: str | None = None) -> dict[str, object]:
+    """The sylva settings a view file sets; warns (:class:`~sylva.errors.SylvaWarning`) once
+    for each line it cannot honour.
+
+    Raises
+    ------
+    LSystemSyntaxError
+        For a value sylva honours that is not a number (or a zero tropism direction), naming
+        the file, line and column.
+
+    Examples
+    --------
+    >>> read_view("angle factor: 8\\ntropism direction: 0, -2, 0\\n")
+    {'rot': 45.0, 'tropism': (0.0, -1.0, 0.0)}
+    """
+    source = text.removeprefix("\ufeff").split("\n")
+    lines = _cpp.strip_comments(text.removeprefix("\ufeff")).split("\n")
+    found: list[tuple[int, str, str, int]] = []
+    style = "pixel"
+    for number, line in enumerate(lines, start=1):
+        line = line.rstrip("\r")
+        if not line.strip():
+            continue
+        m = _LINE.match(line)
+        key = " ".join(m.group(1).lower().split()) if m else ""
+        if m is None or (key not in _UNHONOURED and key not in _HONOURED):
+            warnings.warn(f"{filename or '<view>'}:{number}: unknown view setting "
+                          f"{line.strip()!r}; sylva ignores it", SylvaWarning,
+                          stacklevel=4)  # fmt: skip
+            continue
+        if key in _UNHONOURED:
+            warnings.warn(f"{filename or '<view>'}:{number}: view setting {key!r} is not "
+                          f"honoured ({_UNHONOURED[key]})", SylvaWarning, stacklevel=4)  # fmt: skip
+            continue
+        found.append((number, key, m.group(2), m.start(2)))
+        if key == "line style":
+            style = m.group(2).strip().lower()
+    settings: dict[str, object] = {}
+    for number, key, value, at in found:
+
+        def err(pos, message=None, _n=number, _at=at, _k=key):
+            return LSystemSyntaxError(message or f"{_k}: expected a number", filename=filename,
+                                      line=_n, column=_at + pos + 1,
+                                      source_line=source[_n - 1].rstrip("\r"))  # fmt: skip
+
+        if key == "angle increment":
+            settings["rot"] = _numbers(value, 1, err)[0]
+        elif key == "angle factor":
+            n = _numbers(value, 1, err)[0]
+            if n == 0:
+                raise err(0, "angle factor: expected a number other than 0")
+            settings["rot"] = 360.0 / n
+        elif key == "initial line width":
+            w = _numbers(value, 1, err)[0]
+            if style in ("polygon", "polygons", "cylinder", "cylinders"):
+                settings["thick"] = w
+            else:
+                warnings.warn(f"{filename or '<view>'}:{number}: 'initial line width' is in "
+                              f"pixels with line style {style!r}; not honoured (sylva draws "
+                              "widths in units: set line style: cylinder)", SylvaWarning,
+                              stacklevel=4)  # fmt: skip
+        elif key == "line style":
+            if style not in ("pixel", "pixels", "polygon", "polygons", "cylinder", "cylinders"):
+                raise err(0, f"line style {style!r}: expected pixel, polygon or cylinder")
+        elif key == "tropism direction":
+            t = _numbers(value, 3, err)
+            norm = math.sqrt(sum(c * c for c in t))
+            if norm == 0.0:
+                raise err(0, "the tropism direction is the zero vector; expected a direction "
+                          "such as 0,-1,0")  # fmt: skip
+            settings["tropism"] = tuple(c / norm for c in t)
+        elif key == "initial elasticity":
+            settings["elasticity"] = _numbers(value, 1, err)[0]
+        elif key == "elasticity increment":
+            settings["elasticity_step"] = _numbers(value, 1, err)[0]
+    return settings
+
+
+_HONOURED = frozenset({"angle increment", "angle factor", "initial line width", "line style",
+                       "tropism direction", "initial elasticity",
+                       "elasticity increment"})  # fmt: skip
+
+
+def load_view(view, filename: str | None) -> dict[str, object]:
+    """The settings of the view file ``view`` (a path; ``None``: the one beside
+    ``filename``, if any; ``False``: none)."""
+    if view is False:
+        return {}
+    path = view_path(filename) if view is None else Path(view)
+    if path is None:
+        return {}
+    try:
+        data = path.read_bytes()
+    except OSError as e:
+        raise SylvaError(f"{path}: cannot read the view file ({e.strerror or e})") from None
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        text = data.decode("latin-1")
+    return read_view(text, str(path))
