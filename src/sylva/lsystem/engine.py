@@ -35,12 +35,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._jit import lazy
 from ..errors import GrowthLimitError, LSystemSemanticError
-from . import _kernels
 from .ast import Program, Rule
 from .expr import compile_expr, truth
 from .lstring import CLOSE, ID_DTYPE, OPEN, Alphabet, ModuleString
 from .matching import ignored_table, pattern_match
+
+_kernels = lazy("sylva.lsystem._kernels")
 
 __all__ = [
     "DEFAULT_MODULE_LIMIT",
