@@ -30,6 +30,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from sylva.data import find
+
 # name: (what it is, argv after ``sylva`` or a Python snippet marked "py:")
 COMMANDS = {
     "import": ("import sylva", "py:import sylva"),
@@ -44,7 +46,7 @@ COMMANDS = {
     ),
     "export": (
         "sylva export 16-abop-1.25-bush -o b.glb",
-        ["export", "16-abop-1.25-bush", "-o", "{tmp}/b.glb"],
+        ["export", "{bush}", "-o", "{tmp}/b.glb"],  # export takes a path, not a name
     ),
     "animate": (
         "sylva animate 10-abop-1.24a-plant -n 3 --size 160x120 -o a.gif",
@@ -119,7 +121,7 @@ def run(what, cache: Path, tmp: Path, probe: bool) -> dict:
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
     env.pop("NUMBA_DISABLE_JIT", None)
     if isinstance(what, list):
-        arg = json.dumps([a.format(tmp=tmp, species=SPECIES) for a in what])
+        arg = json.dumps([a.format(tmp=tmp, species=SPECIES, bush=BUSH) for a in what])
     else:
         arg = what
     events = tmp / "events.json"
@@ -171,6 +173,7 @@ def time_import(cache: Path, tmp: Path, n: int = 5) -> tuple[float, float]:
 
 
 SPECIES = "?"
+BUSH = str(find("16-abop-1.25-bush").path)
 
 
 def main() -> None:

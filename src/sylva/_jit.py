@@ -14,6 +14,8 @@ Three things, none of which imports numba until it is needed:
 from __future__ import annotations
 
 import importlib
+import importlib.abc
+import importlib.util
 import sys
 import threading
 import time
@@ -133,24 +135,59 @@ class _Progress:
             self.line = False
 
 
+def _register(prog: _Progress) -> None:
+    from numba.core import event
+
+    class _Listener(event.Listener):
+        def on_start(self, ev):
+            prog.start(ev.data["dispatcher"])
+
+        def on_end(self, ev):
+            pass
+
+    event.register("numba:compile", _Listener())
+
+
+class _AfterNumba(importlib.abc.MetaPathFinder):
+    """Registers the listener once numba has been imported (by whatever needs it), so that
+    a command that compiles nothing does not import numba for the message's sake."""
+
+    def __init__(self, prog: _Progress):
+        self.prog = prog
+
+    def find_spec(self, name, path=None, target=None):
+        if name != "numba":
+            return None
+        sys.meta_path.remove(self)
+        spec = importlib.util.find_spec(name)
+        if spec is None or spec.loader is None:
+            return spec
+        loader, prog = spec.loader, self.prog
+
+        class _Loader(importlib.abc.Loader):
+            def create_module(self, spec):
+                return loader.create_module(spec)
+
+            def exec_module(self, module):
+                loader.exec_module(module)
+                _register(prog)
+
+        spec.loader = _Loader()
+        return spec
+
+
 def announce(stream=None) -> _Progress:
-    """Write a line to ``stream`` (stderr) when numba starts compiling a sylva kernel
-    module's kernels, with progress; idempotent.  Imports numba."""
+    """From now on, write to ``stream`` (stderr) when numba starts compiling a sylva kernel
+    module's kernels, once per module on a file and with progress on a terminal;
+    idempotent.  Does not import numba (the message starts when numba is imported)."""
     with _lock:
         prog = _state["listener"]
         if prog is not None:
             return prog
-        from numba.core import event
-
         prog = _Progress(stream if stream is not None else sys.stderr)
-
-        class _Listener(event.Listener):
-            def on_start(self, ev):
-                prog.start(ev.data["dispatcher"])
-
-            def on_end(self, ev):
-                pass
-
-        event.register("numba:compile", _Listener())
         _state["listener"] = prog
+        if "numba" in sys.modules:
+            _register(prog)
+        else:
+            sys.meta_path.insert(0, _AfterNumba(prog))
         return prog

@@ -14,6 +14,7 @@ import importlib
 import pkgutil
 import sys
 
+from .._jit import announce
 from ..errors import SylvaError
 
 __all__ = ["build_parser", "main"]
@@ -39,6 +40,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    progress = announce()  # a first run compiles kernels: say so on stderr, with progress
     try:
         return int(args.func(args) or 0)
     except SylvaError as exc:
@@ -49,3 +51,5 @@ def main(argv: list[str] | None = None) -> int:
         return 130
     except BrokenPipeError:
         return 0
+    finally:
+        progress.finish()
