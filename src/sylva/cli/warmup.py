@@ -109,6 +109,9 @@ def _run_group(name: str) -> tuple[str, int, float, str]:
     from .._jit import announce
 
     prog = announce(io.StringIO())
+    # a worker process may have run other groups before: count and report this one's only
+    before = {label: set(names) for label, names in prog.done.items()}
+    _errors.clear()
     t = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="sylva-warmup-") as tmp:
         try:
@@ -116,7 +119,7 @@ def _run_group(name: str) -> tuple[str, int, float, str]:
                 GROUPS[name][2](Path(tmp))
         except Exception as exc:
             _errors.append(f"{type(exc).__name__}: {exc}".splitlines()[0][:200])
-    compiled = sum(len(v) for v in prog.done.values())
+    compiled = sum(len(v - before.get(label, set())) for label, v in prog.done.items())
     err = f"{len(_errors)} failed, first {_errors[0]}" if _errors else ""
     return name, compiled, time.perf_counter() - t, err
 
