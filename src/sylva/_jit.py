@@ -89,14 +89,32 @@ def _count_kernels(modname: str) -> int:
 class _Progress:
     """Counts the kernels of each sylva kernel module as numba compiles them."""
 
-    def __init__(self, stream):
-        self.stream = stream
-        self.tty = bool(getattr(stream, "isatty", lambda: False)())
+    def __init__(self, stream=None):
+        self._stream = stream  # None: whatever sys.stderr is at the time of writing
         self.done: dict[str, set] = {}
         self.total: dict[str, int] = {}
         self.announced: set[str] = set()
         self.t0 = None
         self.line = False
+
+    @property
+    def stream(self):
+        return self._stream if self._stream is not None else sys.stderr
+
+    def _write(self, text: str) -> None:
+        # a message must never break a compile (a closed or redirected stream, a test's
+        # capture that has ended …)
+        try:
+            self.stream.write(text)
+            self.stream.flush()
+        except (OSError, ValueError, AttributeError):
+            pass
+
+    def _tty(self) -> bool:
+        try:
+            return bool(self.stream.isatty())
+        except (OSError, ValueError, AttributeError):
+            return False
 
     def start(self, dispatcher) -> None:
         mod = getattr(dispatcher.py_func, "__module__", "")
@@ -116,22 +134,20 @@ class _Progress:
             k = len(done)
             n = max(self.total[label], k)
             text = f"compiling sylva's {label} kernels, once: {k}/{n}"
-            if self.tty:
-                self.stream.write(f"\r{text} ({dispatcher.py_func.__name__})\x1b[K")
+            if self._tty():
+                self._write(f"\r{text} ({dispatcher.py_func.__name__})\x1b[K")
                 self.line = True
             elif label not in self.announced:
-                self.stream.write(
+                self._write(
                     f"sylva: {text} (a first run compiles what it uses and caches it; "
                     "`sylva warmup` compiles everything ahead)\n"
                 )
             self.announced.add(label)
-            self.stream.flush()
 
     def finish(self) -> None:
         if self.line:
             secs = time.perf_counter() - (self.t0 or time.perf_counter())
-            self.stream.write(f"\rcompiled sylva's kernels in {secs:.0f} s (cached now)\x1b[K\n")
-            self.stream.flush()
+            self._write(f"\rcompiled sylva's kernels in {secs:.0f} s (cached now)\x1b[K\n")
             self.line = False
 
 
@@ -177,14 +193,15 @@ class _AfterNumba(importlib.abc.MetaPathFinder):
 
 
 def announce(stream=None) -> _Progress:
-    """From now on, write to ``stream`` (stderr) when numba starts compiling a sylva kernel
-    module's kernels, once per module on a file and with progress on a terminal;
-    idempotent.  Does not import numba (the message starts when numba is imported)."""
+    """From now on, write to ``stream`` (default: ``sys.stderr`` at each write) when numba
+    starts compiling a sylva kernel module's kernels, once per module on a file and with
+    progress on a terminal; idempotent.  Does not import numba (the message starts when
+    numba is imported)."""
     with _lock:
         prog = _state["listener"]
         if prog is not None:
             return prog
-        prog = _Progress(stream if stream is not None else sys.stderr)
+        prog = _Progress(stream)
         _state["listener"] = prog
         if "numba" in sys.modules:
             _register(prog)
