@@ -14,13 +14,15 @@ $(STAMP): pyproject.toml
 
 install: $(STAMP)
 
-## The main job on the built-in examples.
+## The main job on the built-in examples (the kernels compiled ahead on all cores).
 demo: $(STAMP)
+	$(BIN)/sylva warmup
 	$(BIN)/sylva demo
 
-## The whole test suite (lint first).
+## The whole test suite (lint first; the kernels compiled ahead on all cores).
 test: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks
+	$(BIN)/sylva warmup
 	$(BIN)/python -m pytest -q
 
 lint: $(STAMP)

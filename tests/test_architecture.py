@@ -17,7 +17,7 @@ ALLOWED = {
     "tree": {"lsystem", "turtle", "geometry", "texture"},
     "world": {"tree", "turtle", "geometry", "texture", "lsystem"},
 }
-FREE = {"errors", "data", "_version", "_atomic"}
+FREE = {"errors", "data", "_version", "_atomic", "_jit"}
 
 
 def _imports(path: Path, package: str) -> set[str]:

@@ -20,6 +20,7 @@ import sys
 import warnings
 
 from .._atomic import describe_os_error, is_write_error
+from .._jit import announce
 from ..errors import SylvaError, SylvaWarning
 
 __all__ = ["build_parser", "main"]
@@ -79,6 +80,7 @@ def main(argv: list[str] | None = None) -> int:
 def _main(argv: list[str] | None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    progress = announce()  # a first run compiles kernels: say so on stderr, with progress
     try:
         _check_output_folder(args)
         return int(args.func(args) or 0)
@@ -96,3 +98,5 @@ def _main(argv: list[str] | None) -> int:
         verb = "write" if is_write_error(exc) else "open"
         print(f"sylva: error: {describe_os_error(exc, verb=verb)}", file=sys.stderr)
         return 2
+    finally:
+        progress.finish()

@@ -464,3 +464,30 @@ def cut_mask(ids, cut_id):  # pragma: no cover - compiled
         else:
             i += 1
     return keep
+
+
+@njit(cache=True)
+def parents(ids, match):  # pragma: no cover - compiled
+    """Parent module on the axial tree (-1 at a root) and bracket depth of every module."""
+    n = ids.shape[0]
+    parent = np.full(n, -1, np.int64)
+    depth = np.zeros(n, np.int32)
+    # stack[d] = last module on the axis at depth d (-1 when none yet)
+    stack = np.full(n + 2, -1, np.int64)
+    d = 0
+    for i in range(n):
+        s = ids[i]
+        if s == 0:  # [
+            depth[i] = d
+            d += 1
+            stack[d] = stack[d - 1]
+        elif s == 1:  # ]
+            d -= 1
+            if d < 0:
+                d = 0
+            depth[i] = d
+        else:
+            depth[i] = d
+            parent[i] = stack[d]
+            stack[d] = i
+    return parent, depth

@@ -37,8 +37,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._jit import lazy
 from ..errors import GrowthLimitError, LSystemSemanticError, StepsError
-from . import _kernels
 from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
 from ._memory import _check_limit, block_step_bytes, fast_step_bytes, general_step_bytes
 from ._steps import _FLOOR_ITERATIONS, DEFAULT_MODULE_LIMIT, check_steps
@@ -46,6 +46,8 @@ from .ast import MAX_STEPS, Program, Rule
 from .expr import compile_expr, truth
 from .lstring import CLOSE, ID_DTYPE, OPEN, Alphabet, ModuleString
 from .matching import ignored_table, pattern_match
+
+_kernels = lazy("sylva.lsystem._kernels")
 
 __all__ = [
     "DEFAULT_MODULE_LIMIT",

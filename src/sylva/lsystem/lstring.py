@@ -31,8 +31,8 @@ from collections import Counter
 from collections.abc import Iterable, Iterator, Sequence
 
 import numpy as np
-from numba import njit
 
+from .._jit import lazy
 from ..errors import LSystemSyntaxError, SylvaError
 
 __all__ = [
@@ -45,6 +45,8 @@ __all__ = [
     "format_number",
     "format_symbol",
 ]
+
+_kernels = lazy("sylva.lsystem._kernels")
 
 OPEN = 0
 CLOSE = 1
@@ -149,30 +151,6 @@ def _parse_args(inner: str, text: str, pos: int, filename: str | None) -> list[f
     return out
 
 
-@njit(cache=True)
-def _parents(ids, match):  # pragma: no cover - compiled
-    n = ids.shape[0]
-    parent = np.full(n, -1, np.int64)
-    depth = np.zeros(n, np.int32)
-    # stack[d] = last module on the axis at depth d (-1 when none yet)
-    stack = np.full(n + 2, -1, np.int64)
-    d = 0
-    for i in range(n):
-        s = ids[i]
-        if s == 0:  # [
-            depth[i] = d
-            d += 1
-            stack[d] = stack[d - 1]
-        elif s == 1:  # ]
-            d -= 1
-            if d < 0:
-                d = 0
-            depth[i] = d
-        else:
-            depth[i] = d
-            parent[i] = stack[d]
-            stack[d] = i
-    return parent, depth
 
 
 class ModuleString:
@@ -426,9 +404,7 @@ class ModuleString:
         same without a Python loop and is kept as its reference.
         """
         if self._match is None:
-            from ._kernels import match_brackets
-
-            self._match = match_brackets(self.ids)
+            self._match = _kernels.match_brackets(self.ids)
         return self._match
 
     def match_vectorised(self) -> np.ndarray:
@@ -519,7 +495,7 @@ class ModuleString:
         return parent
 
     def _tree(self) -> None:
-        self._parent, self._depth = _parents(self.ids, self.match)
+        self._parent, self._depth = _kernels.parents(self.ids, self.match)
 
     @property
     def parent(self) -> np.ndarray:

@@ -29,8 +29,10 @@ from collections.abc import Collection, Sequence
 
 import numpy as np
 
-from . import _kernels
+from .._jit import lazy
 from .lstring import CLOSE, OPEN, ModuleString
+
+_kernels = lazy("sylva.lsystem._kernels")
 
 __all__ = [
     "ignored_table",

@@ -516,10 +516,11 @@ def worley_row(
     if combo == W_CELL:
         for i in range(nx):
             f1[i] = hash32(best[i] ^ 0x2545F491) * INV32
+    pw = px - px  # no period along w; not a literal 0, which would compile worley again
     for i in range(nx):
         if nb[i] != 0.0:
             r1, r2, r3, cid = worley(
-                ndim, xb[i], y, z, 0.0, px, py, pz, 0, metric, jitter, seed, needk
+                ndim, xb[i], y, z, 0.0, px, py, pz, pw, metric, jitter, seed, needk
             )
             nb[i] = combine(combo, r1, r2, r3, cid, c1, c2, c3)
         else:
@@ -533,8 +534,9 @@ def worley_poisson_row(
     """:func:`worley_row` for the Poisson process of :func:`worley_poisson`: output
     ``combo`` at ``x = xs[i] * fx + ox`` into ``nb[:nx]``, one full search per sample."""
     needk = NEEDK[combo]
+    pw = px - px  # no period along w; not a literal 0, which would compile worley_poisson again
     for i in range(xs.shape[0]):
         r1, r2, r3, cid = worley_poisson(
-            ndim, xs[i] * fx + ox, y, z, 0.0, px, py, pz, 0, metric, density, seed, needk
+            ndim, xs[i] * fx + ox, y, z, 0.0, px, py, pz, pw, metric, density, seed, needk
         )
         nb[i] = combine(combo, r1, r2, r3, cid, c1, c2, c3)

@@ -949,13 +949,6 @@ def walk_plain(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, 
 
 
 @njit(cache=True)
-def walk_flags(word, tr):  # pragma: no cover - compiled
-    """``(has_par, engine, trace, tropism)`` of a word (:func:`walk`'s last arguments)."""
-    cfg = word[6]
-    return word[1].shape[0] > 0, cfg[C_ENGINE] != 0.0, tr[0].shape[0] > 0, cfg[C_TON] != 0.0
-
-
-@njit(cache=True)
 def _compact(segs, n):  # pragma: no cover - compiled
     """Drop the hole slots (``seg_mod < 0``) of the first ``n`` and renumber the parents."""
     seg_start, seg_end, seg_rad, seg_col, seg_mat, seg_mod, seg_par, seg_dep, seg_ref = segs
@@ -992,15 +985,17 @@ def segment_arrays(n, empty=np.empty):
     )  # fmt: skip
 
 
-@njit(cache=True)
-def walk_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace, blk_cap,
-                   counts, sel, segs):  # fmt: skip  # pragma: no cover - compiled
-    """Allocate a word's outputs (but its segments, passed in) and walk it, up to the
-    subtrees of ``sel``.
+def walk_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace, blk_cap, counts, sel,
+              segs):  # fmt: skip
+    """Allocate a word's outputs (but its segments, passed in) and the turtle's initial
+    state and stack, for :func:`walk` or :func:`walk_plain`.
 
     See :func:`sylva.turtle.interpret` for the meaning of the outputs.  The interpreter
-    walks the subtrees left (:func:`walk` on threads) and :func:`finish_word` cuts the
-    arrays.
+    walks the word up to the subtrees of ``sel``, then the subtrees (on threads), and
+    :func:`finish_word` cuts the arrays.  Plain Python (some thirty allocations, tens of
+    microseconds), and the walk is not called from here: compiled, this function took
+    seconds to compile on a cold cache, and calling both :func:`walk` and
+    :func:`walk_plain` compiled both (each ~10 s) where a word needs one.
 
     Parameters
     ----------
@@ -1029,7 +1024,7 @@ def walk_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace, blk_
         Room for ``counts[0]`` segments, as :func:`segment_arrays` lays it out.
     """
     n = ids.shape[0]
-    n_leaf, n_pv, n_poly, max_d = counts[1], counts[2], counts[3], counts[4]
+    n_leaf, n_pv, n_poly, max_d = (int(c) for c in counts[1:5])
     leaves = (
         np.empty((n_leaf, 3)), np.empty((n_leaf, 3, 3)), np.empty(n_leaf, np.float32),
         np.empty((n_leaf, 3), np.float32), np.empty(n_leaf, np.int32),
@@ -1080,29 +1075,19 @@ def walk_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace, blk_
     k = sel.shape[0]
     slot_state = np.empty((k, NS))
     slot_depth = np.empty(k, np.int64)
-    has_par, engine, trace_on, tropism = walk_flags(word, tr)
-    # no literal 0 for the start, depth and base: numba would compile a walk of its own for
-    # them; so one compiled walk (and one walk_plain) serves this call and the threads' calls
-    z = n - n
-    if not has_par and not engine and not trace_on and not tropism:
-        walk_plain(z, n, st, stack, z, z, cnt, word, segs, leaves, polys, blocks, tr, sel,
-                   slot_state, slot_depth)  # fmt: skip
-    else:
-        walk(z, n, st, stack, z, z, cnt, word, segs, leaves, polys, blocks, tr, sel,
-             slot_state, slot_depth, has_par, engine, trace_on, tropism)  # fmt: skip
-    return word, segs, leaves, polys, blocks, tr, cnt, slot_state, slot_depth
+    return word, segs, leaves, polys, blocks, tr, cnt, slot_state, slot_depth, st, stack
 
 
-@njit(cache=True)
-def finish_word(segs, leaves, polys, blocks, tr, cnt, holes):  # pragma: no cover - compiled
-    """The output tuple of a walked word: holes dropped, arrays cut to their counts."""
-    ns = cnt[K_NS]  # below the F/G count when a cut ended the walk early
+def finish_word(segs, leaves, polys, blocks, tr, cnt, holes):
+    """The output tuple of a walked word: holes dropped, arrays cut to their counts (views;
+    plain Python, for the reason given in :func:`walk_word`)."""
+    ns = int(cnt[K_NS])  # below the F/G count when a cut ended the walk early
     if holes > 0:
-        ns = _compact(segs, ns)
-    nl = cnt[K_NL]
-    nv = cnt[K_NV]
-    npoly = cnt[K_NPOLY]
-    nb = cnt[K_NB]
+        ns = int(_compact(segs, ns))
+    nl = int(cnt[K_NL])
+    nv = int(cnt[K_NV])
+    npoly = int(cnt[K_NPOLY])
+    nb = int(cnt[K_NB])
     seg_start, seg_end, seg_rad, seg_col, seg_mat, seg_mod, seg_par, seg_dep, seg_ref = segs
     leaf_pos, leaf_frame, leaf_size, leaf_col, leaf_mat, leaf_mod = leaves
     poly_v = polys[9]
@@ -1116,5 +1101,5 @@ def finish_word(segs, leaves, polys, blocks, tr, cnt, holes):  # pragma: no cove
         leaf_pos[:nl], leaf_frame[:nl], leaf_size[:nl], leaf_col[:nl], leaf_mat[:nl],
         leaf_mod[:nl],
         poly_v[:nv], poly_off[: npoly + 1], poly_col[:npoly], poly_mat[:npoly], poly_mod[:npoly],
-        blk_c[:nbw], blk_s[:nbw], blk_b[:nbw], blk_m[:nbw], tr[0], tr[1], cnt[K_SALT], nb,
+        blk_c[:nbw], blk_s[:nbw], blk_b[:nbw], blk_m[:nbw], tr[0], tr[1], int(cnt[K_SALT]), nb,
     )  # fmt: skip

@@ -364,15 +364,32 @@ def _threads() -> int:
 
 def _walk(args, blk_cap, counts, sel, threads):
     # the records come from the buffer pool: a word interpreted again reuses touched pages
-    word, segs, leaves, polys, blocks, tr, cnt, slots, depths = K.walk_word(
+    word, segs, leaves, polys, blocks, tr, cnt, slots, depths, st, stack = K.walk_word(
         *args, blk_cap, counts, sel, K.segment_arrays(int(counts[0]), empty)
     )
+    walk, flags = _walker(word, tr)
+    n = int(word[0].shape[0])
+    walk(0, n, st, stack, 0, 0, cnt, word, segs, leaves, polys, blocks, tr, sel, slots, depths,
+         *flags)  # fmt: skip
     holes = int(cnt[K.K_HOLES])
     if sel.shape[0]:
         holes += _walk_subtrees(
             sel, slots, depths, int(counts[4]) + 1, (word, segs, leaves, polys, blocks, tr), threads
         )
     return K.finish_word(segs, leaves, polys, blocks, tr, cnt, holes)
+
+
+def _walker(word, tr):
+    """The compiled walk for ``word`` and its last arguments: :func:`K.walk_plain` in the
+    common case (compiled without the flags' branches), else :func:`K.walk` and its flags.
+    Only the one a word needs is compiled on a cold cache."""
+    has_par = word[1].shape[0] > 0
+    engine = bool(word[6][K.C_ENGINE] != 0.0)
+    trace = tr[0].shape[0] > 0
+    tropism = bool(word[6][K.C_TON] != 0.0)
+    if has_par or engine or trace or tropism:
+        return K.walk, (has_par, engine, trace, tropism)
+    return K.walk_plain, ()
 
 
 def _walk_subtrees(sel, slots, depths, rows, arrays, threads) -> int:
@@ -386,13 +403,7 @@ def _walk_subtrees(sel, slots, depths, rows, arrays, threads) -> int:
     none = np.zeros((0, 6), np.int64)
     no_slots = np.zeros((0, K.NS))
     no_depth = np.zeros(0, np.int64)
-    has_par, engine, trace, tropism = K.walk_flags(arrays[0], arrays[5])
-    if has_par or engine or trace or tropism:
-        flags: tuple = (has_par, engine, trace, tropism)
-        walk = K.walk
-    else:  # the common case, compiled without the flags' branches
-        flags = ()
-        walk = K.walk_plain
+    walk, flags = _walker(arrays[0], arrays[5])
 
     def worker(_) -> int:
         stack = np.empty((rows, K.NS))

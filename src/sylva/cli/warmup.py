@@ -1,0 +1,190 @@
+"""``sylva warmup``: compile every kernel the commands use, ahead, on all cores.
+
+A fresh install has no compiled kernels: numba compiles each the first time a command
+reaches it (tens of seconds) and caches it on disk.  This command runs each command's work
+once at a tiny size, one group per process, so that later runs only load from the cache.
+Groups that build on the turtle and the mesh builder start after ``plants``, which
+compiles those, so that no two processes compile the same kernel.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import multiprocessing
+import os
+import sys
+import tempfile
+import time
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from pathlib import Path
+
+__all__ = ["GROUPS", "register", "warm"]
+
+
+_errors: list[str] = []  # of the group running in this (worker) process
+
+
+def _cli(*argv: str) -> None:
+    """Run ``sylva ARGV`` here, quietly; a failure is noted and the group goes on."""
+    from . import main
+
+    try:
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            rc = main(list(argv))
+    except Exception as exc:  # a command that cannot run here (no OpenGL …) is reported
+        rc = f"{type(exc).__name__}: {exc}".splitlines()[0][:160]
+    if rc:
+        _errors.append(f"sylva {argv[0]} {argv[1]}: {rc}")
+
+
+def _derivation(tmp: Path) -> None:
+    from ..data import examples
+
+    for ex in examples():
+        _cli("derive", str(ex.path), "-n", "3", "--stats")
+
+
+def _plants(tmp: Path) -> None:
+    from ..data import examples, find
+
+    for ex in examples():
+        _cli("export", str(ex.path), "-n", "2", "-o", str(tmp / "plant.glb"))
+    bush = str(find("16-abop-1.25-bush").path)
+    _cli("export", bush, "-n", "2", "--mode", "prism", "-o", str(tmp / "p.obj"))
+    _cli("export", bush, "-n", "2", "--mode", "cone", "-o", str(tmp / "p.ply"))
+
+
+def _textures(tmp: Path) -> None:
+    from ..texture import PRESETS, TEXTURE_KINDS
+
+    for kind in [*TEXTURE_KINDS, *PRESETS]:
+        if kind != "lsystem":
+            _cli("texture", kind, "--size", "24x16", "-o", str(tmp / "t.png"))
+    _cli("texture", "--lsystem", "01-koch-snowflake", "--size", "24x16", "-o", str(tmp / "l.png"))
+    _cli("texture", "perlin", "--size", "24x16", "--tileable", "-o", str(tmp / "t.png"))
+
+
+def _render(tmp: Path) -> None:
+    _cli("render", "01-koch-snowflake", "--size", "48x32", "-o", str(tmp / "r.png"))
+    _cli("render", "16-abop-1.25-bush", "-n", "2", "--size", "48x32", "-o", str(tmp / "r.png"))
+    _cli("animate", "10-abop-1.24a-plant", "-n", "2", "--size", "48x32", "--substeps", "2",
+         "-o", str(tmp / "a.gif"))  # fmt: skip
+
+
+def _trees(tmp: Path) -> None:
+    from ..tree import species_names
+
+    for name in species_names():
+        _cli("tree", name, "--age", "2", "-o", str(tmp / "t.glb"))
+    _cli("tree", species_names()[0], "--age", "2", "--animate", "wind", "--seconds", "0.2",
+         "-o", str(tmp / "w.glb"))  # fmt: skip
+
+
+def _world(tmp: Path) -> None:
+    _cli("world", "--seed", "1", "--size", "32x32", "--chunk", "16", "--workers", "1",
+         "--quiet", "-o", str(tmp / "w.glb"))  # fmt: skip
+
+
+def _studio(tmp: Path) -> None:
+    from ..studio._work import _warm_up
+
+    _warm_up()
+
+
+#: name -> (what it compiles, the groups it waits for, the work)
+GROUPS = {
+    "derivation": ("rewriting kernels (every example)", (), _derivation),
+    "plants": ("turtle and mesh kernels (every example)", ("derivation",), _plants),
+    "textures": ("noise, pattern and fractal kernels (every kind and preset)", (), _textures),
+    "render": ("rendering's textures, animation", ("plants",), _render),
+    "trees": ("tree growth and wind (every species)", ("plants",), _trees),
+    "world": ("terrain, biomes, vegetation, voxel meshing", ("plants",), _world),
+    "studio": ("the studio's traced walk", ("plants",), _studio),
+}
+
+
+def _run_group(name: str) -> tuple[str, int, float, str]:
+    """In a worker process: run one group, silently; (name, kernels compiled, s, error)."""
+    from .._jit import announce
+
+    prog = announce(io.StringIO())
+    # a worker process may have run other groups before: count and report this one's only
+    before = {label: set(names) for label, names in prog.done.items()}
+    _errors.clear()
+    t = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="sylva-warmup-") as tmp:
+        try:
+            with contextlib.redirect_stderr(io.StringIO()):
+                GROUPS[name][2](Path(tmp))
+        except Exception as exc:
+            _errors.append(f"{type(exc).__name__}: {exc}".splitlines()[0][:200])
+    compiled = sum(len(v - before.get(label, set())) for label, v in prog.done.items())
+    err = f"{len(_errors)} failed, first {_errors[0]}" if _errors else ""
+    return name, compiled, time.perf_counter() - t, err
+
+
+def warm(names: list[str], jobs: int, out=sys.stderr) -> int:
+    """Run the groups ``names`` on ``jobs`` processes, each after the groups it waits for;
+    print a line per group to ``out``; the number of groups that failed."""
+    names = [n for n in GROUPS if n in names]
+    left = list(names)
+    done: set[str] = set()
+    failed = 0
+    t0 = time.perf_counter()
+    out.write(f"sylva warmup: compiling sylva's kernels once, {len(names)} groups on "
+              f"{jobs} process{'es' if jobs > 1 else ''} (later runs load them from the "
+              "cache)\n")  # fmt: skip
+    out.flush()
+    ctx = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
+        running = {}
+        while left or running:
+            for n in list(left):
+                if len(running) < jobs and all(d in done or d not in names
+                                               for d in GROUPS[n][1]):  # fmt: skip
+                    running[pool.submit(_run_group, n)] = n
+                    left.remove(n)
+            finished, _ = wait(running, return_when=FIRST_COMPLETED)
+            for fut in finished:
+                del running[fut]
+                name, compiled, secs, err = fut.result()
+                done.add(name)
+                k = len(done)
+                what = f"{compiled} kernels compiled" + (f" ({err})" if err else "")
+                failed += bool(err)
+                out.write(f"  [{k}/{len(names)}] {name:<9} {what} in {secs:.1f} s "
+                          f"- {GROUPS[name][0]}\n")  # fmt: skip
+                out.flush()
+    out.write(f"sylva warmup: done in {time.perf_counter() - t0:.1f} s\n")
+    out.flush()
+    return failed
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "warmup",
+        help="compile every kernel ahead (a fresh install compiles on first use)",
+        description="Compile the numba kernels that the commands use, once, on all cores, "
+        "so that later runs start at once.  Groups: " + ", ".join(GROUPS) + ".",
+    )
+    p.add_argument("--only", metavar="GROUP[,GROUP]",
+                   help="compile only these groups (default: all)")  # fmt: skip
+    p.add_argument("--jobs", "-j", type=int, default=None,
+                   help="worker processes (default: the number of cores)")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from ..errors import SylvaError
+
+    names = list(GROUPS) if not args.only else [n.strip() for n in args.only.split(",")]
+    unknown = [n for n in names if n not in GROUPS]
+    if unknown:
+        raise SylvaError(f"--only: unknown group {', '.join(unknown)}; expected one of "
+                         f"{', '.join(GROUPS)}")  # fmt: skip
+    jobs = args.jobs or os.cpu_count() or 1
+    if jobs < 1:
+        raise SylvaError(f"--jobs: expected a number of processes >= 1, got {jobs}")
+    warm(names, jobs)
+    return 0
