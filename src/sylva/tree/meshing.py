@@ -105,22 +105,7 @@ def leaf_outline(shape=0, width: float = 1.0) -> np.ndarray:
     if k == 4:
         # five pointed leaflets fanned over ±75° from the blade axis (tips at radius 1,
         # notches between them at 0.35), listed right to left, then fit to the box
-        tips = np.radians(np.linspace(75.0, -75.0, 5))
-        ang, rad = [tips[0] + 0.12], [0.3]
-        for j, t in enumerate(tips):
-            ang += [t + 0.09, t, t - 0.09]
-            rad += [0.8, 1.0, 0.8]
-            if j < len(tips) - 1:
-                ang.append(0.5 * (t + tips[j + 1]))
-                rad.append(0.35)
-        ang.append(tips[-1] - 0.12)
-        rad.append(0.3)
-        ang, rad = np.array(ang), np.array(rad)
-        pts = np.concatenate([[[0.0, 0.0]], np.column_stack([rad * np.sin(ang),
-                                                             rad * np.cos(ang)])])
-        pts[:, 0] *= w / (2.0 * np.abs(pts[:, 0]).max())
-        pts[:, 1] /= pts[:, 1].max()
-        return pts
+        return _fan(w, spread=75.0, edge=0.12, side=0.09, shoulder=0.8, notch=0.35, base=0.3)
     if k == 5:
         return np.array([[0, 0], [0.5 * w, 0], [0.5 * w, 1.0], [-0.5 * w, 1.0], [-0.5 * w, 0]])
     if k == 6:
@@ -128,26 +113,33 @@ def leaf_outline(shape=0, width: float = 1.0) -> np.ndarray:
                          [-0.5 * w, 0.25]])
     if k == 7:
         # five needles over ±30° from the stalk, each a thin spike; notches near the base
-        tips = np.radians(np.linspace(30.0, -30.0, 5))
-        ang, rad = [tips[0] + 0.05], [0.08]
-        for j, t in enumerate(tips):
-            ang += [t + 0.035, t, t - 0.035]
-            rad += [0.85, 1.0, 0.85]
-            if j < len(tips) - 1:
-                ang.append(0.5 * (t + tips[j + 1]))
-                rad.append(0.1)
-        ang.append(tips[-1] - 0.05)
-        rad.append(0.08)
-        ang, rad = np.array(ang), np.array(rad)
-        pts = np.concatenate([[[0.0, 0.0]], np.column_stack([rad * np.sin(ang),
-                                                             rad * np.cos(ang)])])
-        pts[:, 0] *= w / (2.0 * np.abs(pts[:, 0]).max())
-        pts[:, 1] /= pts[:, 1].max()
-        return pts
+        return _fan(w, spread=30.0, edge=0.05, side=0.035, shoulder=0.85, notch=0.1, base=0.08)
     y, h = _profile(k, w)
     right = np.column_stack([h[1:-1], y[1:-1]])
     left = right[::-1] * [-1.0, 1.0]
     return np.concatenate([[[0.0, 0.0]], right, [[0.0, 1.0]], left])
+
+
+def _fan(w: float, *, spread: float, edge: float, side: float, shoulder: float, notch: float,
+         base: float) -> np.ndarray:
+    """An outline of five spikes fanned over ±``spread`` degrees (tips at radius 1, their
+    sides at ``shoulder``, notches between them at ``notch``), fit to width ``w`` and
+    height 1; ``edge`` and ``base`` place the first and last points beside the stalk."""
+    tips = np.radians(np.linspace(spread, -spread, 5))
+    ang, rad = [tips[0] + edge], [base]
+    for j, t in enumerate(tips):
+        ang += [t + side, t, t - side]
+        rad += [shoulder, 1.0, shoulder]
+        if j < len(tips) - 1:
+            ang.append(0.5 * (t + tips[j + 1]))
+            rad.append(notch)
+    ang.append(tips[-1] - edge)
+    rad.append(base)
+    ang, rad = np.array(ang), np.array(rad)
+    pts = np.concatenate([[[0.0, 0.0]], np.column_stack([rad * np.sin(ang), rad * np.cos(ang)])])
+    pts[:, 0] *= w / (2.0 * np.abs(pts[:, 0]).max())
+    pts[:, 1] /= pts[:, 1].max()
+    return pts
 
 
 def _profile(k: int, w: float) -> tuple[np.ndarray, np.ndarray]:
