@@ -124,7 +124,7 @@ def format_symbol(name: str) -> str:
 
 _NUM = r"[-+]?(?:\d+\.?\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?|True|False|inf|nan)"
 _TOKEN = re.compile(
-    r'\s*(?:"(?P<long>[^"\n]*)"|(?P<char>[^\s()",#]))\s*(?P<args>\((?P<inner>[^()]*)\))?'
+    r'\s*(?:"(?P<long>[^"\n]*)"|(?P<char>\?[PHUL]|[^\s()",#]))\s*(?P<args>\((?P<inner>[^()]*)\))?'
 )
 _ARG = re.compile(r"\s*(" + _NUM + r")\s*(,|$)")
 
