@@ -54,7 +54,8 @@ ID_DTYPE = np.uint16
 MAX_SYMBOLS = 65535
 
 # Characters that are syntax in a word and cannot be one-character module names.
-_SYNTAX = set('()",#') | set(" \t\r\n")
+# "?" is quoted so that a module ? before P, H, U or L is not read back as a query module.
+_SYNTAX = set('()",#?') | set(" \t\r\n")
 
 
 class Alphabet:
