@@ -34,7 +34,7 @@ from .turtle import interpret, trace
 
 __all__ = [
     "Plant", "derive", "grow", "grow_geometry", "growth_scenes", "is_2d", "plant_texture",
-    "resolve", "texture_segments", "turtle_query",
+    "query_for", "resolve", "texture_segments", "turtle_query",
 ]  # fmt: skip
 
 #: Symbols that leave the plane (seed 001 §5.3: the camera is 2D when none is used).
@@ -221,7 +221,9 @@ def turtle_query(program: Program, *, seed: int | None = None):
     return query
 
 
-def _query(program: Program, seed: int | None):
+def query_for(program: Program, seed: int | None = None):
+    """:func:`turtle_query` for a program with query modules, else None (the ``query``
+    argument of :class:`~sylva.lsystem.Derivation` every front end passes)."""
     return turtle_query(program, seed=seed) if has_queries(program) else None
 
 
@@ -241,7 +243,7 @@ def derive(
     """
     from .lsystem.engine import derive as _derive
 
-    q = _query(program, seed if seed is not None else program.seed)
+    q = query_for(program, seed if seed is not None else program.seed)
     return _derive(program, steps, seed=seed, limit=limit, lineage=lineage, query=q)
 
 
@@ -291,7 +293,7 @@ def grow_geometry(source, steps: int | None = None, *, seed: int | None = None,
     _check_count(n, "steps")
     _check_count(seed, "seed", signed=True)
     n = check_steps(program, steps, limit=limit)
-    d = Derivation(program, seed=seed, limit=limit, query=_query(program, seed))
+    d = Derivation(program, seed=seed, limit=limit, query=query_for(program, seed))
     d.advance(n)
     rw = d.render_word()
     return program, seed, n, d.word, rw, interpret(rw, program, seed=seed)
@@ -332,7 +334,7 @@ def growth_scenes(
         seed = program.seed if program.seed is not None else 1
     n = check_steps(program, steps)
     smooth = substeps > 1 and program.turtle != "engine"
-    d = Derivation(program, seed=seed, trace=smooth, query=_query(program, seed))
+    d = Derivation(program, seed=seed, trace=smooth, query=query_for(program, seed))
     dd = _detail(program, detail)
 
     def scene_of(word: ModuleString) -> Scene:
@@ -445,7 +447,7 @@ def plant_texture(
     program = resolve(source)
     if seed is None:
         seed = program.seed if program.seed is not None else 1
-    d = Derivation(program, seed=seed, limit=limit, query=_query(program, seed))
+    d = Derivation(program, seed=seed, limit=limit, query=query_for(program, seed))
     d.advance(check_steps(program, steps, limit=limit))
     geometry = interpret(d.render_word(), program, seed=seed)
     return draw_segments(

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import sylva
+from sylva.data import find
 from sylva.errors import LSystemSyntaxError, SylvaError
 from sylva.lsystem import Derivation, derive, loads
 from sylva.lsystem.environment import QUERY_MODULES, has_queries
@@ -191,3 +192,13 @@ def test_a_query_module_in_a_dialect_without_them_is_an_error(dialect, text, lin
     # written apart, they are the two one-character symbols they always were
     spaced = text.replace("?", "? ")
     assert [m.symbol for m in loads(spaced, dialect=dialect).axiom][:1]
+
+
+def test_the_topiary_example_is_clipped_to_its_ball():
+    p = sylva.load(find("40-sylva-topiary-query").path)
+    plant = grow(p)
+    c, r = np.array([0.0, p.constants["C"], 0.0]), p.constants["R"]
+    ends = np.linalg.norm(plant.geometry.seg_end - c, axis=1)
+    # the trunk's 0.9 rises to the ball; every twig of 0.45 starts inside it
+    assert ends.max() <= r + 0.45 + 1e-9
+    assert plant.geometry.n_leaves > 100 and plant.geometry.n_segments > 1000
