@@ -202,3 +202,18 @@ def test_the_topiary_example_is_clipped_to_its_ball():
     # the trunk's 0.9 rises to the ball; every twig of 0.45 starts inside it
     assert ends.max() <= r + 0.45 + 1e-9
     assert plant.geometry.n_leaves > 100 and plant.geometry.n_segments > 1000
+
+
+def test_the_command_line_and_the_studio_answer_the_queries(capsys, tmp_path):
+    from sylva.cli import main
+    from sylva.studio._limits import Limits
+    from sylva.studio._work import new_derivation
+
+    f = tmp_path / "stem.lsys"
+    f.write_text("axiom = F(1) ?P(0,0,0) A\n?P(x,y,z) < A : y < 2.5 -> F(1) ?P(0,0,0) A\n")
+    assert main(["derive", str(f), "-n", "5"]) == 0
+    out = capsys.readouterr().out.strip()
+    assert out == 'F(1)"?P"(0,1,0)F(1)"?P"(0,2,0)F(1)"?P"(0,3,0)A'
+    p = loads(f.read_text())
+    d = new_derivation(p, seed=1, limits=Limits(), trace=True)
+    assert str(d.advance(5)) == out
