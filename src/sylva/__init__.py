@@ -34,7 +34,6 @@ from .lsystem import (
     ModuleString,
     Program,
     define,
-    derive,
     dumps,
     iterate,
     load,
@@ -113,6 +112,21 @@ def _register_ipython() -> None:
 
 
 _register_ipython()
+
+
+def derive(program, steps=None, *, seed=None, limit=None, lineage=False):
+    """The word after ``steps`` derivation steps: :func:`sylva.lsystem.derive`, and for a
+    program with query modules (``?P ?H ?U ?L``) the turtle answers them between steps
+    (:func:`sylva.plant.derive`)."""
+    from .lsystem import DEFAULT_MODULE_LIMIT
+    from .lsystem.environment import has_queries
+
+    limit = DEFAULT_MODULE_LIMIT if limit is None else limit
+    if has_queries(program):
+        from .plant import derive as _derive
+    else:
+        from .lsystem import derive as _derive
+    return _derive(program, steps, seed=seed, limit=limit, lineage=lineage)
 
 
 def __getattr__(name: str):

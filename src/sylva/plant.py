@@ -29,11 +29,12 @@ from .geometry.mesh import Scene
 from .geometry.records import Geometry
 from .lsystem import DEFAULT_MODULE_LIMIT, Derivation, ModuleString, Program, load
 from .lsystem.engine import check_steps
-from .turtle import interpret
+from .lsystem.environment import has_queries
+from .turtle import interpret, trace
 
 __all__ = [
-    "Plant", "grow", "grow_geometry", "growth_scenes", "is_2d", "plant_texture", "resolve",
-    "texture_segments",
+    "Plant", "derive", "grow", "grow_geometry", "growth_scenes", "is_2d", "plant_texture",
+    "query_for", "resolve", "texture_segments", "turtle_query",
 ]  # fmt: skip
 
 #: Symbols that leave the plane (seed 001 §5.3: the camera is 2D when none is used).
@@ -187,6 +188,65 @@ class Plant(Shown):
         return path
 
 
+def turtle_query(program: Program, *, seed: int | None = None):
+    """The query callback of :class:`~sylva.lsystem.Derivation` that asks the turtle.
+
+    It interprets the word as derived (render and interpretation rules are not applied)
+    with ``program``'s turtle, and gives each query module the turtle's state at it:
+    ``?P`` its position, ``?H`` / ``?U`` / ``?L`` its heading, up and left vectors
+    (:func:`sylva.turtle.trace`; the turtle draws nothing for a query module).
+
+    Examples
+    --------
+    >>> from sylva.lsystem import Derivation, loads
+    >>> p = loads("axiom = F(1)+(90)F(2)?P(0,0,0)?H(0,0,0)")
+    >>> d = Derivation(p, query=turtle_query(p))
+    >>> (d.word.values[-6:].round(9) + 0.0).tolist()   # ?P: (-2, 1, 0); ?H: -X
+    [-2.0, 1.0, 0.0, -1.0, 0.0, 0.0]
+    """
+    rows = {"?H": 0, "?L": 1, "?U": 2}
+
+    def query(word: ModuleString, index: np.ndarray) -> np.ndarray:
+        t = trace(word, program, seed=seed)
+        out = np.empty((index.size, 3))
+        names = word.alphabet.names
+        kind = np.array([names[i] for i in word.ids[index]])
+        pos = kind == "?P"
+        out[pos] = t.positions[index[pos]]
+        for name, row in rows.items():
+            sel = kind == name
+            out[sel] = t.frames[index[sel], row]
+        return out + 0.0  # no negative zeros
+
+    return query
+
+
+def query_for(program: Program, seed: int | None = None):
+    """:func:`turtle_query` for a program with query modules, else None (the ``query``
+    argument of :class:`~sylva.lsystem.Derivation` every front end passes)."""
+    return turtle_query(program, seed=seed) if has_queries(program) else None
+
+
+def derive(
+    program: Program,
+    steps: int | None = None,
+    *,
+    seed: int | None = None,
+    limit: int = DEFAULT_MODULE_LIMIT,
+    lineage: bool = False,
+) -> ModuleString:
+    """:func:`sylva.lsystem.derive`, with the turtle answering the query modules.
+
+    A program with ``?P`` / ``?H`` / ``?U`` / ``?L`` modules is derived with
+    :func:`turtle_query` (the word is interpreted after every step); any other program
+    exactly as :func:`sylva.lsystem.derive` derives it.
+    """
+    from .lsystem.engine import derive as _derive
+
+    q = query_for(program, seed if seed is not None else program.seed)
+    return _derive(program, steps, seed=seed, limit=limit, lineage=lineage, query=q)
+
+
 def grow(
     source: Program | str | os.PathLike,
     steps: int | None = None,
@@ -233,7 +293,7 @@ def grow_geometry(source, steps: int | None = None, *, seed: int | None = None,
     _check_count(n, "steps")
     _check_count(seed, "seed", signed=True)
     n = check_steps(program, steps, limit=limit)
-    d = Derivation(program, seed=seed, limit=limit)
+    d = Derivation(program, seed=seed, limit=limit, query=query_for(program, seed))
     d.advance(n)
     rw = d.render_word()
     return program, seed, n, d.word, rw, interpret(rw, program, seed=seed)
@@ -274,7 +334,7 @@ def growth_scenes(
         seed = program.seed if program.seed is not None else 1
     n = check_steps(program, steps)
     smooth = substeps > 1 and program.turtle != "engine"
-    d = Derivation(program, seed=seed, trace=smooth)
+    d = Derivation(program, seed=seed, trace=smooth, query=query_for(program, seed))
     dd = _detail(program, detail)
 
     def scene_of(word: ModuleString) -> Scene:
@@ -387,7 +447,7 @@ def plant_texture(
     program = resolve(source)
     if seed is None:
         seed = program.seed if program.seed is not None else 1
-    d = Derivation(program, seed=seed, limit=limit)
+    d = Derivation(program, seed=seed, limit=limit, query=query_for(program, seed))
     d.advance(check_steps(program, steps, limit=limit))
     geometry = interpret(d.render_word(), program, seed=seed)
     return draw_segments(

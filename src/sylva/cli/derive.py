@@ -10,6 +10,7 @@ from pathlib import Path
 from ..errors import GrowthLimitError, StepsError, SylvaError
 from ..lsystem import DEFAULT_MODULE_LIMIT, Derivation, ModuleString, Program
 from ..lsystem.engine import check_steps
+from ..lsystem.environment import has_queries
 from ._common import steps_type
 
 __all__ = ["derive_keeping", "load_program", "register"]
@@ -107,6 +108,15 @@ def stopped_note(exc: GrowthLimitError, asked: int, word: ModuleString) -> str:
             f"modules: {exc}")  # fmt: skip
 
 
+def _query(program: Program, seed: int | None):
+    """The turtle's answer to the query modules, for a program that has them."""
+    if not has_queries(program):
+        return None
+    from ..plant import query_for  # the turtle, only when needed
+
+    return query_for(program, seed if seed is not None else program.seed)
+
+
 def derive_keeping(program: Program, steps: int | None, *, seed: int | None, limit: int,
                    keep_last: bool) -> ModuleString:  # fmt: skip
     """The word after ``steps`` (``-n``) steps; with ``keep_last``, the word of the last step
@@ -119,7 +129,7 @@ def derive_keeping(program: Program, steps: int | None, *, seed: int | None, lim
         print(f"sylva: note: {exc}\nsylva: note: deriving at most {exc.fits:,} steps "
               "(--keep-last)", file=sys.stderr)  # fmt: skip
         n = exc.fits
-    d = Derivation(program, seed=seed, limit=limit)
+    d = Derivation(program, seed=seed, limit=limit, query=_query(program, seed))
     try:
         d.advance(n)
     except GrowthLimitError as exc:
@@ -144,7 +154,7 @@ def run(args) -> int:
         print(f"sylva: note: {exc}\nsylva: note: deriving at most {exc.fits:,} steps "
               "(--keep-last)", file=sys.stderr)  # fmt: skip
         steps = exc.fits
-    d = Derivation(program, seed=args.seed, limit=args.limit)
+    d = Derivation(program, seed=args.seed, limit=args.limit, query=_query(program, args.seed))
     out = sys.stdout
 
     def show(dd: Derivation) -> None:

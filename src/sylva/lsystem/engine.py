@@ -43,6 +43,7 @@ from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
 from ._memory import _check_limit, block_step_bytes, fast_step_bytes, general_step_bytes
 from ._steps import _FLOOR_ITERATIONS, DEFAULT_MODULE_LIMIT, check_steps
 from .ast import MAX_STEPS, Program, Rule
+from .environment import Query, apply_query, has_queries, missing_query
 from .expr import compile_expr, truth
 from .lstring import CLOSE, ID_DTYPE, OPEN, Alphabet, ModuleString
 from .matching import ignored_table, pattern_match
@@ -825,6 +826,11 @@ class Derivation:
         modules: of the seed and their index), and a stochastic rule is drawn from the key
         and the step.  Editing the rules of one branch then leaves every other branch as it
         was.  The same seed gives the same word on every machine; takes the general road.
+    query : callable, optional
+        ``query(word, index) -> float64[m, 3]``: the new values of the word's query modules
+        (``?P ?H ?U ?L``, at positions ``index``), called on the axiom and after every step
+        (see :mod:`sylva.lsystem.environment`).  A program with query modules needs one:
+        :func:`sylva.derive` and :func:`sylva.grow` pass the turtle's.
 
     Examples
     --------
@@ -846,7 +852,11 @@ class Derivation:
         limit: int = DEFAULT_MODULE_LIMIT,
         trace: bool = False,
         lineage: bool = False,
+        query: Query | None = None,
     ) -> None:
+        if query is None and has_queries(program):
+            raise missing_query(program)
+        self.query = query
         self.program = program
         self.seed = _resolve_seed(seed, program)
         self.limit = int(limit)
@@ -912,6 +922,8 @@ class Derivation:
         if self.program.statements is not None:
             self._globals = self.program.statements.fresh()
         self.word = self._axiom()
+        if self.query is not None:
+            self.word = apply_query(self.word, self.query, 0)
         self.step = 0
         self._history.clear()
         self._origin_rule = self._origin_step = None
@@ -930,6 +942,7 @@ class Derivation:
         return bool(
             not self.trace
             and not self.lineage
+            and self.query is None
             and self.program.statements is None
             and comp.group_fn is None
             and not comp.decomposition.rules
@@ -1003,6 +1016,8 @@ class Derivation:
                 new, _ = _passes(new, comp.decomposition, comp, self.seed, self.step + 1,
                                  self.program.decomposition_depth, "decomposition",
                                  self.limit)  # fmt: skip
+        if self.query is not None:  # the turtle's state into the query modules
+            new = apply_query(new, self.query, self.step + 1)
         if stm is not None:
             stm.after(self._globals, self.step)
         self._history.append(saved)
@@ -1071,10 +1086,13 @@ def derive(
     seed: int | None = None,
     limit: int = DEFAULT_MODULE_LIMIT,
     lineage: bool = False,
+    query: Query | None = None,
 ) -> ModuleString:
     """The word after ``steps`` derivation steps (default: the program's own count, else 0).
 
-    ``lineage=True`` keys the random choices by ancestry (see :class:`Derivation`).
+    ``lineage=True`` keys the random choices by ancestry and ``query`` fills the query
+    modules between steps (see :class:`Derivation`; :func:`sylva.derive` passes the
+    turtle's for a program with query modules).
 
     >>> from sylva.lsystem.ast import Module, Pattern, Program, Rule
     >>> koch = Program(axiom=(Module("F"),), rules=(Rule(Pattern("F"),
@@ -1089,12 +1107,12 @@ def derive(
             raise
         # fast growth: the steps that fit are few, so keep their word as a step-by-step
         # derivation that met the limit would
-        d = Derivation(program, seed=seed, limit=limit, lineage=lineage)
+        d = Derivation(program, seed=seed, limit=limit, lineage=lineage, query=query)
         with contextlib.suppress(GrowthLimitError):
             d.advance(exc.fits)
         exc.word, exc.step = d.word, d.step
         raise
-    d = Derivation(program, seed=seed, limit=limit, lineage=lineage)
+    d = Derivation(program, seed=seed, limit=limit, lineage=lineage, query=query)
     return d.advance(n)
 
 
@@ -1104,10 +1122,11 @@ def iterate(
     *,
     seed: int | None = None,
     limit: int = DEFAULT_MODULE_LIMIT,
+    query: Query | None = None,
 ) -> Iterator[ModuleString]:
     """Yield the words of steps ``0 … steps`` (step 0 is the axiom)."""
     n = check_steps(program, steps, limit=limit)
-    d = Derivation(program, seed=seed, limit=limit)
+    d = Derivation(program, seed=seed, limit=limit, query=query)
     yield d.word
     for _ in range(n):
         yield d.advance()

@@ -113,7 +113,10 @@ def load_program(text: str, *, dialect: str | None, filename: str | None,
 def new_derivation(program, *, seed: int | None, limits: Limits, trace: bool) -> Derivation:
     if seed is not None and not (0 <= int(seed) < 2**63):
         raise SylvaError("the seed must be an integer in [0, 2**63)")
-    return Derivation(program, seed=seed, limit=limits.max_modules, trace=trace)
+    from ..plant import query_for  # the turtle answers the query modules (?P ?H ?U ?L)
+
+    query = query_for(program, seed if seed is not None else program.seed)
+    return Derivation(program, seed=seed, limit=limits.max_modules, trace=trace, query=query)
 
 
 def turtle_table(program) -> str:

@@ -65,6 +65,7 @@ def describe_expected(expected: Iterable[str]) -> str:
         # '<' and '>' are comparison operators in an expression
         if "COMMA" in exp or "RPAR" in exp or "ARROW" in exp:
             exp -= {"LT", "GT"}
+    exp.discard("QUERY")
     if "LONGNAME" in exp:
         exp.discard("LONGNAME")
         exp.add("SYMBOL")
@@ -126,13 +127,14 @@ def content_length(line: str, comment: str = "#") -> int:
 
 
 def char_symbols(
-    text: str, offset: int, where: Where, what: str, comment: str
+    text: str, offset: int, where: Where, what: str, comment: str, dialect: str = "this"
 ) -> list[tuple[str, int]]:
     """The one-character symbols of ``text`` (spaces dropped) with their 1-based columns.
 
     Used by the one-character dialects (seed 000 and seed 004); ``comment`` is the
     dialect's comment character, named in the error for a character that cannot be a
-    symbol.  Brackets must balance.
+    symbol.  Brackets must balance.  ``?P`` ``?H`` ``?U`` ``?L`` written together are
+    query modules, which these dialects do not have: an error naming ``dialect``.
     """
     out = []
     depth: list[int] = []
@@ -144,6 +146,13 @@ def char_symbols(
             raise where.error(
                 f"{ch!r} cannot be a symbol; expected a printable character other than "
                 f"'\"' and '{comment}'",
+                col,
+            )
+        if ch == "?" and text[i + 1 : i + 2] in ("P", "H", "U", "L"):
+            raise where.error(
+                f"{text[i:i + 2]!r} is a query module of cpfg and .lsys, which the {dialect} "
+                "format does not have; expected one-character symbols (write "
+                f"'? {text[i + 1]}' for the two symbols, or use the .lsys or cpfg language)",
                 col,
             )
         if ch == "[":

@@ -41,7 +41,8 @@ __all__ = [
 ]
 
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
-_NOT_BARE = set('()"#<>:=[]')
+# "?" is quoted so that a module ? before P, H, U or L is not read back as a query module.
+_NOT_BARE = set('()"#<>:=[]?')
 _UNARY_PRECEDENCE = 9  # above every binary operator, ** included (seed 001 §3.4)
 _ATOM = 10
 

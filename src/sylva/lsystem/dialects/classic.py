@@ -72,7 +72,7 @@ def _strip_comment(line: str) -> str:
 
 def _symbols(text: str, offset: int, where: Where, what: str) -> list[tuple[str, int]]:
     """The one-character symbols of ``text`` (spaces dropped) with their columns."""
-    return char_symbols(text, offset, where, what, ";")
+    return char_symbols(text, offset, where, what, ";", "classic")
 
 
 def parse(text: str, filename: str | None = None) -> Program:

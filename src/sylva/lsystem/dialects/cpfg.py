@@ -26,7 +26,9 @@ with one they are interpretation rules, applied again to what they make);
 ``maximum depth:`` (in those two sections: the most passes, cpfg's default 1; rules that
 still apply after them are an error); the view file's ``tropism direction:`` (normalised,
 as cpfg does), ``initial elasticity:`` and ``elasticity increment:`` (ABOP §2.3 tropism);
-``endlsystem`` (the rest of the file is ignored).  Inside expressions ``^`` is cpfg's power
+``endlsystem`` (the rest of the file is ignored); the query modules ``?P(x,y,z)``
+``?H`` ``?U`` ``?L``, which the turtle sets between steps to its position, heading, up and
+left vector (:mod:`sylva.lsystem.environment`).  Inside expressions ``^`` is cpfg's power
 (sylva's ``**``).  The turtle is ABOP's (``turtle = abop``), with cpfg's ``@`` functions
 (``@O @v @M @R``, and ``@Ts(1, e)`` / ``@Ti`` / ``@Td`` whose first parameter is the
 tropism's index: sylva has one, 1).  A production may run over several lines: a line that

@@ -45,7 +45,7 @@ _PRODUCTION = re.compile(r"\s*(\S)\s*>(.*)\Z", re.DOTALL)
 
 
 def _symbols(text: str, offset: int, where: Where, what: str) -> list[str]:
-    return [ch for ch, _ in char_symbols(text, offset, where, what, "#")]
+    return [ch for ch, _ in char_symbols(text, offset, where, what, "#", "engine")]
 
 
 class _System:
