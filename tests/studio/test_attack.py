@@ -77,6 +77,8 @@ def test_a_full_store_refuses_the_new_client_and_keeps_the_active_ones(workspace
     ("/api/pick", b'{"point": [1' + b"0" * 400 + b', 0, 0]}'),
     ("/api/export-png", b'{"width": 8, "height": 8, "camera": {"yaw": 1' + b"0" * 400 + b"}}"),
     ("/api/export-png", b'{"width": 8, "camera": {"target": [-1' + b"0" * 400 + b", 0, 0]}}"),
+    # a point past the float32 mesh's range (its squared distances overflowed: a 500)
+    ("/api/pick", b'{"point": [0, 0, 1e300]}'),
     ("/api/load", b'{"text": "rot = 3\\naxiom = F\\n", "overrides": {"rot": 1' + b"0" * 400
      + b"}}"),
 ])
