@@ -2,9 +2,10 @@
 
 Whatever the body (any JSON value, the fields an endpoint reads with values of any type,
 numbers out of range written as raw text, deep nesting, huge or surrogate strings, bytes
-that are no JSON at all), the answer is a 2xx or a 4xx (or a 503 saying when to retry),
-an error is a JSON ``{"error", "message"}``, and the connection is never dropped.  One
-server for the module, with small caps so that a body that happens to be valid is cheap.
+that are no JSON at all), the answer is a 2xx or a 4xx (or a 503 saying when to retry,
+or ``render`` where the server has no OpenGL), an error is a JSON ``{"error", "message"}``,
+never a 500, and the connection is never dropped.  One server for the module, with small
+caps so that a body that happens to be valid is cheap.
 """
 
 from __future__ import annotations
