@@ -206,3 +206,14 @@ def test_a_name_too_long_for_the_system_is_a_400(live):
         fits = "é" * 100 + ".lsys"
         assert c.put("/api/file", json={"path": fits, "text": PLANT}).status_code == 200
         assert c.get("/api/file", params={"path": fits}).json()["text"] == PLANT
+
+
+def test_a_file_in_the_way_of_a_folder_is_a_409(live):
+    """Saving sub-path of a file (``plant.lsys/in.lsys``): the folder cannot be made.  It
+    was a 500 ("file exists", "not a directory")."""
+    with live.client(timeout=30) as c:
+        for path in ("plant.lsys/in.lsys", "plant.lsys/a/b.lsys"):
+            r = c.put("/api/file", json={"path": path, "text": PLANT, "overwrite": True})
+            assert r.status_code == 409 and r.json()["error"] == "workspace", r.text
+            assert r.json()["message"].startswith(f"cannot write {path}: "), r.text
+        assert (live.workspace / "plant.lsys").is_file()

@@ -29,11 +29,17 @@ class WorkspaceError(SylvaError):
 
 def _save_status(exc: OSError) -> int:
     """The HTTP status of a failed save: 507 Insufficient Storage for a full disk or quota,
-    403 where the server may not write, 500 for the rest."""
+    403 where the server may not write, 409 where a file stands in the way of a folder of
+    the path (or a folder in the way of the file), 400 for a name the system refuses, 500
+    for the rest."""
     if exc.errno in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG):
         return 507
     if exc.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
         return 403
+    if exc.errno in (errno.EEXIST, errno.ENOTDIR, errno.EISDIR):
+        return 409
+    if exc.errno in (errno.ENAMETOOLONG, errno.EINVAL):
+        return 400
     return 500
 
 
