@@ -10,18 +10,21 @@ commands, each under a limit of half its output's size.
 
 from __future__ import annotations
 
-import contextlib
-import fcntl
 import io
 import json
-import os
-import re
 import subprocess
 import sys
-import textwrap
 from pathlib import Path
 
 import pytest
+from _write_targets import (
+    FULL_DISK_CAUSES,
+    FULL_DISK_CHILD,
+    check_failure,
+    read_only,
+    same,
+    seed,
+)
 
 from sylva.cli import main
 from sylva.data import examples
@@ -56,7 +59,6 @@ CASES = {
                 ["01-koch-snowflake.png", "index.html"]),
 }
 NEEDS_USD = {"export-usda", "export-usdc"}
-MESSAGE = re.compile(r"^sylva: error: cannot write (?P<path>.+?): (?P<cause>.+)$", re.M)
 
 
 def _params():
@@ -72,14 +74,8 @@ def _argv(name: str, folder: Path) -> list[str]:
 
 
 def _check_failure(name: str, folder: Path, rc, err: str, causes: tuple[str, ...]) -> None:
-    assert rc == 2, (rc, err)
-    assert "Traceback" not in err and "Exception ignored" not in err, err
-    found = MESSAGE.search(err)
-    assert found, err
-    named = Path(found["path"])
     # the message names one of the command's outputs (or, for the gallery, its folder)
-    assert named in {folder / f for f in CASES[name][1]} | {folder}, err
-    assert any(c in found["cause"] for c in causes), err
+    check_failure(rc, err, {folder / f for f in CASES[name][1]} | {folder}, causes)
 
 
 @pytest.fixture(scope="module")
@@ -95,18 +91,6 @@ def good(tmp_path_factory) -> dict[str, dict[str, bytes]]:
         assert main(_argv(name, folder)) == 0, name
         out[name] = {f: (folder / f).read_bytes() for f in CASES[name][1]}
     return out
-
-
-def _seed(folder: Path, files: dict[str, bytes]) -> None:
-    folder.mkdir(parents=True, exist_ok=True)
-    for f, data in files.items():
-        (folder / f).write_bytes(data)
-
-
-def _same(folder: Path, files: dict[str, bytes]) -> None:
-    assert sorted(os.listdir(folder)) == sorted(files), "a temporary file was left behind"
-    for f, data in files.items():
-        assert (folder / f).read_bytes() == data, f"{f} was changed by the failed write"
 
 
 @pytest.mark.parametrize("name", list(_params()))
@@ -125,72 +109,15 @@ def test_missing_folder(name, good, tmp_path, capsys):
         assert str(tmp_path / "no") in err and not (tmp_path / "no").exists()
 
 
-_FS_IOC_GETFLAGS, _FS_IOC_SETFLAGS, _FS_IMMUTABLE_FL = 0x80086601, 0x40086602, 0x10
-
-
-def _set_immutable(folder: Path, on: bool) -> None:
-    fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY)
-    try:
-        buf = bytearray(fcntl.ioctl(fd, _FS_IOC_GETFLAGS, b"\0" * 8))
-        flags = int.from_bytes(buf[:4], "little")
-        flags = flags | _FS_IMMUTABLE_FL if on else flags & ~_FS_IMMUTABLE_FL
-        fcntl.ioctl(fd, _FS_IOC_SETFLAGS, flags.to_bytes(4, "little") + bytes(buf[4:]))
-    finally:
-        os.close(fd)
-
-
-@contextlib.contextmanager
-def _read_only(folder: Path):
-    """A folder nobody may add a file to.  Root ignores permission bits, so as root the
-    folder is made immutable (``chattr +i``), which binds root too."""
-    if os.geteuid() != 0:
-        folder.chmod(0o555)
-        try:
-            yield ("permission denied",)
-        finally:
-            folder.chmod(0o755)
-        return
-    try:
-        _set_immutable(folder, True)
-    except OSError as exc:
-        pytest.skip(f"running as root and {folder} cannot be made immutable: {exc}")
-    try:
-        yield ("operation not permitted",)
-    finally:
-        _set_immutable(folder, False)
-
-
 @pytest.mark.parametrize("name", list(_params()))
 def test_read_only_folder(name, good, tmp_path, capsys):
     folder = tmp_path / "ro"
-    _seed(folder, good[name])
-    with _read_only(folder) as causes:
+    seed(folder, good[name])
+    with read_only(folder) as causes:
         rc = main(_argv(name, folder))
     err = capsys.readouterr().err
     _check_failure(name, folder, rc, err, causes)
-    _same(folder, good[name])
-
-
-_CHILD = textwrap.dedent("""
-    import contextlib, io, json, resource, signal, sys, traceback
-    from sylva.cli import main
-    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
-    results = {}
-    for name, argv, limit in json.load(sys.stdin):
-        err = io.StringIO()
-        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, resource.RLIM_INFINITY))
-        try:
-            with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
-                rc = main(argv)
-        except BaseException:
-            rc = "raised"
-            err.write(traceback.format_exc())
-        finally:
-            resource.setrlimit(resource.RLIMIT_FSIZE,
-                               (resource.RLIM_INFINITY, resource.RLIM_INFINITY))
-        results[name] = (rc, err.getvalue())
-    json.dump(results, sys.stdout)
-""")
+    same(folder, good[name])
 
 
 @pytest.fixture(scope="module")
@@ -202,11 +129,11 @@ def full_disk(good, tmp_path_factory):
     jobs = []
     for name, files in good.items():
         folder = base / name
-        _seed(folder, files)
+        seed(folder, files)
         sizes = [len(data) for data in files.values()]
         limit = (max(sizes) if name == "export-obj" else min(sizes)) // 2
         jobs.append((name, _argv(name, folder), limit))
-    run = subprocess.run([sys.executable, "-c", _CHILD], input=json.dumps(jobs),
+    run = subprocess.run([sys.executable, "-c", FULL_DISK_CHILD], input=json.dumps(jobs),
                          capture_output=True, text=True, timeout=300, check=False)
     assert run.returncode == 0, run.stderr
     return base, json.loads(run.stdout), run.stderr
@@ -217,8 +144,8 @@ def test_full_disk(name, good, full_disk):
     base, results, _ = full_disk
     rc, err = results[name]
     folder = base / name
-    _check_failure(name, folder, rc, err, ("larger than this system allows",))
-    _same(folder, good[name])
+    _check_failure(name, folder, rc, err, FULL_DISK_CAUSES)
+    same(folder, good[name])
 
 
 def test_full_disk_child_printed_no_traceback(full_disk):

@@ -72,6 +72,15 @@ def test_a_full_store_refuses_the_new_client_and_keeps_the_active_ones(workspace
     ("/api/step", b'{"n": Infinity}'),
     ("/api/pick", b'{"point": [1e400, 0, 0]}'),
     ("/api/export-png", b'{"width": 1e400}'),
+    # an integer past the largest float is as out of range as 1e400 (it was a 500: the
+    # handlers took it for a number and float() overflowed)
+    ("/api/pick", b'{"point": [1' + b"0" * 400 + b', 0, 0]}'),
+    ("/api/export-png", b'{"width": 8, "height": 8, "camera": {"yaw": 1' + b"0" * 400 + b"}}"),
+    ("/api/export-png", b'{"width": 8, "camera": {"target": [-1' + b"0" * 400 + b", 0, 0]}}"),
+    # a point past the float32 mesh's range (its squared distances overflowed: a 500)
+    ("/api/pick", b'{"point": [0, 0, 1e300]}'),
+    ("/api/load", b'{"text": "rot = 3\\naxiom = F\\n", "overrides": {"rot": 1' + b"0" * 400
+     + b"}}"),
 ])
 def test_bad_json_is_a_400_with_a_message(live, path, body):
     with live.client(timeout=30) as c:
@@ -181,3 +190,30 @@ def test_many_clients_all_get_an_answer(workspace):
     assert all(r["modules"] == want for r in results)
     assert [r["rot"] for r in results] == [10.0 + k for k in range(60)]
     assert sum(r["refused"] for r in results) > 0  # the store was full at times
+
+
+def test_a_name_too_long_for_the_system_is_a_400(live):
+    """A path of at most 255 characters whose name is over 255 bytes in UTF-8 (the
+    system refuses it with ENAMETOOLONG): it was a 500 on save and on open."""
+    name = "é" * 200 + ".lsys"
+    with live.client(timeout=30) as c:
+        r = c.put("/api/file", json={"path": name, "text": PLANT})
+        assert r.status_code == 400 and r.json()["error"] == "workspace", r.text
+        assert "longer than 255 bytes" in r.json()["message"]
+        r = c.get("/api/file", params={"path": name})
+        assert r.status_code == 400 and r.json()["error"] == "workspace", r.text
+        # a long name that fits is saved
+        fits = "é" * 100 + ".lsys"
+        assert c.put("/api/file", json={"path": fits, "text": PLANT}).status_code == 200
+        assert c.get("/api/file", params={"path": fits}).json()["text"] == PLANT
+
+
+def test_a_file_in_the_way_of_a_folder_is_a_409(live):
+    """Saving sub-path of a file (``plant.lsys/in.lsys``): the folder cannot be made.  It
+    was a 500 ("file exists", "not a directory")."""
+    with live.client(timeout=30) as c:
+        for path in ("plant.lsys/in.lsys", "plant.lsys/a/b.lsys"):
+            r = c.put("/api/file", json={"path": path, "text": PLANT, "overwrite": True})
+            assert r.status_code == 409 and r.json()["error"] == "workspace", r.text
+            assert r.json()["message"].startswith(f"cannot write {path}: "), r.text
+        assert (live.workspace / "plant.lsys").is_file()

@@ -393,6 +393,9 @@ def export_mesh(session: Session, fmt: str, limits: Limits) -> bytes:
 
 
 # --------------------------------------------------------------------------- rule trace
+_F32_MAX = float(np.finfo(np.float32).max)
+
+
 def _seg_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     ab = b - a
     L2 = np.einsum("ij,ij->i", ab, ab)
@@ -405,8 +408,11 @@ def pick(session: Session, point, limits: Limits) -> dict:
     """The module that drew what lies at ``point`` (a hit on the mesh, model space), and the
     rule and step that made it."""
     p = np.asarray(point, dtype=np.float64).reshape(3)
-    if not np.isfinite(p).all():
-        raise SylvaError("the picked point must be three finite numbers")
+    # the mesh is float32: a point past its range is no hit on it, and its squared
+    # distances would overflow (1e300 was a 500, "overflow encountered in multiply")
+    if not (np.isfinite(p).all() and np.abs(p).max() <= _F32_MAX):
+        raise SylvaError("the picked point must be three finite numbers of the model's "
+                         f"space (within ±{_F32_MAX:.3g})")
     drawn = mesh(session, limits)
     g = drawn.geometry
     best = (math.inf, None, None)  # distance, kind, record index

@@ -14,6 +14,7 @@ __all__ = ["SUFFIXES", "Workspace", "WorkspaceError"]
 SUFFIXES = (".lsys", ".txt", ".ls")
 _MAX_FILES = 2000
 _MAX_DEPTH = 6
+_NAME_MAX = 255  # bytes in one file or folder name (Linux, macOS, Windows)
 
 
 class WorkspaceError(SylvaError):
@@ -28,11 +29,17 @@ class WorkspaceError(SylvaError):
 
 def _save_status(exc: OSError) -> int:
     """The HTTP status of a failed save: 507 Insufficient Storage for a full disk or quota,
-    403 where the server may not write, 500 for the rest."""
+    403 where the server may not write, 409 where a file stands in the way of a folder of
+    the path (or a folder in the way of the file), 400 for a name the system refuses, 500
+    for the rest."""
     if exc.errno in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG):
         return 507
     if exc.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
         return 403
+    if exc.errno in (errno.EEXIST, errno.ENOTDIR, errno.EISDIR):
+        return 409
+    if exc.errno in (errno.ENAMETOOLONG, errno.EINVAL):
+        return 400
     return 500
 
 
@@ -65,6 +72,9 @@ class Workspace:
         if len(rel) > 255 or "\x00" in rel or "\\" in rel or ":" in rel:
             raise WorkspaceError(f"{rel!r} is not a valid workspace path")
         pure = PurePosixPath(rel)
+        if any(len(part.encode("utf-8")) > _NAME_MAX for part in pure.parts):
+            # the system would refuse it (ENAMETOOLONG): a bad path, not a server error
+            raise WorkspaceError(f"{rel!r} has a name longer than {_NAME_MAX} bytes")
         if pure.is_absolute() or any(part in ("..", ".") or part.startswith(".")
                                      for part in pure.parts):
             raise WorkspaceError(f"{rel!r} leaves the workspace or names a hidden file", 403)
@@ -106,20 +116,24 @@ class Workspace:
 
     def read(self, rel: object, max_bytes: int) -> str:
         path = self.resolve(rel)
-        if not path.is_file():
-            raise WorkspaceError(f"{rel}: no such file in the workspace", 404)
-        if path.stat().st_size > max_bytes:
-            raise WorkspaceError(f"{rel} is larger than {max_bytes:,} bytes", 413)
-        return decode(path.read_bytes())
+        try:
+            if not path.is_file():
+                raise WorkspaceError(f"{rel}: no such file in the workspace", 404)
+            if path.stat().st_size > max_bytes:
+                raise WorkspaceError(f"{rel} is larger than {max_bytes:,} bytes", 413)
+            return decode(path.read_bytes())
+        except OSError as exc:
+            raise WorkspaceError(describe_os_error(exc, rel, verb="read"),
+                                 _save_status(exc)) from None
 
     def write(self, rel: object, text: str, *, overwrite: bool) -> str:
         """Save ``text`` as UTF-8, atomically; return the relative path."""
         path = self.resolve(rel)
-        if path.exists() and not overwrite:
-            raise WorkspaceError(f"{rel} exists already", 409)
-        if path.exists() and not path.is_file():
-            raise WorkspaceError(f"{rel} is not a file", 409)
         try:
+            if path.exists() and not overwrite:
+                raise WorkspaceError(f"{rel} exists already", 409)
+            if path.exists() and not path.is_file():
+                raise WorkspaceError(f"{rel} is not a file", 409)
             path.parent.mkdir(parents=True, exist_ok=True)
             if not path.parent.resolve().is_relative_to(self.root):
                 raise WorkspaceError(f"{rel!r} leaves the workspace", 403)

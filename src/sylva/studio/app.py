@@ -46,6 +46,7 @@ import gc
 import json
 import math
 import secrets
+import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
 from importlib import resources
@@ -258,6 +259,15 @@ def _finite(text: str) -> float:
     return v
 
 
+def _integer(text: str) -> int:
+    # an integer past the largest float (1 followed by 400 zeros) is as out of range as
+    # 1e400: every handler that takes a number may turn it into a float
+    v = int(text)
+    if abs(v) > sys.float_info.max:
+        raise ValueError(f"the number {text[:40]}... is out of range")
+    return v
+
+
 def _constant(name: str):
     raise ValueError(f"{name} is not a JSON number")
 
@@ -265,7 +275,8 @@ def _constant(name: str):
 async def _json(request: Request) -> dict:
     body = await request.body()
     try:
-        data = json.loads(body or b"{}", parse_float=_finite, parse_constant=_constant)
+        data = json.loads(body or b"{}", parse_float=_finite, parse_int=_integer,
+                          parse_constant=_constant)
     except RecursionError:
         raise ApiError(400, "bad_request", "the JSON body is nested too deeply") from None
     except (ValueError, UnicodeDecodeError) as exc:

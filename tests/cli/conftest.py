@@ -1,0 +1,10 @@
+"""Make the shared helpers of the CLI tests (``_write_targets.py``) importable."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+_HERE = str(Path(__file__).resolve().parent)
+if _HERE not in sys.path:
+    sys.path.insert(0, _HERE)
