@@ -195,7 +195,10 @@ def _check(r: httpx.Response, where: str, body: bytes) -> None:
         assert isinstance(r.json(), dict), where
 
 
-_FUZZ = settings(max_examples=60, deadline=None, database=None,
+# derandomized: CI runs the same 60 bodies a group every time, so a timing-dependent answer
+# cannot make one run of the suite fail where the next passes; for a long exploratory run,
+# drop derandomize and raise max_examples here
+_FUZZ = settings(max_examples=60, deadline=None, database=None, derandomize=True,
                  suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
                                         HealthCheck.function_scoped_fixture])
 
