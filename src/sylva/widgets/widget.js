@@ -96,24 +96,7 @@ async function render({ model, el: host }) {
       mixer = null;
       if (first) { viewer.setMode(model.get("camera")); viewer.resetCamera(); first = false; }
     } else {
-      const gltf = await new Promise((resolve, reject) =>
-        new THREE.GLTFLoader().parse(buffer, "", resolve, reject));
-      viewer._disposePlant();
-      let triangles = 0;
-      gltf.scene.traverse((o) => {
-        if (o.isMesh) {
-          const g = o.geometry;
-          triangles += (g.index ? g.index.count : g.attributes.position.count) / 3;
-          const mats = Array.isArray(o.material) ? o.material : [o.material];
-          for (const m of mats) m.side = THREE.DoubleSide;
-          if (o.isSkinnedMesh) o.frustumCulled = false;  // wind moves it out of its box
-        }
-      });
-      viewer.plant.add(gltf.scene);
-      viewer.triangles = triangles;
-      viewer.plant.updateMatrixWorld(true);
-      const box = new THREE.Box3().setFromObject(viewer.plant);
-      viewer.bounds = box.isEmpty() ? null : box;
+      const gltf = await viewer.showGlb(buffer);
       mixer = null;
       if (gltf.animations.length) {
         mixer = new THREE.AnimationMixer(gltf.scene);

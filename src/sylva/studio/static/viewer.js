@@ -139,6 +139,7 @@ export class Viewer {
         triangles += (g.index ? g.index.count : g.attributes.position.count) / 3;
         const mats = Array.isArray(o.material) ? o.material : [o.material];
         for (const m of mats) m.side = THREE.DoubleSide;
+        if (o.isSkinnedMesh) o.frustumCulled = false;  // wind moves it out of its box
       }
     });
     this.plant.add(gltf.scene);
@@ -149,7 +150,7 @@ export class Viewer {
     if (fit) this.resetCamera();
     this.clearHighlight();
     this.invalidate();
-    return triangles;
+    return gltf;  // its animations are the caller's (the notebook widget plays the wind)
   }
 
   _disposePlant() {
