@@ -321,6 +321,7 @@ def growth_scenes(
     substeps: int = 1,
     detail: int | None = None,
     mode: str = "tube",
+    limit: int = DEFAULT_MODULE_LIMIT,
 ) -> Iterator[Scene]:
     """Scenes of a plant growing: one per derivation step, or ``substeps`` per step.
 
@@ -332,9 +333,9 @@ def growth_scenes(
     program = resolve(source)
     if seed is None:
         seed = program.seed if program.seed is not None else 1
-    n = check_steps(program, steps)
+    n = check_steps(program, steps, limit=limit)
     smooth = substeps > 1 and program.turtle != "engine"
-    d = Derivation(program, seed=seed, trace=smooth, query=query_for(program, seed))
+    d = Derivation(program, seed=seed, trace=smooth, limit=limit, query=query_for(program, seed))
     dd = _detail(program, detail)
 
     def scene_of(word: ModuleString) -> Scene:

@@ -48,6 +48,14 @@ def test_more_steps_than_the_limit_allows_names_dash_n(capsys, doubling):
     assert "-n 40:" in err and "by step 10" in err and "at most 9 steps" in err
 
 
+
+@pytest.mark.parametrize("command, out", [("render", "x.png"), ("animate", "x.gif")])
+def test_render_and_animate_name_dash_n_and_take_limit(capsys, doubling, tmp_path, command, out):
+    # 2**10 = 1,024 modules at step 10 > 1,000: the same refusal as derive's, before any drawing
+    code, _, err = run(capsys, command, doubling, "-n", 40, "--limit", 1000, "-o", tmp_path / out)
+    assert code == 2 and "-n 40:" in err and "at most 9 steps" in err
+    assert not (tmp_path / out).exists()
+
 def test_more_steps_than_the_limit_allows_names_the_steps_line(capsys, tmp_path):
     f = tmp_path / "s.lsys"
     f.write_text("steps = 30\naxiom = F\nF -> FF\n")

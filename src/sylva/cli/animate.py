@@ -18,6 +18,8 @@ def register(sub) -> None:
         "camera orbiting the grown plant (--turntable) to a GIF or MP4.",
     )
     add_growth(p)
+    p.add_argument("--limit", type=int, default=None, metavar="N",
+                   help="stop before a word passes N modules (default 50,000,000)")
     add_camera(p, size="640x480")
     kind = p.add_mutually_exclusive_group()
     kind.add_argument("--growth", action="store_true", help="one frame per derivation step")
@@ -31,13 +33,17 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
+    from ..lsystem.engine import DEFAULT_MODULE_LIMIT, check_steps
     from ..plant import grow, growth_scenes, resolve
     from ..render import growth_frames, turntable_frames, write_animation
 
     check_suffix(args.output, (".gif", ".mp4"), "the animation file")
     program = resolve(args.file)
+    limit = DEFAULT_MODULE_LIMIT if args.limit is None else args.limit
+    check_steps(program, args.steps, limit=limit, option="-n")
     if args.turntable:
-        plant = grow(program, args.steps, seed=args.seed, detail=args.detail, mode=args.mode)
+        plant = grow(program, args.steps, seed=args.seed, detail=args.detail, mode=args.mode,
+                     limit=limit)
         mode = camera_for(args, plant)
         if mode == "2d":
             mode = "perspective"  # a 2D camera cannot turn
@@ -50,8 +56,9 @@ def run(args) -> int:
             raise SylvaError("--substeps must be at least 1")
         scenes = list(growth_scenes(program, args.steps, seed=args.seed,
                                     substeps=args.substeps, detail=args.detail,
-                                    mode=args.mode))
-        plant = grow(program, args.steps, seed=args.seed, detail=args.detail, mode=args.mode)
+                                    mode=args.mode, limit=limit))
+        plant = grow(program, args.steps, seed=args.seed, detail=args.detail, mode=args.mode,
+                     limit=limit)
         frames = growth_frames(scenes, args.size, camera_for(args, plant), yaw=args.yaw,
                                pitch=args.pitch, **render_options(args, plant))
     write_animation(frames, args.output, fps=args.fps, progress=True)

@@ -18,6 +18,8 @@ def register(sub) -> None:
         "llvmpipe on the CPU) to a PNG or JPG of any size.",
     )
     add_growth(p)
+    p.add_argument("--limit", type=int, default=None, metavar="N",
+                   help="stop before a word passes N modules (default 50,000,000)")
     add_camera(p)
     p.add_argument("-o", "--output", required=True, metavar="OUT", help="OUT.png or OUT.jpg")
     p.add_argument("--view", metavar="V", default=None,
@@ -28,7 +30,8 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..plant import grow
+    from ..lsystem.engine import DEFAULT_MODULE_LIMIT, check_steps
+    from ..plant import grow, resolve
     from ..render import Camera, render, save_image
 
     check_suffix(args.output, (".png", ".jpg", ".jpeg"), "the image file")
@@ -38,7 +41,11 @@ def run(args) -> int:
         from .derive import load_program
 
         source = load_program(args.file, view=args.view)
-    plant = grow(source, args.steps, seed=args.seed, detail=args.detail, mode=args.mode)
+    source = resolve(source)
+    limit = DEFAULT_MODULE_LIMIT if args.limit is None else args.limit
+    check_steps(source, args.steps, limit=limit, option="-n")
+    plant = grow(source, args.steps, seed=args.seed, detail=args.detail, mode=args.mode,
+                 limit=limit)
     t1 = time.perf_counter()
     w, h = args.size
     mode = camera_for(args, plant)
