@@ -125,3 +125,132 @@ def test_warmup_names_an_unknown_group():
                    "'derivatoin']))")
     assert proc.returncode == 2
     assert "unknown group derivatoin; expected one of derivation, plants" in proc.stderr
+
+
+# ------------------------------------------------------------------ the interpreted road
+_COLD_SMALL = (
+    "import json, collections\n"
+    "from numba.core import event\n"
+    "seen = collections.Counter()\n"
+    "class L(event.Listener):\n"
+    "    def on_start(self, ev):\n"
+    "        seen[ev.data['dispatcher'].py_func.__module__] += 1\n"
+    "    def on_end(self, ev):\n"
+    "        pass\n"
+    "event.register('numba:compile', L())\n"
+    "from sylva.plant import grow\n"
+    "out = {}\n"
+    "for name in ('01-koch-snowflake', '18-abop-1.31a-hogeweg', '32-abop-2.10-parametric',\n"
+    "             '24-seed000-bush-leaves', '40-sylva-topiary-query'):\n"
+    "    p = grow(name)\n"
+    "    out[name] = [len(p.word), p.scene.n_triangles]\n"
+    "print(json.dumps({'compiled': sorted(m for m in seen if m.startswith('sylva')),\n"
+    "                  'plants': out}))\n"
+)
+
+
+def test_small_work_on_a_cold_cache_runs_interpreted_and_compiles_nothing(tmp_path):
+    # a fresh install: the first plants come at once (the kernels' own Python source),
+    # instead of after tens of seconds of compiling (issue 25)
+    proc = _python(_COLD_SMALL, NUMBA_CACHE_DIR=str(tmp_path / "numba-cache"))
+    assert proc.returncode == 0, proc.stderr
+    got = json.loads(proc.stdout)
+    assert got["compiled"] == []
+    # and the plants are the plants: ABOP's figures' word sizes (the seeds' own tests pin
+    # the words), with meshes
+    assert got["plants"]["01-koch-snowflake"][0] == 1792
+    assert all(tris > 0 for _, tris in got["plants"].values())
+    assert not list((tmp_path / "numba-cache").rglob("*.nbi"))  # nothing was cached
+
+
+def test_a_first_render_on_a_cold_cache_says_nothing_about_compiling(tmp_path):
+    out = tmp_path / "k.png"
+    proc = _python("from sylva.cli import main; raise SystemExit(main(['render', "
+                   f"'01-koch-snowflake', '--size', '64x48', '-o', {str(out)!r}]))",
+                   NUMBA_CACHE_DIR=str(tmp_path / "numba-cache"))  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert "compiling" not in proc.stderr and out.stat().st_size > 0
+
+
+# (example, steps): every kind of word the turtle and the mesh builder meet — 2D, 3D with
+# leaves, polygons, parametric, context-sensitive, stochastic, tropism, query modules,
+# seed 004's engine turtle, blocks — kept small, the interpreted road is slow
+_ROADS = [
+    ("01-koch-snowflake", 3), ("09-seed000-hilbert-3d", None), ("18-abop-1.31a-hogeweg", 12),
+    ("24-seed000-bush-leaves", 3), ("25-seed000-bush-stochastic", 3),
+    ("29-seed004-acacia", None), ("32-abop-2.10-parametric", None), ("33-sylva-fern", 4),
+    ("34-sylva-flowering-herb", None), ("39-abop-2.8d-ternary-tree", 4),
+    ("40-sylva-topiary-query", 6), ("14-abop-1.24e-plant", 3),
+]
+
+
+def test_the_interpreted_road_equals_the_compiled_road(monkeypatch):
+    import numpy as np
+
+    from sylva.plant import grow
+
+    for name, steps in _ROADS:
+        monkeypatch.setenv("SYLVA_JIT", "never")
+        a = grow(name, steps)
+        monkeypatch.setenv("SYLVA_JIT", "always")
+        b = grow(name, steps)
+        assert a.word.to_text() == b.word.to_text(), name
+        assert [m.name for m in a.scene.meshes] == [m.name for m in b.scene.meshes], name
+        for ma, mb in zip(a.scene.meshes, b.scene.meshes, strict=True):
+            for attr in ("vertices", "normals", "uvs", "colors", "indices", "material_ids"):
+                x, y = getattr(ma, attr), getattr(mb, attr)
+                assert (x is None) == (y is None), (name, attr)
+                if x is None:
+                    continue
+                assert x.shape == y.shape and x.dtype == y.dtype, (name, attr)
+                if x.dtype.kind == "f":
+                    # the compiled rings fuse multiply-adds in float32 (a rounding or two)
+                    np.testing.assert_allclose(x, y, rtol=1e-6, atol=1e-6, err_msg=name)
+                else:
+                    np.testing.assert_array_equal(x, y, err_msg=f"{name} {attr}")
+
+
+_TOY = '''
+import numpy as np
+from numba import njit
+
+@njit(cache=True)
+def total(a):
+    s = 0.0
+    for x in a:
+        s += x
+    return s
+'''
+
+
+def test_a_road_runs_small_calls_interpreted_until_the_kernel_compiles(tmp_path, monkeypatch):
+    import importlib
+
+    import numpy as np
+
+    from sylva import _jit
+
+    (tmp_path / "toyroad_kernels.py").write_text(_TOY)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.delenv("SYLVA_JIT", raising=False)
+    real = importlib.import_module("toyroad_kernels")
+    k = _jit.road("toyroad_kernels", size=10)
+    assert k.total(np.ones(5)) == 5.0 and not real.total.signatures  # interpreted
+    with _jit.compiled():
+        assert k.total(np.ones(5)) == 5.0 and real.total.signatures  # compiled on demand
+    assert k.total(np.ones(3)) == 3.0  # compiled now: the compiled road from here on
+
+    (tmp_path / "toyroad2_kernels.py").write_text(_TOY)
+    real2 = importlib.import_module("toyroad2_kernels")
+    k2 = _jit.road("toyroad2_kernels", size=10)
+    assert k2.total(np.ones(50)) == 50.0 and real2.total.signatures  # large: compiles
+
+    (tmp_path / "toyroad3_kernels.py").write_text(_TOY)
+    real3 = importlib.import_module("toyroad3_kernels")
+    k3 = _jit.road("toyroad3_kernels")  # a module road: small() decides
+    with _jit.small(True):
+        assert k3.total(np.ones(4)) == 4.0 and not real3.total.signatures
+        assert _jit.interpreting(k3, "total")
+    with _jit.small(False):
+        assert k3.total(np.ones(4)) == 4.0 and real3.total.signatures
+        assert not _jit.interpreting(k3, "total")

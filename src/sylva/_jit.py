@@ -1,6 +1,6 @@
 """Numba's cold start, seen from sylva (private).
 
-Three things, none of which imports numba until it is needed:
+Four things, none of which imports numba until it is needed:
 
 * :func:`lazy` — a stand-in for a kernel module that imports it on first use, so that
   ``import sylva`` does not import numba (half a second) or any kernel module;
@@ -8,20 +8,37 @@ Three things, none of which imports numba until it is needed:
   that a first run compiles kernels (a fresh install has none cached), instead of a silent
   wait of tens of seconds;
 * :data:`KERNEL_MODULES` — every module of compiled kernels, by the name the message uses
-  (``sylva warmup`` compiles them ahead).
+  (``sylva warmup`` compiles them ahead);
+* :func:`road` and :func:`small` — the interpreted road: on a cold cache, small work runs
+  the kernels' own Python source (numba's ``DISABLE_JIT``, in a copy of the module) instead
+  of waiting for them to compile.  The first image of a small plant then comes in a second
+  or two; the kernels compile (with the message above) the first time work is large enough
+  for compiling to pay, or ahead in ``sylva warmup``.
 """
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import importlib
 import importlib.abc
 import importlib.util
+import os
 import sys
 import threading
 import time
 from types import ModuleType
 
-__all__ = ["KERNEL_MODULES", "announce", "lazy"]
+__all__ = [
+    "KERNEL_MODULES",
+    "announce",
+    "compiled",
+    "interpreted",
+    "interpreting",
+    "lazy",
+    "road",
+    "small",
+]
 
 #: Every module that defines numba kernels, and what the progress message calls it.
 KERNEL_MODULES = {
@@ -208,3 +225,248 @@ def announce(stream=None) -> _Progress:
         else:
             sys.meta_path.insert(0, _AfterNumba(prog))
         return prog
+
+
+# ------------------------------------------------------------------- the interpreted road
+# "" (compiled; sized roads decide by size), "cold" (interpreted while the kernels are not
+# compiled), "all" (interpreted), "off" (compiled, whatever the size: warm-ups)
+_small: contextvars.ContextVar[str] = contextvars.ContextVar("sylva_small_work", default="")
+_copies: dict[str, ModuleType] = {}
+_copy_lock = threading.RLock()
+
+
+def interpreted(name: str, deps: tuple[str, ...] = ()) -> ModuleType:
+    """A copy of the kernel module ``name`` whose kernels are their plain Python functions.
+
+    The copy executes the module's source with numba's ``DISABLE_JIT`` on (``njit`` then
+    returns the function it decorates), while the sylva kernel modules in ``deps`` that it
+    imports are themselves interpreted copies.  A module may name, in ``_INTERPRETED``,
+    Python stand-ins for kernels that cannot run as Python (numba intrinsics): ``{kernel:
+    stand-in}``.  The real module is not touched; copies are made once per process.
+    """
+    with _copy_lock:
+        mod = _copies.get(name)
+        if mod is not None:
+            return mod
+        for dep in deps:
+            interpreted(dep)
+        from numba.core import config
+
+        spec = importlib.util.find_spec(name)
+        mod = importlib.util.module_from_spec(spec)
+        saved = {d: sys.modules.get(d) for d in deps}
+        old = config.DISABLE_JIT
+        config.DISABLE_JIT = True
+        try:
+            for d in deps:
+                sys.modules[d] = _copies[d]
+            spec.loader.exec_module(mod)
+        finally:
+            config.DISABLE_JIT = old
+            for d, m in saved.items():
+                if m is None:
+                    sys.modules.pop(d, None)
+                else:
+                    sys.modules[d] = m
+        for kernel, stand_in in getattr(mod, "_INTERPRETED", {}).items():
+            setattr(mod, kernel, getattr(mod, stand_in))
+        _copies[name] = mod
+        return mod
+
+
+def _kernels_of(mod: ModuleType) -> list:
+    """The kernels of ``mod`` that compile on their own (its own, not imported ones)."""
+    from numba.core.registry import CPUDispatcher
+
+    return [v for v in vars(mod).values()
+            if isinstance(v, CPUDispatcher) and v.py_func.__module__ == mod.__name__
+            and v.targetoptions.get("inline", "never") != "always"]  # fmt: skip
+
+
+def _kernel_cached(fn) -> bool:
+    """Whether the kernel ``fn`` is compiled in this process or in numba's disk cache."""
+    try:
+        if fn.signatures:
+            return True
+        cache = getattr(fn, "_cache", None)
+        return cache is None or bool(cache._cache_file._load_index())
+    except Exception:  # numba's cache internals changed: take the compiled road
+        return True
+
+
+def _largest(args) -> int:
+    n = 0
+    for a in args:
+        size = getattr(a, "size", None)
+        if isinstance(size, int) and hasattr(a, "dtype"):
+            n = max(n, size)
+        elif isinstance(a, tuple):
+            n = max(n, _largest(a))
+    return n
+
+
+class _Road(ModuleType):
+    """A kernel module, or its interpreted copy while :func:`small` work runs on a cold
+    cache, attribute by attribute: an attribute whose kernels (itself, or those its code
+    calls) are all compiled or cached is the compiled one.  With ``size``, each
+    kernel also decides by itself, call by call: while it is not compiled, a call whose
+    largest array has at most ``size`` elements runs interpreted."""
+
+    def __init__(self, name: str, deps: tuple[str, ...], size: int | None = None):
+        super().__init__(name)
+        self.__dict__.update(_road_name=name, _road_deps=deps, _road_cold={},
+                             _road_size=size)  # fmt: skip
+
+    def _sized(self, attr: str, fn):
+        """``fn`` (a kernel) behind a per-call choice of road, kept in place of the
+        attribute so that later accesses cost nothing."""
+        d = self.__dict__
+        size, state = d["_road_size"], {"warm": None}
+
+        def call(*args):
+            env, mode = os.environ.get("SYLVA_JIT", ""), _small.get()
+            if env != "never" and mode != "all":
+                if mode == "off" or env == "always":
+                    return fn(*args)
+                warm = state["warm"]
+                if warm is None or (not warm and fn.signatures):
+                    warm = state["warm"] = _kernel_cached(fn)
+                if warm or _largest(args) > size:
+                    return fn(*args)
+            with _quiet():
+                return getattr(interpreted(d["_road_name"], d["_road_deps"]), attr)(*args)
+
+        call.__name__ = call.__qualname__ = attr
+        call.__doc__ = fn.__doc__
+        call.__wrapped__ = fn
+        d[attr] = call
+        return call
+
+    def _pick(self, attr: str):
+        """The attribute from the compiled module or from its interpreted copy."""
+        d = self.__dict__
+        real = sys.modules.get(d["_road_name"]) or importlib.import_module(d["_road_name"])
+        value = getattr(real, attr)
+        mode = _small.get()
+        if mode in ("", "off") or not callable(value):
+            return value
+        if mode == "cold":
+            cold = d["_road_cold"].get(attr)
+            if cold is None:  # read numba's disk cache once; later, what compiled here
+                cold = d["_road_cold"][attr] = [
+                    k for k in _needs(value, real) if not _kernel_cached(k)
+                ]
+            if all(k.signatures for k in cold):
+                return value
+        return getattr(interpreted(d["_road_name"], d["_road_deps"]), attr)
+
+    def __getattr__(self, attr: str):
+        d = self.__dict__
+        if attr.startswith("__"):
+            raise AttributeError(attr)
+        if d["_road_size"] is not None:
+            real = importlib.import_module(d["_road_name"])
+            fn = getattr(real, attr)
+            if _is_kernel(fn):
+                return self._sized(attr, fn)
+        return self._pick(attr)
+
+
+def _needs(value, module: ModuleType) -> list:
+    """The kernels that calling ``value`` (an attribute of ``module``) runs: itself if it
+    is one, else those its code names in the module, through the module's plain functions
+    (a kernel's own callees are compiled into it)."""
+    if _is_kernel(value):
+        return [value]
+    out, seen, todo = [], set(), [value]
+    while todo:
+        f = todo.pop()
+        code = getattr(f, "__code__", None)
+        if code is None or id(f) in seen:
+            continue
+        seen.add(id(f))
+        codes = [code]
+        while codes:
+            c = codes.pop()
+            codes.extend(x for x in c.co_consts if hasattr(x, "co_names"))
+            for name in c.co_names:
+                g = vars(module).get(name)
+                if _is_kernel(g):
+                    out.append(g)
+                elif getattr(g, "__module__", None) == module.__name__:
+                    todo.append(g)
+    return out
+
+
+def interpreting(kernels: ModuleType, *attrs: str) -> bool:
+    """Whether any of ``attrs`` of the :func:`road` ``kernels`` is its interpreted copy's
+    here and now (work split over threads should then stay in one: the copy holds the
+    GIL, and the threads would not see this context's choice)."""
+    if not isinstance(kernels, _Road):
+        return False
+    real = importlib.import_module(kernels.__name__)
+    return any(kernels._pick(a) is not getattr(real, a) for a in attrs)
+
+
+def _is_kernel(fn) -> bool:
+    from numba.core.registry import CPUDispatcher
+
+    return isinstance(fn, CPUDispatcher)
+
+
+def road(name: str, deps: tuple[str, ...] = (), *, size: int | None = None) -> ModuleType:
+    """The kernel module ``name`` as its users should hold it: compiled, except inside
+    :func:`small` on a cold cache, where it is :func:`interpreted` (``deps``: the sylva
+    kernel modules it imports kernels from); with ``size``, also any call of a kernel not
+    compiled yet whose largest array has at most ``size`` elements.  Nothing is imported
+    until the first attribute access.  ``SYLVA_JIT=always`` turns the interpreted road
+    off, ``SYLVA_JIT=never`` takes it for all work (the tests compare the roads)."""
+    with _copy_lock:
+        r = _roads.get(name)
+        if r is None:
+            r = _roads[name] = _Road(name, deps, size)
+        return r
+
+
+_roads: dict[str, _Road] = {}
+
+
+@contextlib.contextmanager
+def small(is_small: bool):
+    """Work inside is small enough (``is_small``) to run interpreted while its kernels are
+    not compiled yet: a fraction of a second in Python against tens of seconds of
+    compiling."""
+    mode = os.environ.get("SYLVA_JIT", "")
+    if mode == "never":
+        token = _small.set("all")
+    elif _small.get() == "off":
+        token = _small.set("off")
+    else:
+        token = _small.set("cold" if is_small and mode != "always" else "")
+    try:
+        if _small.get() in ("cold", "all"):
+            with _quiet():
+                yield
+        else:
+            yield
+    finally:
+        _small.reset(token)
+
+
+@contextlib.contextmanager
+def compiled():
+    """Inside, every kernel takes its compiled road whatever the size of the work (a
+    warm-up that runs tiny work to compile the kernels)."""
+    token = _small.set("off")
+    try:
+        yield
+    finally:
+        _small.reset(token)
+
+
+def _quiet():
+    """Compiled kernels wrap integer arithmetic (the hashes count on it) and divide floats
+    by zero without a word; their Python source, run by NumPy scalars, would warn."""
+    import numpy as np
+
+    return np.errstate(over="ignore", divide="ignore", invalid="ignore")

@@ -230,3 +230,34 @@ def write_indices(t, n, a, e, pattern, I):  # pragma: no cover - compiled
             I.ctypes.data + (t * uint64(3) + uint64(k * LANES)) * uint64(4),
             min(LANES, n - k * LANES), a, e, pattern.ctypes.data + uint64(k * 8 * LANES),
         )  # fmt: skip
+
+
+# ------------------------------------------------- stand-ins for the interpreted road
+def _py_write_ring(e, bases, tv, r, table, V, N, UV):
+    """:func:`write_ring` in NumPy, for :func:`sylva._jit.interpreted` (the intrinsics do
+    not run as Python): the same float32 formulas, without the fused multiply-adds, so
+    equal to the compiled ring within a float32 rounding."""
+    e, r = int(e), int(r)
+    rows = table.transpose(1, 0, 2).reshape(3, -1)[:, :r]
+    cs, sn, uu = rows[0][:, None], rows[1][:, None], rows[2]
+    f = np.asarray(bases, np.float64).astype(np.float32)
+    c, p, q, a, b, g = f[0:3], f[3:6], f[6:9], f[9:12], f[12:15], f[15:18]
+    V[e : e + r] = c + cs * p + sn * q
+    w = cs[:, 0] * f[18] + sn[:, 0] * f[19]
+    k = np.float32(1.0) / np.sqrt(np.float32(1.0) - w * w)
+    N[e : e + r] = (g + cs * a + sn * b) * k[:, None]
+    UV[e : e + r, 0] = uu
+    UV[e : e + r, 1] = np.float32(tv)
+
+
+def _py_write_indices(t, n, a, e, pattern, I):
+    """:func:`write_indices` in NumPy, for :func:`sylva._jit.interpreted`."""
+    t, n = int(t), int(n)
+    sel = pattern[:, 0, :].reshape(-1)[:n]
+    off = pattern[:, 1, :].reshape(-1)[:n]
+    base = np.where(sel != 0, np.uint32(int(a) & 0xFFFFFFFF), np.uint32(int(e) & 0xFFFFFFFF))
+    I.reshape(-1)[3 * t : 3 * t + n] = base + off
+
+
+#: What :func:`sylva._jit.interpreted` runs instead of the kernels built on intrinsics.
+_INTERPRETED = {"write_ring": "_py_write_ring", "write_indices": "_py_write_indices"}

@@ -42,8 +42,8 @@ import math
 
 import numpy as np
 
+from .. import _jit
 from ..errors import SylvaError
-from . import _kernels as K
 from .buffers import empty
 from .mesh import Material, Mesh, Scene
 from .records import Geometry
@@ -58,6 +58,12 @@ __all__ = [
     "build_polygons",
     "leaf_template",
 ]
+
+#: The kernels; while they are not compiled, a :func:`build_mesh` of at most :data:`SMALL`
+#: records runs their Python source instead (:func:`sylva._jit.road`: well under a second
+#: against some 9 s of compiling; tests compare the two roads on every built-in example).
+K = _jit.road("sylva.geometry._kernels", ("sylva.geometry._simd",))
+SMALL = 50_000
 
 MODES = ("tube", "prism", "cone")
 
@@ -417,6 +423,14 @@ def build_mesh(
     >>> [(m.name, m.n_triangles) for m in s.meshes]
     [('branches', 36), ('leaves', 24)]
     """
+    n = geometry.n_segments + geometry.n_leaves + geometry.n_polygons + geometry.n_blocks
+    with _jit.small(n <= SMALL):
+        return _build_mesh(geometry, detail, mode, taper, leaves, polygons, blocks, colors,
+                           prune_materials)  # fmt: skip
+
+
+def _build_mesh(geometry, detail, mode, taper, leaves, polygons, blocks, colors,
+                prune_materials) -> Scene:  # fmt: skip
     meshes = []
     if geometry.n_segments:
         meshes.append(

@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._jit import lazy
+from .._jit import road
 from ..errors import GrowthLimitError, LSystemSemanticError, StepsError
 from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
 from ._memory import _check_limit, block_step_bytes, fast_step_bytes, general_step_bytes
@@ -45,10 +45,10 @@ from ._steps import _FLOOR_ITERATIONS, DEFAULT_MODULE_LIMIT, check_steps
 from .ast import MAX_STEPS, Program, Rule
 from .environment import Query, apply_query, has_queries, missing_query
 from .expr import compile_expr, truth
-from .lstring import CLOSE, ID_DTYPE, OPEN, Alphabet, ModuleString
+from .lstring import CLOSE, ID_DTYPE, OPEN, SMALL_WORD, Alphabet, ModuleString
 from .matching import ignored_table, pattern_match
 
-_kernels = lazy("sylva.lsystem._kernels")
+_kernels = road("sylva.lsystem._kernels", size=SMALL_WORD)  # one road, lstring's
 
 __all__ = [
     "DEFAULT_MODULE_LIMIT",

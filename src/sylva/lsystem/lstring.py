@@ -32,7 +32,7 @@ from collections.abc import Iterable, Iterator, Sequence
 
 import numpy as np
 
-from .._jit import lazy
+from .._jit import road
 from ..errors import LSystemSyntaxError, SylvaError
 
 __all__ = [
@@ -46,7 +46,11 @@ __all__ = [
     "format_symbol",
 ]
 
-_kernels = lazy("sylva.lsystem._kernels")
+#: While the derivation kernels are not compiled (a fresh install), a kernel call on a word
+#: of at most this many modules runs the kernel's Python source (:func:`sylva._jit.road`):
+#: milliseconds for such a word, against seconds of compiling.
+SMALL_WORD = 100_000
+_kernels = road("sylva.lsystem._kernels", size=SMALL_WORD)
 
 OPEN = 0
 CLOSE = 1

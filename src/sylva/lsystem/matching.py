@@ -29,10 +29,10 @@ from collections.abc import Collection, Sequence
 
 import numpy as np
 
-from .._jit import lazy
-from .lstring import CLOSE, OPEN, ModuleString
+from .._jit import road
+from .lstring import CLOSE, OPEN, SMALL_WORD, ModuleString
 
-_kernels = lazy("sylva.lsystem._kernels")
+_kernels = road("sylva.lsystem._kernels", size=SMALL_WORD)  # one road, lstring's
 
 __all__ = [
     "ignored_table",

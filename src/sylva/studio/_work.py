@@ -563,8 +563,11 @@ def render_png(session: Session, limits: Limits, *, width: int, height: int, cam
 def warm_up() -> None:
     """Compile the numba kernels of tracing, interpreting and meshing once, so that the
     first client does not pay for it inside its time cap."""
-    # a warm-up must never take the server down
-    with contextlib.suppress(Exception):
+    from .._jit import compiled
+
+    # a warm-up must never take the server down; small work would otherwise run
+    # interpreted on a cold cache and compile nothing
+    with contextlib.suppress(Exception), compiled():
         _warm_up()
 
 

@@ -34,19 +34,25 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from .. import _jit
 from ..errors import SylvaError
 from ..geometry.buffers import empty
 from ..geometry.mesh import Material
 from ..geometry.records import Geometry
 from ..lsystem.ast import Program
 from ..lsystem.lstring import ModuleString
-from . import _kernels as K
 from . import tables as T
 from .tables import ARGS, DEFAULTS, PALETTE, TABLES, compile_table
 
 __all__ = ["DIALECTS", "Trace", "TurtleSettingsError", "interpret", "trace"]
 
 DIALECTS = tuple(TABLES)
+
+#: The kernels; while they are not compiled, words of at most :data:`SMALL` modules run
+#: their Python source instead (:func:`sylva._jit.road`: about 20 µs a module against some
+#: 14 s of compiling; tests compare the two roads on every built-in example).
+K = _jit.road("sylva.turtle._kernels", ("sylva.turtle._state",))
+SMALL = 100_000
 
 #: Words of at least this many modules are walked by as many threads as numba uses, one
 #: subtree at a time (the result does not depend on it: tests compare both walks).
@@ -317,6 +323,11 @@ def _check_at(word: ModuleString, ops: np.ndarray, arg: np.ndarray, cpfg: bool) 
 
 def _run(word, program, dialect, seed, overrides, trace_on):
     word = _as_word(word, program)
+    with _jit.small(len(word) <= SMALL):
+        return _run_word(word, program, dialect, seed, overrides, trace_on)
+
+
+def _run_word(word, program, dialect, seed, overrides, trace_on):
     dialect, s = _settings(program, dialect, overrides)
     cfg, palette, materials, vertex_colors, bg = _configure(dialect, s, seed)
     ops, arg = compile_table(TABLES[dialect], word.alphabet.names, ARGS.get(dialect))
@@ -327,7 +338,8 @@ def _run(word, program, dialect, seed, overrides, trace_on):
             _check_at(word, ops, arg, cfg[K.C_TMODE] != 0.0)
     n = len(word)
     threads = _threads()
-    parallel = threads > 1 and n >= PARALLEL_MIN and cfg[K.C_ENGINE] == 0.0
+    parallel = (threads > 1 and n >= PARALLEL_MIN and cfg[K.C_ENGINE] == 0.0
+                and not _jit.interpreting(K, "walk", "walk_plain", "scan_range"))  # fmt: skip
     # subtrees of 1/64 to 1/16 of a thread's share, so that the threads can be kept even
     s_max = max(n // (16 * threads), 1) if parallel else -1
     counts, sel = _scan(word.ids, ops, max(s_max // 64, SUBTREE_MIN), s_max, threads, parallel)
