@@ -42,6 +42,17 @@ leaves; ranges in :data:`sylva.tree._schema.KEYS`):
   and ``LeafFall = 1`` (or ``Season = "winter"``) the bare tree: the same stems, no leaves.
 
 Seasons only change a ``Deciduous`` tree; an evergreen keeps its leaves all year.
+
+Examples
+--------
+>>> from sylva.tree import Tree
+>>> t = Tree("quaking_aspen", seed=1, quality=0.3).grow(3.0)
+>>> leaves = t.leaf_components()[0]
+>>> leaves.level == leaves.parent.level + 1, leaves.parent_slot is leaves.parent.base
+(True, True)
+>>> bare = Tree("quaking_aspen", seed=1, quality=0.3, season="autumn", leaf_fall=1.0)
+>>> bare.grow(3.0).stats()["leaves"], t.stats()["leaves"] > 0
+(0, True)
 """
 
 from __future__ import annotations
