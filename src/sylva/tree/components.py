@@ -254,7 +254,10 @@ class Component:
         while stack:
             c = stack.pop()
             yield c
-            kids = [k for s in c.visit_order() for k in s.children]
+            s = c.slots  # in visit_order(), without building the list
+            kids = [*s[1].children, *s[0].children]
+            for x in s[2:]:
+                kids += x.children
             stack.extend(reversed(kids))
 
     def path_to_root(self) -> Iterator[Component]:

@@ -95,6 +95,7 @@ class Leaves(Component):
         plan = branch.plan
         super().__init__(branch.birth_time, name=f"Leaves{plan.level + 1}")
         self.branch = branch
+        self.tree = plan.tree
         self.leaf_level = plan.level + 1
         self.arc = arc
         self.frame = frame
@@ -107,10 +108,6 @@ class Leaves(Component):
 
     def __len__(self) -> int:
         return len(self.arc)
-
-    @property
-    def tree(self):
-        return self.branch.plan.tree
 
     def rank(self) -> np.ndarray:
         """The autumn rank of every leaf: a fixed random value in [0, 1) drawn once, from the
@@ -211,8 +208,7 @@ def plan_leaves(branch, rng) -> Leaves | None:
 def _crown_leaves(branch, rng):
     """The leaves of the last stem level: ``Leaves · ShapeRatio(4, offset / parent length)``
     per stem (the plan's ``n_leaves``), spread over its runs by their share."""
-    from .weber_penn import _rx, _rx_many, _ry_many, _rz
-
+    _rx, _rx_many, _ry_many, _rz = _wp._rx, _wp._rx_many, _wp._ry_many, _wp._rz
     plan, tree = branch.plan, branch.plan.tree
     empty = (np.zeros(0), np.zeros((0, 3, 3)), np.zeros(0))
     if plan.level != tree.levels - 1 or plan.n_leaves <= 0:
@@ -262,8 +258,7 @@ def _juvenile_leaves(branch):
     carries leaves for ``JuvenileLeafLife`` years after it grows (a young tree's buds have
     leaves before they have branches), then they fade over a year; all are gone by the
     species' ``Age`` (or shed with their branch).  ``None`` when there are none."""
-    from .weber_penn import _rx_many, _ry_many
-
+    _rx_many, _ry_many = _wp._rx_many, _wp._ry_many
     plan, tree = branch.plan, branch.plan.tree
     if plan.level >= tree.levels - 1 or tree.juvenile_leaf_life <= 0:
         return None
@@ -298,3 +293,7 @@ def _juvenile_leaves(branch):
     frames = f @ _ry_many(phi) @ _rx_many(theta)
     sizes = scale.value + rng.uniform(-1, 1, n) * abs(scale.deviation)
     return arcs, frames, sizes, birth, death
+
+
+# the stems' rotation helpers, read at call time (weber_penn imports this module first)
+from . import weber_penn as _wp  # noqa: E402
