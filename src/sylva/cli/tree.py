@@ -6,6 +6,7 @@ Examples::
     sylva tree --example > my_tree.txt                   # the annotated species file
     sylva tree --sheet -o sheet.png                      # every species at three ages
     sylva tree silver_birch -o birch.png --season autumn # autumn colours (winter: bare)
+    sylva tree silver_birch -o b.png --season autumn --leaf-turn 0.5 --leaf-fall 0.2
     sylva tree quaking_aspen -o aspen.glb --age 30 --seed 4
     sylva tree black_oak -o oak.png                      # a rendered image
     sylva tree weeping_willow -o willow.pov              # POV-Ray scene (mesh2)
@@ -66,6 +67,12 @@ def register(subparsers) -> None:
     p.add_argument("--no-leaves", action="store_true", help="leave the leaves out")
     p.add_argument("--season", choices=("spring", "summer", "autumn", "winter"), default=None,
                    help="show a deciduous tree in this season (default: the species' Season)")
+    p.add_argument("--leaf-turn", type=float, default=None, metavar="F",
+                   help="autumn: the fraction of the leaves turned, 0…1 (default: the "
+                        "species' LeafTurn, 1)")
+    p.add_argument("--leaf-fall", type=float, default=None, metavar="F",
+                   help="autumn: the fraction of the leaves fallen, 0…1 (1: bare; default: "
+                        "the species' LeafFall, 0)")
     p.set_defaults(func=run)
 
 
@@ -105,7 +112,8 @@ def run(args: argparse.Namespace) -> int:
         raise SylvaError("tree: expected an output file (-o OUT)")
     out = Path(args.out)
     ext = out.suffix.lower()
-    tree = Tree(args.species, seed=args.seed, season=args.season)
+    tree = Tree(args.species, seed=args.seed, season=args.season, leaf_turn=args.leaf_turn,
+                leaf_fall=args.leaf_fall)
     age = tree.default_age if args.age is None else args.age
     if age <= 0:
         raise SylvaError(f"--age: expected a positive age in years, got {age}")

@@ -16,7 +16,9 @@ The pieces, each in its own module:
 * :mod:`~sylva.tree.stem` — :class:`Stem` (points → rings with texture coordinates);
 * :mod:`~sylva.tree.materials` — :class:`MaterialDatabase` (name-keyed, text file);
 * :mod:`~sylva.tree.weber_penn` and :mod:`~sylva.tree.model` — the Weber–Penn tree grown in
-  time, :class:`Tree`; :mod:`~sylva.tree.species` — the shipped species;
+  time, :class:`Tree`; :mod:`~sylva.tree.leaves` — :class:`Leaves`, the leaves of a stem
+  as a component on its base slot (size, density, colour and fall by level, age and
+  season); :mod:`~sylva.tree.species` — the shipped species;
 * :mod:`~sylva.tree.wind` and :mod:`~sylva.tree.animation` — wind, leaf flutter and glTF
   skeletal animation of wind and growth.
 
@@ -31,6 +33,7 @@ from .animation import growth_animation, growth_meshes, wind_animation, wind_mes
 from .components import Component, Context, Slot, TraversalStats, traverse
 from .events import Event, Simulation, TimeFunction
 from .geometry_turtle import TreeGeometry, TreeTurtle
+from .leaves import LeafParameterError, Leaves
 from .materials import MaterialDatabase, MaterialError, MaterialSpec
 from .meshing import TreeMesh, build_tree_mesh
 from .model import Tree
@@ -54,6 +57,8 @@ __all__ = [
     "Event",
     "FloatParameter",
     "IntParameter",
+    "LeafParameterError",
+    "Leaves",
     "MaterialDatabase",
     "MaterialError",
     "MaterialSpec",

@@ -5,7 +5,10 @@ and refuses, with the file, line and column, anything the tree model would other
 guess at or clamp: an unknown key, a value of the wrong kind or outside its range (the range
 is in the message), a deviation that would take the value out of its range, a ``[level N]``
 beyond ``Levels`` or a missing one.  ``[level 0]`` … ``[level Levels-1]`` are the stems;
-``[level Levels]`` (the leaves' ``DownAngle`` and ``Rotate``) may be left out.
+``[level Levels]`` (the crown leaves' ``DownAngle``, ``Rotate`` and their own leaf keys) may be
+left out.  The leaf keys (``LeafScale``, ``LeafDensity``, ``LeafTurn``, ``LeafFall`` …, scope
+"both") may be set in ``[global]`` or in ``[level N]`` for the leaves of level N, the leaves on
+the stems of level N − 1 (:mod:`sylva.tree.leaves`).
 
 The table :data:`KEYS` is the reference for the annotated example
 (``sylva tree --example``, :func:`sylva.tree.species.example_text`).
@@ -80,7 +83,8 @@ KEYS: dict[str, Key] = {
     "Age": _k(G, "float", 0, 1000, open_lo=True, doc="age of the grown tree (years)"),
     "LeafDelay": _k(G, "float", 0, 100, doc="years from a shoot passing to its leaf"),
     "LeafUnfold": _k(G, "float", 0, 100, open_lo=True, doc="years a leaf takes to unfold"),
-    "LeafDensity": _k(G, "float", 0, 100, doc="multiplies Leaves"),
+    "LeafDensity": _k(B, "float", 0, 100, doc="multiplies Leaves ([level N]: that level's "
+                                              "leaves, juvenile ones too)"),
     "LeafArrangement": _k(G, "choice", choices=("spiral", "fan"),
                           doc="'fan': the leaves fan out at the stem's tip (the paper's Leaves<0)"),
     "FanAngle": _k(G, "float", 0, 360, doc="spread of a fan of leaves (degrees)"),
@@ -93,6 +97,14 @@ KEYS: dict[str, Key] = {
                  doc="the season the tree is shown in"),
     "Deciduous": _k(G, "bool", doc="whether its leaves change with the season"),
     "AutumnMaterial": _k(B, "text", doc="the leaves' material in autumn"),
+    # -- the leaves' parameter space (sylva.tree.leaves): global, or per level for its leaves
+    "LeafScaleYoung": _k(B, "float", 0, 10, open_lo=True,
+                         doc="leaf size on a seedling, in LeafScale (1: the same at every age)"),
+    "LeafAdultAge": _k(B, "float", 0, 1000, open_lo=True,
+                       doc="tree age (years) from which new leaves are LeafScale long"),
+    "SpringLeafScale": _k(B, "float", 0, 1, doc="a deciduous tree's leaf size in spring"),
+    "LeafTurn": _k(B, "float", 0, 1, doc="in autumn: the fraction of leaves turned"),
+    "LeafFall": _k(B, "float", 0, 1, doc="in autumn: the fraction fallen (1: bare)"),
     "JuvenileBranches": _k(G, "float", 0, 10, doc="branches on a young trunk's bare base, "
                                                   "relative to the crown's density"),
     "ShedTime": _k(G, "float", 0, 100, open_lo=True, doc="years a juvenile branch takes to go"),

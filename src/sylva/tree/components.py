@@ -241,13 +241,23 @@ class Component:
         for s in self.slots:
             yield from s.children
 
+    def visit_order(self) -> list[Slot]:
+        """The slots in the order :func:`traverse` and :meth:`walk` visit them: the base slot
+        first (its children share this component's frame: a stem's leaves, drawn right after
+        the stem), then the primary slot, then the others."""
+        s = self.slots
+        return [s[1], s[0], *s[2:]]
+
     def walk(self) -> Iterator[Component]:
         """This component and its subtree, depth first, parents before children."""
         stack = [self]
         while stack:
             c = stack.pop()
             yield c
-            kids = [k for s in c.slots for k in s.children]
+            s = c.slots  # in visit_order(), without building the list
+            kids = [*s[1].children, *s[0].children]
+            for x in s[2:]:
+                kids += x.children
             stack.extend(reversed(kids))
 
     def path_to_root(self) -> Iterator[Component]:
@@ -337,7 +347,8 @@ class TraversalStats:
 def traverse(root: Component, turtle, stats: TraversalStats | None = None) -> TraversalStats:
     """Generate the geometry of the graph under ``root`` (seed 002 §5.7).
 
-    For each component: emit its geometry; then for every slot with children, apply the
+    For each component: emit its geometry; then for every slot with children (base slot
+    first, see :meth:`Component.visit_order`; §5.7 leaves the order open), apply the
     slot transform once (the pre-slot transform is kept on the transform stack), save the
     context **once** for the slot with a count of the children that will restore it, and
     recurse into each child, restoring the context after each.  The last child of the last
@@ -354,7 +365,7 @@ def traverse(root: Component, turtle, stats: TraversalStats | None = None) -> Tr
         stats.components += 1
         turtle.begin(c)
         c.generate(turtle)
-        busy = [s for s in c.slots if s.children]
+        busy = [s for s in c.visit_order() if s.children]
         for si, slot in enumerate(busy):
             last_slot = si == len(busy) - 1
             if not last_slot:

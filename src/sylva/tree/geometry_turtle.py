@@ -146,8 +146,11 @@ class TreeTurtle:
         stem.add_points(wp[start:], wf[start:], r[start:], new)
         return ids
 
-    def leaves(self, positions, frames, sizes, width: float, material: str, joints) -> int:
-        """Add leaves (local coordinates); returns their group id (one per call)."""
+    def leaves(self, positions, frames, sizes, width: float, material, joints) -> int:
+        """Add leaves (local coordinates); returns their group id (one per call).
+
+        ``material`` is one name for all of them, or a list of one name per leaf (an autumn
+        tree's turned and green leaves)."""
         m = self.matrix
         p = np.asarray(positions, np.float64).reshape(-1, 3)
         wp = p @ m[:3, :3].T + m[:3, 3]
@@ -175,7 +178,8 @@ class TreeTurtle:
             leaf_frame=cat([x[1] for x in lv], (0, 3, 3), np.float64),
             leaf_size=cat([x[2] for x in lv], (0,), np.float64),
             leaf_width=np.concatenate([np.full(len(x[0]), x[3]) for x in lv]) if k else np.zeros(0),
-            leaf_material=[x[4] for x in lv for _ in range(len(x[0]))],
+            leaf_material=[m for x in lv for m in (
+                [x[4]] * len(x[0]) if isinstance(x[4], str) else x[4])],
             leaf_joint=cat([x[5] for x in lv], (0,), np.int64),
             leaf_group=np.concatenate([np.full(len(x[0]), x[6], np.int64) for x in lv])
             if k else np.zeros(0, np.int64),

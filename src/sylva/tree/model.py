@@ -19,6 +19,7 @@ import numpy as np
 from .components import TraversalStats, traverse
 from .events import Simulation, TimeFunction
 from .geometry_turtle import TreeGeometry, TreeTurtle
+from .leaves import LeafParameterError, Leaves
 from .materials import MaterialDatabase
 from .meshing import leaf_shape_index
 from .parameters import ParameterManager
@@ -48,8 +49,14 @@ class Tree:
         each carries ``1 / quality`` times the leaves (the foliage stays, the twigs go): a
         quicker tree with the same silhouette, for previews and tests.
     season : {"spring", "summer", "autumn", "winter"}, optional
-        Overrides the species' ``Season``: a ``Deciduous`` tree's leaves are at 60 % in
-        spring, in ``AutumnMaterial`` in autumn and gone in winter.
+        Overrides the species' ``Season``: a ``Deciduous`` tree's leaves are at
+        ``SpringLeafScale`` (60 %) in spring, in ``AutumnMaterial`` in autumn and gone in
+        winter.
+    leaf_turn, leaf_fall : float in [0, 1], optional
+        Override every level's ``LeafTurn`` and ``LeafFall``: in autumn, the fraction of the
+        leaves that have turned to ``AutumnMaterial`` and the fraction that have fallen (the
+        first to turn fall first; ``leaf_fall=1`` is the bare tree).  See
+        :mod:`sylva.tree.leaves`.
 
     Attributes
     ----------
@@ -61,7 +68,8 @@ class Tree:
 
     def __init__(self, config="quaking_aspen", *, seed: int | None = None,
                  materials: MaterialDatabase | None = None, quality: float = 1.0,
-                 season: str | None = None) -> None:
+                 season: str | None = None, leaf_turn: float | None = None,
+                 leaf_fall: float | None = None) -> None:
         if isinstance(config, ParameterManager):
             pm = config
             if seed is not None and seed != pm.seed:
@@ -77,7 +85,7 @@ class Tree:
         self.shape = g.int("Shape", default=0)
         self.ratio_power = g.float("RatioPower", default=1.2).value
         self.leaves = g.float("Leaves", default=0.0).value
-        self.leaf_density = g.float("LeafDensity", default=1.0).value
+        self.leaf_density = g.float("LeafDensity", default=1.0).value  # [global]'s
         self.leaf_width = g.float("LeafScaleX", default=1.0).value
         self.leaf_arrangement = g.text("LeafArrangement", default="spiral")
         if self.leaf_arrangement not in ("spiral", "fan"):
@@ -94,12 +102,13 @@ class Tree:
             raise ValueError(f"season must be one of {', '.join(SEASONS)}, got {self.season!r}")
         self.deciduous = bool(g.int("Deciduous", default=1))
         self.autumn_material = g.text("AutumnMaterial", default="leaf.autumn")
-        self.season_leaf_scale = 1.0
-        self.season_leaf_material = self.leaf_material
-        if self.deciduous:
-            self.season_leaf_scale = {"spring": 0.6, "winter": 0.0}.get(self.season, 1.0)
-            if self.season == "autumn":
-                self.season_leaf_material = self.autumn_material
+        # the state of autumn (sylva.tree.leaves): overrides of every level's LeafTurn and
+        # LeafFall, or None for the species' own
+        for name, value in (("leaf_turn", leaf_turn), ("leaf_fall", leaf_fall)):
+            if value is not None and not 0.0 <= float(value) <= 1.0:
+                raise LeafParameterError(f"{name} must be in [0, 1], got {value}")
+        self.leaf_turn = None if leaf_turn is None else float(leaf_turn)
+        self.leaf_fall = None if leaf_fall is None else float(leaf_fall)
         self.default_age = g.float("Age", default=30.0).value
         if not 0.0 < quality <= 1.0:
             raise ValueError(f"quality must be in (0, 1], got {quality}")
@@ -148,21 +157,70 @@ class Tree:
             p = self._pcache[key] = self.params.int(name, level=level, default=default)
         return p
 
-    def leaf_style(self, level: int) -> tuple[float, str]:
-        """``(LeafScaleX, material)`` of the leaves on the stems of ``level - 1``: each leaf
-        is a component of its level, so ``[level N]`` may set ``LeafScaleX``, ``LeafMaterial``
-        and ``AutumnMaterial`` (``LeafScale`` too) for its own leaves, else ``[global]``'s
-        apply; the material is the season's."""
-        key = ("style", level)
-        style = self._pcache.get(key)
-        if style is None:
+    def level_value(self, name: str, level: int) -> float | None:
+        """The number ``name`` set in ``[level N]`` itself (not inherited), or ``None``."""
+        key = ("own", name, level)
+        if key not in self._pcache:
+            p = None
+            if level in self.params.levels:
+                p = self.params.level(level).get(name)
+            self._pcache[key] = None if p is None or p.kind == "text" else float(p.value)
+        return self._pcache[key]
+
+    def leaf_density_of(self, level: int) -> float:
+        """``LeafDensity`` of the leaves of ``level`` (its ``[level N]``, else ``[global]``)."""
+        return self.pf("LeafDensity", level=level, default=1.0).value
+
+    def leaf_width_of(self, level: int) -> float:
+        """``LeafScaleX`` of the leaves of ``level``."""
+        return self.pf("LeafScaleX", level=level, default=1.0).value
+
+    def leaf_materials(self, level: int) -> tuple[str, str]:
+        """``(LeafMaterial, AutumnMaterial)`` of the leaves of ``level`` (on the stems of
+        ``level - 1``): each leaf component is of its level, so ``[level N]`` may set them for
+        its own leaves, else ``[global]``'s apply."""
+        key = ("materials", level)
+        m = self._pcache.get(key)
+        if m is None:
             g = self.params
-            width = g.float("LeafScaleX", level=level, default=1.0).value
-            material = g.text("LeafMaterial", level=level, default=self.leaf_material)
-            if self.deciduous and self.season == "autumn":
-                material = g.text("AutumnMaterial", level=level, default=self.autumn_material)
-            style = self._pcache[key] = (width, material)
-        return style
+            m = self._pcache[key] = (
+                g.text("LeafMaterial", level=level, default=self.leaf_material),
+                g.text("AutumnMaterial", level=level, default=self.autumn_material))
+        return m
+
+    def leaf_style(self, level: int) -> tuple[float, str]:
+        """``(LeafScaleX, material)`` of the leaves of ``level`` in this season (autumn: the
+        ``AutumnMaterial`` of a tree whose leaves have all turned)."""
+        material, autumn = self.leaf_materials(level)
+        if self.deciduous and self.season == "autumn" and max(self.leaf_season(level)[1:]) >= 1:
+            material = autumn
+        return self.leaf_width_of(level), material
+
+    def leaf_season(self, level: int) -> tuple[float, float, float]:
+        """``(scale, turn, fall)`` of the leaves of ``level`` now: the size factor of the
+        season (``SpringLeafScale`` in spring, 0 in winter, else 1) and, in autumn, the
+        fractions turned (``LeafTurn``) and fallen (``LeafFall``); an evergreen's or a
+        summer tree's are ``(1, 0, 0)``."""
+        key = ("season", level)
+        s = self._pcache.get(key)
+        if s is None:
+            scale, turn, fall = 1.0, 0.0, 0.0
+            if self.deciduous:
+                if self.season == "spring":
+                    scale = self.pf("SpringLeafScale", level=level, default=0.6).value
+                elif self.season == "winter":
+                    scale = 0.0
+                elif self.season == "autumn":
+                    turn = self.pf("LeafTurn", level=level, default=1.0).value
+                    fall = self.pf("LeafFall", level=level, default=0.0).value
+                    if self.leaf_turn is not None:
+                        turn = self.leaf_turn
+                    if self.leaf_fall is not None:
+                        fall = self.leaf_fall
+                    if fall >= 1.0:
+                        scale = 0.0  # all of them on the ground: the bare tree
+            s = self._pcache[key] = (scale, turn, fall)
+        return s
 
     def reset(self) -> None:
         """Back to time 0: a fresh trunk bud and simulation."""
@@ -189,6 +247,11 @@ class Tree:
 
     def branches(self) -> list[Branch]:
         return [c for c in self.root.walk() if isinstance(c, Branch)]
+
+    def leaf_components(self) -> list[Leaves]:
+        """The :class:`~sylva.tree.leaves.Leaves` components now in the graph, in traversal
+        order (one per stem run that has leaves planned)."""
+        return [c for c in self.root.walk() if isinstance(c, Leaves)]
 
     def inside_envelope(self, points) -> np.ndarray:
         """``bool[n]``: which plant-frame ``points`` (float[n, 3], +Y up, before ``ZScale``)
@@ -300,7 +363,7 @@ class _ZScaledTurtle(TreeTurtle):
         finally:
             self.matrix = keep
 
-    def leaves(self, positions, frames, sizes, width: float, material: str, joints) -> int:
+    def leaves(self, positions, frames, sizes, width: float, material, joints) -> int:
         wp, wf = self._to_plant(positions, frames)
         keep, self.matrix = self.matrix, np.eye(4)
         try:

@@ -19,7 +19,8 @@ Growth in time is our design (the thesis's §4.2.5 is not in the seed):
 * a bud at arc length ``o`` breaks — an event ``"bud"`` creates the child stem — at the time
   the parent reaches ``o``, plus ``BudDelay``; a segment split is an event ``"split"`` at
   the time the stem reaches the split point, which attaches the clones to the primary slot;
-* a leaf appears ``LeafDelay`` after its stem passes it and unfolds over ``LeafUnfold``;
+* a leaf appears ``LeafDelay`` after its stem passes it and unfolds over ``LeafUnfold``
+  (the leaves of a run are a component, :mod:`sylva.tree.leaves`);
 * **young trees are trees**: a young tree is the mature one scaled down.  The trunk's bare
   base carries *juvenile branches* (``JuvenileBranches`` of the crown's bud density): the one
   at height ``h`` is as long as a mid-crown branch of the tree whose crown base is at ``h``
@@ -85,12 +86,14 @@ import numpy as np
 
 from ._kernels import bend_stem
 from .components import Component
+from .leaves import LEAF_FALL, Leaves, plan_leaves
 
 __all__ = ["Branch", "StemPlan", "envelope", "make_trunk", "shape_ratio", "stem_profile"]
 
 _SIDES = (14, 9, 6, 4, 3)
 _GROW = (12.0, 5.0, 2.0, 1.0, 0.6)  # default GrowTime per level
-LEAF_FALL = 0.5  # years a shed branch takes to drop its leaves, before its wood goes
+_NONE = np.zeros(0)
+_NONE33 = np.zeros((0, 3, 3))
 _ZERO3 = np.zeros(3)
 _EYE4 = np.eye(4)
 _MAX_NODES = 32  # a periodic taper with more nodes per stem is drawn as Taper 2
@@ -394,7 +397,8 @@ class StemPlan:
 
 class Branch(Component):
     """A run of segments ``[k0, k1)`` of one stem; a split ends it and its clones continue
-    on the primary slot, children hang on their own slots (level + 1), leaves are attributes.
+    on the primary slot, children hang on their own slots (level + 1), its leaves are a
+    :class:`~sylva.tree.leaves.Leaves` component on its base slot (level + 1).
 
     Parameters
     ----------
@@ -473,10 +477,8 @@ class Branch(Component):
         self.buds = self._plan_children(rng)
         self.n_lasting = len(self.buds)  # buds past this index grow juvenile branches
         self.buds += self._plan_juvenile()
-        self.leaf_arc, self.leaf_frame, self.leaf_size = self._plan_leaves(rng)
-        self.leaf_birth = np.asarray(plan.time_at_length(self.leaf_arc)) + tree.leaf_delay
-        self.leaf_death = np.full(len(self.leaf_arc), np.inf)
-        self._plan_juvenile_leaves()
+        # the leaves: a component of level + 1 on the base slot (sylva.tree.leaves)
+        self.foliage: Leaves | None = plan_leaves(self, rng)
         self._joints: np.ndarray | None = None
         self._seg_joints: np.ndarray | None = None
         self._mature_rows = np.zeros(0, np.int64)
@@ -609,100 +611,30 @@ class Branch(Component):
             out.append((s, math.radians(phi), math.radians(theta)))
         return out
 
-    def _plan_leaves(self, rng):
-        plan, tree = self.plan, self.plan.tree
-        empty = (np.zeros(0), np.zeros((0, 3, 3)), np.zeros(0))
-        if plan.level != tree.levels - 1 or plan.n_leaves <= 0:
-            return empty
-        lv = plan.level + 1
-        scale = tree.pf("LeafScale", level=lv, default=0.2)
-        fan = tree.leaf_arrangement == "fan"
-        if fan:
-            if self.k1 < plan.curve_res:
-                return empty  # the fan sits at the tip of the stem
-            n = int(round(plan.n_leaves))
-            spread = math.radians(tree.pf("FanAngle", default=150.0).value)
-            tip = self.frames[-1]
-            out_f = []
-            for i in range(n):
-                a = (i / max(n - 1, 1) - 0.5) * spread + rng.uniform(-0.04, 0.04)
-                f = tip @ _rz(a) @ _rx(math.radians(rng.uniform(-8, 8)))
-                out_f.append(f)
-            arcs = np.full(n, self.arc1 - 1e-6)
-            sizes = np.array([scale.sample(rng) for _ in range(n)])
-            return arcs, np.array(out_f).reshape(-1, 3, 3), sizes
-        frac = (self.arc1 - self.arc0) / plan.length
-        want = plan.n_leaves * frac * self.share
-        n = int(math.floor(want + rng.uniform()))
-        if n <= 0:
-            return empty
-        rot = tree.pf("Rotate", level=lv, default=137.5)
-        down = tree.pf("DownAngle", level=lv, default=45.0)
-        arcs = self.arc0 + (np.arange(n) + rng.uniform(0.2, 0.8, n)) / n * (self.arc1 - self.arc0)
-        if rot.value >= 0:
-            steps = rot.value + rng.uniform(-1, 1, n) * abs(rot.deviation)
-            phi = np.radians(rng.uniform(0, 360) + np.cumsum(steps))
-        else:  # two ranks: alternately ±(180 + nRotate) (a pinnate frond, a fern)
-            sides = np.where(np.arange(n) % 2 == 0, 1.0, -1.0)
-            a = 180.0 + rot.value + rng.uniform(-1, 1, n) * abs(rot.deviation)
-            phi = np.radians(rng.uniform(0, 360) + sides * a)
-        theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
-        twist = np.radians(rng.uniform(-30, 30, n))  # a petiole twist
-        _, _, f = self._where_many(arcs)
-        frames = f @ _ry_many(phi) @ _rx_many(theta) @ _ry_many(twist)
-        sizes = scale.value + rng.uniform(-1, 1, n) * abs(scale.deviation)
-        return arcs, frames, sizes
+    # the leaves, kept readable here for the growth animation (sylva.tree.animation)
+    @property
+    def leaf_arc(self) -> np.ndarray:
+        return self.foliage.arc if self.foliage is not None else _NONE
 
-    def _plan_juvenile_leaves(self) -> None:
-        """Leaves on the young shoots of a stem below the leaf level: every stretch of it
-        carries leaves for ``JuvenileLeafLife`` years after it grows (a young tree's buds have
-        leaves before they have branches), then they fade over a year; all are gone by the
-        species' ``Age`` (or shed with their branch)."""
-        plan, tree = self.plan, self.plan.tree
-        if plan.level >= tree.levels - 1 or tree.juvenile_leaf_life <= 0:
-            return
-        if plan.level == 0 and not tree.juvenile_trunk_leaves:
-            return
-        scale = tree.pf("LeafScale", level=plan.level + 1, default=0.2)
-        spacing = max(tree.juvenile_leaf_spacing * scale.value, 1e-3)
-        n = int((self.arc1 - self.arc0) / spacing)
-        if n <= 0:
-            return
-        rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *self.key, 13])
-        arcs = self.arc0 + (np.arange(n) + rng.uniform(0.2, 0.8, n)) * spacing
-        birth = np.asarray(plan.time_at_length(arcs), np.float64) + tree.leaf_delay
-        death = np.minimum(birth + tree.juvenile_leaf_life, tree.default_age - 1.0)
-        keep = death > birth + 0.5 * tree.leaf_unfold
-        if not np.any(keep):
-            return
-        arcs, birth, death = arcs[keep], birth[keep], death[keep]
-        n = len(arcs)
-        rot = tree.pf("Rotate", level=tree.levels, default=137.5)
-        down = tree.pf("DownAngle", level=tree.levels, default=45.0)
-        phi = np.radians(rng.uniform(0, 360) + np.cumsum(
-            np.full(n, rot.value if rot.value >= 0 else 137.5)))
-        theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
-        _, _, f = self._where_many(arcs)
-        frames = f @ _ry_many(phi) @ _rx_many(theta)
-        sizes = scale.value + rng.uniform(-1, 1, n) * abs(scale.deviation)
-        self.leaf_arc = np.concatenate([self.leaf_arc, arcs])
-        self.leaf_frame = np.concatenate([self.leaf_frame, frames])
-        self.leaf_size = np.concatenate([self.leaf_size, sizes])
-        self.leaf_birth = np.concatenate([self.leaf_birth, birth])
-        self.leaf_death = np.concatenate([self.leaf_death, death])
+    @property
+    def leaf_frame(self) -> np.ndarray:
+        return self.foliage.frame if self.foliage is not None else _NONE33
+
+    @property
+    def leaf_size(self) -> np.ndarray:
+        return self.foliage.size if self.foliage is not None else _NONE
+
+    @property
+    def leaf_birth(self) -> np.ndarray:
+        return self.foliage.birth if self.foliage is not None else _NONE
+
+    @property
+    def leaf_death(self) -> np.ndarray:
+        return self.foliage.death if self.foliage is not None else _NONE
 
     def leaf_sizes_at(self, t: float) -> np.ndarray:
-        """Blade length of every planned leaf at time ``t`` (0: not out, or fallen): they
-        unfold over ``LeafUnfold`` years, juvenile ones fade in their last year, and a shed
-        branch's leaves fall (shrink) over half a year before its wood retracts."""
-        tree = self.plan.tree
-        age = (t - self.leaf_birth) / max(tree.leaf_unfold, 1e-6)
-        size = self.leaf_size * np.clip(age, 0.0, 1.0) ** 0.7
-        size = size * np.clip(self.leaf_death - t, 0.0, 1.0)
-        size[self.leaf_birth > t] = 0.0
-        if self.plan.shed is not None:  # a shed branch drops its leaves before it goes
-            size = size * min(max(1.0 - (t - self.plan.shed) / LEAF_FALL, 0.0), 1.0)
-        return size * tree.season_leaf_scale
+        """Blade length of this run's leaves at time ``t`` (:meth:`Leaves.sizes_at`)."""
+        return self.foliage.sizes_at(t) if self.foliage is not None else _NONE
 
     # -- events --------------------------------------------------------------------------------
     def schedule_own(self, sim) -> None:
@@ -812,9 +744,10 @@ class Branch(Component):
             n_children = branches * (1.0 - 0.5 * s / plan.length)
         n_leaves = 0.0
         if lv == tree.levels - 1:
-            n_leaves = tree.leaves * shape_ratio(4, s / plan.length) * tree.leaf_density
+            density = tree.leaf_density_of(lv + 1)
+            n_leaves = tree.leaves * shape_ratio(4, s / plan.length) * density
             if tree.leaf_arrangement == "fan":
-                n_leaves = tree.leaves * tree.leaf_density
+                n_leaves = tree.leaves * density
         if lv >= 2 and lv == tree.levels - 1:
             n_leaves /= tree.quality  # fewer twigs (quality < 1) carry the same foliage
         if lv >= 1 and lv == tree.levels - 2:
@@ -930,16 +863,7 @@ class Branch(Component):
         self._joints = turtle.stem_points(P, F, R, parent_joint=parent_joint,
                                           skip_first=self._skip_first)
         self._seg_joints = self._joints[self._mature_rows]
-        # leaves out by now
-        if len(self.leaf_arc):
-            sizes = self.leaf_sizes_at(self._t)
-            out = sizes > 0.0
-            if np.any(out):
-                size = sizes[out]
-                i, pos, _ = self._where_many(self.leaf_arc[out])
-                jn = self._seg_joints[np.minimum(i, len(self._seg_joints) - 1)]
-                width, material = tree.leaf_style(plan.level + 1)
-                turtle.leaves(pos, self.leaf_frame[out], size, width, material, jn)
+        # its leaves are drawn by its Leaves component, visited next (the base slot)
 
 
 def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray) -> float | None:
@@ -988,7 +912,7 @@ def make_trunk(tree, rng: np.random.Generator) -> Branch:
     radius0 = length0 * tree.pf("Ratio", default=0.02).value * tree.pf(
         "Scale0", default=1.0).fixed
     n_children = tree.pf("Branches", level=1, default=0.0).value if tree.levels > 1 else 0.0
-    n_leaves = tree.leaves * tree.leaf_density if tree.levels == 1 else 0.0
+    n_leaves = tree.leaves * tree.leaf_density_of(1) if tree.levels == 1 else 0.0
     plan = StemPlan(tree, 0, length0, radius0, 0.0, rng, n_children=n_children,
                     n_leaves=n_leaves)
     frame = _ry(rng.uniform(0, 2 * math.pi))

@@ -1,0 +1,299 @@
+"""Leaves as components (seed 002 §4.2, §4.7–4.10): the leaves of a stem hang on its base slot.
+
+A :class:`Leaves` component holds the leaves of one run of a stem (a
+:class:`~sylva.tree.weber_penn.Branch`).  It is attached to the run's **base slot**: the slot
+with the identity transform, so the leaves share the stem's frame, and, being a slot other
+than the primary one, the component is of **level + 1** (seed 002 §4.8).  Its parameters come
+from the parameter space of that level, then from the global space, exactly as a stem's do:
+the leaves on the stems of level *n* read ``[level n+1]`` (the crown's leaves on a 3-level
+tree read ``[level 3]``; the leaves of a young trunk's shoots read ``[level 1]``).  They
+develop in time like a stem (each leaf is born, unfolds, may fade and fall) and are updated
+lazily, and :func:`~sylva.tree.components.traverse` draws them right after their stem (the
+base slot is visited first).
+
+One component stands for *all* the leaves of its run, held as arrays: a mature aspen has
+about 15,000 leaves, and as many Python objects would cost most of the one-second budget of
+``benchmarks/tree.py``.  Each leaf is a row: its arc length on the stem, its frame, its
+mature blade length, its birth and death times and (drawn only when a season needs it) its
+*autumn rank*, a fixed random value in [0, 1) from its own stream.
+
+The parameters (every one may be set in ``[global]`` or in a ``[level N]`` for that level's
+leaves; ranges in :data:`sylva.tree._schema.KEYS`):
+
+* ``LeafScale`` ± deviation, ``LeafScaleX``: blade length (m) and width / length.
+* ``LeafDensity``: multiplies the number of leaves.  In ``[global]`` it multiplies
+  ``Leaves`` (the crown's leaves, as before); in a ``[level N]`` it multiplies that level's
+  leaves, crown leaves (``Leaves · ShapeRatio(4, offset / parent length) · LeafDensity``,
+  Weber & Penn's count) or the juvenile leaves of young shoots (their spacing is divided by
+  it).
+* ``LeafScaleYoung``, ``LeafAdultAge``: leaf size over the tree's age.  A leaf that appears
+  when the tree is ``T`` years old is ``LeafScale · (y + (1 − y) · min(T / LeafAdultAge, 1))``
+  long, ``y = LeafScaleYoung`` (1, the default: the same size at every age; > 1: a
+  sapling's larger leaves).  A leaf keeps its size once it is out, so growth stays
+  continuous.
+* ``LeafMaterial``, ``AutumnMaterial``: the leaf's colour (material names) in and out of
+  autumn.
+* ``SpringLeafScale`` (default 0.6): a deciduous tree's leaves in spring, relative to summer.
+* ``LeafTurn`` (default 1) and ``LeafFall`` (default 0): the state of autumn.  A leaf whose
+  autumn rank is below ``LeafFall`` has fallen; one whose rank is below ``max(LeafTurn,
+  LeafFall)`` has turned (``AutumnMaterial``): the first leaves to turn are the first to
+  fall.  So ``Season = "autumn"`` alone is today's autumn (every leaf turned, none fallen),
+  ``LeafTurn = 0.5`` half of them turned, ``LeafFall = 0.3`` 30 % of them on the ground,
+  and ``LeafFall = 1`` (or ``Season = "winter"``) the bare tree: the same stems, no leaves.
+
+Seasons only change a ``Deciduous`` tree; an evergreen keeps its leaves all year.
+
+Examples
+--------
+>>> from sylva.tree import Tree
+>>> t = Tree("quaking_aspen", seed=1, quality=0.3).grow(3.0)
+>>> leaves = t.leaf_components()[0]
+>>> leaves.level == leaves.parent.level + 1, leaves.parent_slot is leaves.parent.base
+(True, True)
+>>> bare = Tree("quaking_aspen", seed=1, quality=0.3, season="autumn", leaf_fall=1.0)
+>>> bare.grow(3.0).stats()["leaves"], t.stats()["leaves"] > 0
+(0, True)
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import SylvaError
+from .components import Component
+
+__all__ = ["LEAF_FALL", "LeafParameterError", "Leaves", "plan_leaves"]
+
+
+class LeafParameterError(SylvaError, ValueError):
+    """A leaf parameter given to :class:`~sylva.tree.model.Tree` outside its range."""
+
+LEAF_FALL = 0.5  # years a shed branch takes to drop its leaves, before its wood goes
+_AUTUMN_STREAM = 17  # the random stream of the autumn ranks (after the stems' 7, 11, 13)
+
+
+class Leaves(Component):
+    """The leaves of one run of a stem, on its base slot (level = the stem's + 1).
+
+    Parameters
+    ----------
+    branch : Branch
+        The run that carries them (the component is attached to its base slot).
+    arc, size, birth, death : float64[n]
+        Arc length on the stem, mature blade length (m), global time it appears and the time
+        it is gone (``inf``: it stays).
+    frame : float64[n, 3, 3]
+        The leaf's frame in the stem's frame (columns: across, along the blade, normal).
+    juvenile : int
+        How many of the rows (the last ones) are juvenile leaves (on the young shoots of a
+        stem below the leaf level).
+    """
+
+    def __init__(self, branch, arc, frame, size, birth, death, juvenile: int = 0) -> None:
+        plan = branch.plan
+        super().__init__(branch.birth_time, name=f"Leaves{plan.level + 1}")
+        self.branch = branch
+        self.tree = plan.tree
+        self.leaf_level = plan.level + 1
+        self.arc = arc
+        self.frame = frame
+        self.size = size
+        self.birth = birth
+        self.death = death
+        self.juvenile = juvenile
+        self._rank: np.ndarray | None = None
+        self._t = 0.0
+
+    def __len__(self) -> int:
+        return len(self.arc)
+
+    def rank(self) -> np.ndarray:
+        """The autumn rank of every leaf: a fixed random value in [0, 1) drawn once, from the
+        run's own stream (the same leaves turn and fall for the same seed)."""
+        if self._rank is None:
+            tree = self.tree
+            rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *self.branch.key,
+                                         _AUTUMN_STREAM])
+            self._rank = rng.uniform(0.0, 1.0, len(self.arc))
+        return self._rank
+
+    def sizes_at(self, t: float) -> np.ndarray:
+        """Blade length of every leaf at global time ``t``, 0 for one not out or gone: they
+        unfold over ``LeafUnfold`` years, juvenile ones fade in their last year, a shed
+        branch's leaves fall (shrink) over half a year before its wood retracts, and the
+        season applies (spring's ``SpringLeafScale``, autumn's ``LeafFall``, winter)."""
+        tree = self.tree
+        plan = self.branch.plan
+        age = (t - self.birth) / max(tree.leaf_unfold, 1e-6)
+        size = self.size * np.clip(age, 0.0, 1.0) ** 0.7
+        size = size * np.clip(self.death - t, 0.0, 1.0)
+        size[self.birth > t] = 0.0
+        if plan.shed is not None:  # a shed branch drops its leaves before it goes
+            size = size * min(max(1.0 - (t - plan.shed) / LEAF_FALL, 0.0), 1.0)
+        scale, _turn, fall = tree.leaf_season(self.leaf_level)
+        if fall > 0.0:
+            size[self.rank() < fall] = 0.0
+        return size * scale
+
+    def materials(self, shown: np.ndarray) -> str | list[str]:
+        """The material of the leaves ``shown`` (bool[n]): one name, or one per leaf when
+        autumn has turned only some of them."""
+        tree = self.tree
+        material, autumn = tree.leaf_materials(self.leaf_level)
+        if not (tree.deciduous and tree.season == "autumn"):
+            return material
+        _scale, turn, fall = tree.leaf_season(self.leaf_level)
+        turned = max(turn, fall)
+        if turned >= 1.0:
+            return autumn
+        if turned <= 0.0:
+            return material
+        r = self.rank()[shown]
+        return [autumn if x < turned else material for x in r]
+
+    def update_attributes(self, t: float) -> None:
+        self._t = t
+
+    def generate(self, turtle) -> None:
+        b = self.branch
+        if b._seg_joints is None or not len(self.arc):
+            return  # the stem is not out yet
+        sizes = self.sizes_at(self._t)
+        out = sizes > 0.0
+        if not np.any(out):
+            return
+        size = sizes[out]
+        i, pos, _ = b._where_many(self.arc[out])
+        jn = b._seg_joints[np.minimum(i, len(b._seg_joints) - 1)]
+        width = self.tree.leaf_width_of(self.leaf_level)
+        turtle.leaves(pos, self.frame[out], size, width, self.materials(out), jn)
+
+
+def _young(tree, level: int, size: np.ndarray, birth: np.ndarray) -> np.ndarray:
+    """``size`` scaled by ``LeafScaleYoung`` for the tree's age at each leaf's birth."""
+    y = tree.pf("LeafScaleYoung", level=level, default=1.0).value
+    if y == 1.0 or not len(size):
+        return size
+    adult = max(tree.pf("LeafAdultAge", level=level, default=10.0).value, 1e-9)
+    return size * (y + (1.0 - y) * np.minimum(np.maximum(birth, 0.0) / adult, 1.0))
+
+
+def plan_leaves(branch, rng) -> Leaves | None:
+    """Plan the leaves of a run (``rng``: the run's own stream, after its buds) and attach
+    them as a :class:`Leaves` on its base slot; ``None`` when it has none."""
+    plan, tree = branch.plan, branch.plan.tree
+    arc, frame, size = _crown_leaves(branch, rng)
+    birth = np.asarray(plan.time_at_length(arc)) + tree.leaf_delay
+    death = np.full(len(arc), np.inf)
+    size = _young(tree, plan.level + 1, size, birth)
+    juvenile = _juvenile_leaves(branch)
+    n_juvenile = 0
+    if juvenile is not None:
+        j_arc, j_frame, j_size, j_birth, j_death = juvenile
+        n_juvenile = len(j_arc)
+        arc = np.concatenate([arc, j_arc])
+        frame = np.concatenate([frame, j_frame])
+        size = np.concatenate([size, _young(tree, plan.level + 1, j_size, j_birth)])
+        birth = np.concatenate([birth, j_birth])
+        death = np.concatenate([death, j_death])
+    if not len(arc):
+        return None
+    leaves = Leaves(branch, arc, frame, size, birth, death, n_juvenile)
+    branch.attach(leaves, branch.base)
+    return leaves
+
+
+def _crown_leaves(branch, rng):
+    """The leaves of the last stem level: ``Leaves · ShapeRatio(4, offset / parent length)``
+    per stem (the plan's ``n_leaves``), spread over its runs by their share."""
+    _rx, _rx_many, _ry_many, _rz = _wp._rx, _wp._rx_many, _wp._ry_many, _wp._rz
+    plan, tree = branch.plan, branch.plan.tree
+    empty = (np.zeros(0), np.zeros((0, 3, 3)), np.zeros(0))
+    if plan.level != tree.levels - 1 or plan.n_leaves <= 0:
+        return empty
+    lv = plan.level + 1
+    scale = tree.pf("LeafScale", level=lv, default=0.2)
+    if tree.leaf_arrangement == "fan":
+        if branch.k1 < plan.curve_res:
+            return empty  # the fan sits at the tip of the stem
+        n = int(round(plan.n_leaves))
+        spread = math.radians(tree.pf("FanAngle", default=150.0).value)
+        tip = branch.frames[-1]
+        out_f = []
+        for i in range(n):
+            a = (i / max(n - 1, 1) - 0.5) * spread + rng.uniform(-0.04, 0.04)
+            f = tip @ _rz(a) @ _rx(math.radians(rng.uniform(-8, 8)))
+            out_f.append(f)
+        arcs = np.full(n, branch.arc1 - 1e-6)
+        sizes = np.array([scale.sample(rng) for _ in range(n)])
+        return arcs, np.array(out_f).reshape(-1, 3, 3), sizes
+    frac = (branch.arc1 - branch.arc0) / plan.length
+    want = plan.n_leaves * frac * branch.share
+    n = int(math.floor(want + rng.uniform()))
+    if n <= 0:
+        return empty
+    rot = tree.pf("Rotate", level=lv, default=137.5)
+    down = tree.pf("DownAngle", level=lv, default=45.0)
+    a0, a1 = branch.arc0, branch.arc1
+    arcs = a0 + (np.arange(n) + rng.uniform(0.2, 0.8, n)) / n * (a1 - a0)
+    if rot.value >= 0:
+        steps = rot.value + rng.uniform(-1, 1, n) * abs(rot.deviation)
+        phi = np.radians(rng.uniform(0, 360) + np.cumsum(steps))
+    else:  # two ranks: alternately ±(180 + nRotate) (a pinnate frond, a fern)
+        sides = np.where(np.arange(n) % 2 == 0, 1.0, -1.0)
+        a = 180.0 + rot.value + rng.uniform(-1, 1, n) * abs(rot.deviation)
+        phi = np.radians(rng.uniform(0, 360) + sides * a)
+    theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
+    twist = np.radians(rng.uniform(-30, 30, n))  # a petiole twist
+    _, _, f = branch._where_many(arcs)
+    frames = f @ _ry_many(phi) @ _rx_many(theta) @ _ry_many(twist)
+    sizes = scale.value + rng.uniform(-1, 1, n) * abs(scale.deviation)
+    return arcs, frames, sizes
+
+
+def _juvenile_leaves(branch):
+    """Leaves on the young shoots of a stem below the leaf level: every stretch of it
+    carries leaves for ``JuvenileLeafLife`` years after it grows (a young tree's buds have
+    leaves before they have branches), then they fade over a year; all are gone by the
+    species' ``Age`` (or shed with their branch).  ``None`` when there are none."""
+    _rx_many, _ry_many = _wp._rx_many, _wp._ry_many
+    plan, tree = branch.plan, branch.plan.tree
+    if plan.level >= tree.levels - 1 or tree.juvenile_leaf_life <= 0:
+        return None
+    if plan.level == 0 and not tree.juvenile_trunk_leaves:
+        return None
+    lv = plan.level + 1
+    scale = tree.pf("LeafScale", level=lv, default=0.2)
+    spacing = max(tree.juvenile_leaf_spacing * scale.value, 1e-3)
+    density = tree.level_value("LeafDensity", lv)
+    if density is not None:
+        if density <= 0:
+            return None
+        spacing /= density
+    n = int((branch.arc1 - branch.arc0) / spacing)
+    if n <= 0:
+        return None
+    rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *branch.key, 13])
+    arcs = branch.arc0 + (np.arange(n) + rng.uniform(0.2, 0.8, n)) * spacing
+    birth = np.asarray(plan.time_at_length(arcs), np.float64) + tree.leaf_delay
+    death = np.minimum(birth + tree.juvenile_leaf_life, tree.default_age - 1.0)
+    keep = death > birth + 0.5 * tree.leaf_unfold
+    if not np.any(keep):
+        return None
+    arcs, birth, death = arcs[keep], birth[keep], death[keep]
+    n = len(arcs)
+    rot = tree.pf("Rotate", level=tree.levels, default=137.5)
+    down = tree.pf("DownAngle", level=tree.levels, default=45.0)
+    phi = np.radians(rng.uniform(0, 360) + np.cumsum(
+        np.full(n, rot.value if rot.value >= 0 else 137.5)))
+    theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
+    _, _, f = branch._where_many(arcs)
+    frames = f @ _ry_many(phi) @ _rx_many(theta)
+    sizes = scale.value + rng.uniform(-1, 1, n) * abs(scale.deviation)
+    return arcs, frames, sizes, birth, death
+
+
+# the stems' rotation helpers, read at call time (weber_penn imports this module first)
+from . import weber_penn as _wp  # noqa: E402
