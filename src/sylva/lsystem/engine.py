@@ -865,6 +865,10 @@ class Derivation:
         self._compiled = _compiled(program)
         self._history: list = []
         self._globals = None  # of program.statements, between steps
+        # a debugger's hook (the studio's breakpoints and profile), on the traced road only:
+        # on_rewrite(step, src, rule) after each step, with per new module the index of the
+        # old module it replaced and the production that made it (-1: copied)
+        self.on_rewrite: Callable[[int, np.ndarray, np.ndarray], None] | None = None
         self.reset()
 
     def _axiom(self) -> ModuleString:
@@ -1000,6 +1004,8 @@ class Derivation:
                     rule = np.where(made, rs.origin[np.maximum(rule, 0)], -1)
                 self._origin_rule = np.where(made, rule, self._origin_rule[src])
                 self._origin_step = np.where(made, self.step + 1, self._origin_step[src])
+                if self.on_rewrite is not None:
+                    self.on_rewrite(self.step + 1, src, np.where(made, rule, -1))
             if decompose:  # decomposed modules keep the origin of the module they replace
                 new, src = _passes(new, comp.decomposition, comp, self.seed, self.step + 1,
                                    self.program.decomposition_depth, "decomposition",

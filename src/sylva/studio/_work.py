@@ -34,6 +34,7 @@ __all__ = [
     "advancing",
     "back",
     "camera_hint",
+    "export_formats",
     "export_mesh",
     "load_program",
     "mesh",
@@ -45,7 +46,7 @@ __all__ = [
     "word_page",
 ]
 
-DIALECTS = ("lsys", "classic", "engine")
+DIALECTS = ("lsys", "classic", "engine", "cpfg")
 # turtle commands that leave the plane: their presence makes the automatic camera 3D
 _OUT_OF_PLANE = {"PITCH_DOWN", "PITCH_UP", "ROLL_LEFT", "ROLL_RIGHT", "E_PITCH_UP",
                  "E_PITCH_DOWN", "LEVEL"}
@@ -175,31 +176,46 @@ def advancing(session: Session, n: int, limits: Limits, clock=None):
     clock = clock or _clock()
     t0 = time.perf_counter()
     done = 0
+    session.progress = {"steps": 0, "of": n, "modules": len(d.word), "interpreted": 0}
     for _ in range(n):
-        if session.cancel.is_set():
-            raise CapError("stopped", f"stopped after {done} of {n} steps (step {d.step})")
-        elapsed = clock()
-        est = _estimate(session, len(d.word))
-        if done and elapsed >= limits.time_cap:
-            raise CapError("time", f"the time cap of {limits.time_cap:g} s per request was "
-                           f"reached after {done} of {n} steps (step {d.step})")
-        if elapsed + est > limits.time_cap:
-            raise CapError("time", f"step {d.step + 1} was refused: it is estimated to take "
-                           f"{est:.1f} s, past the cap of {limits.time_cap:g} s per request "
-                           f"({done} of {n} steps done)")
+        check_turn(session, limits, clock, done, n)
         before = len(d.word)
         ts = time.perf_counter()
         try:
             d.advance(1)
         except GrowthLimitError as exc:
-            raise CapError("modules", f"step {d.step + 1} was refused: {exc} (the module cap "
-                           f"is {limits.max_modules:,}; {done} of {n} steps done)") from None
+            raise CapError("modules", refused(d, exc, limits, done, n)) from None
         session.last_step = (time.perf_counter() - ts, before, len(d.word))
         done += 1
+        session.progress.update(steps=done, modules=len(d.word))
         session.timings["derive_ms"] = (time.perf_counter() - t0) * 1e3
         yield
     session.timings["derive_ms"] = (time.perf_counter() - t0) * 1e3
     return {"done": done}
+
+
+def check_turn(session: Session, limits: Limits, clock, done: int, n: int) -> None:
+    """Before a step of a request: :class:`CapError` when the client pressed Stop, the
+    time cap is spent, or the next step is estimated to pass it."""
+    d = session.derivation
+    if session.cancel.is_set():
+        raise CapError("stopped", f"stopped after {done} of {n} steps (step {d.step})")
+    elapsed = clock()
+    est = _estimate(session, len(d.word))
+    if done and elapsed >= limits.time_cap:
+        raise CapError("time", f"the time cap of {limits.time_cap:g} s per request was "
+                       f"reached after {done} of {n} steps (step {d.step})")
+    if elapsed + est > limits.time_cap:
+        raise CapError("time", f"step {d.step + 1} was refused: it is estimated to take "
+                       f"{est:.1f} s, past the cap of {limits.time_cap:g} s per request "
+                       f"({done} of {n} steps done)")
+
+
+def refused(d, exc: GrowthLimitError, limits: Limits, done: int, n: int) -> str:
+    """Why a step was refused by the module cap (the word before it is kept)."""
+    return (f"step {d.step + 1} was refused: {exc} (the module cap is "
+            f"{limits.max_modules:,}; {done} of {n} steps done, the view shows step "
+            f"{d.step}, the last word that fits)")
 
 
 def advance(session: Session, n: int, limits: Limits) -> dict:
@@ -245,10 +261,17 @@ def state(session: Session) -> dict:
         "trace": d.trace,
         "symbols": dict(sorted(word.counts().items(), key=lambda kv: (-kv[1], kv[0]))[:64]),
         "rules": len(p.rules),
+        "rule_list": _rule_list(p),
         "timings": dict(session.timings),
         "triangles": drawn.triangles if drawn else None,
         "limits": {"modules": d.limit},
     }
+
+
+def _rule_list(program) -> list[dict]:
+    from ._debug import rules
+
+    return rules(program)
 
 
 # --------------------------------------------------------------------------- word view
@@ -356,7 +379,9 @@ def meshing(session: Session, limits: Limits, clock=None):
         raise CapError("modules", f"the render rules would pass the module cap: {exc}") from None
     yield
     turn(f"the render word ({len(rw):,} modules)")
+    session.progress = {**session.progress, "interpreting": len(rw), "interpreted": 0}
     geometry = interpret(rw, p, seed=d.seed)
+    session.progress["interpreted"] = len(rw)
     yield
     turn(f"the turtle ({geometry.n_segments:,} branches)")
     sides = _sides(geometry, limits)
@@ -378,18 +403,46 @@ def mesh(session: Session, limits: Limits) -> Drawn:
     return run_through(meshing(session, limits))
 
 
+def export_formats() -> list[str]:
+    """The mesh formats the File menu offers: every writer of
+    :mod:`sylva.geometry.exchange` (USD when ``usd-core`` is installed)."""
+    from ..geometry.exchange import WRITERS, usd_available
+
+    return [f for f in WRITERS if not f.startswith("usd") or usd_available()]
+
+
+def scene_bytes(scene, fmt: str, geometry=None) -> bytes:
+    """``scene`` written in the export format ``fmt`` (``svg`` from the turtle's
+    ``geometry`` when given), as bytes."""
+    import tempfile
+    from pathlib import Path
+
+    from ..geometry.exchange import BINARY, write
+
+    if fmt not in export_formats():
+        raise SylvaError(f"unknown export format {fmt!r}; expected one of "
+                         + ", ".join(export_formats()))
+    obj = geometry if fmt == "svg" and geometry is not None else scene
+    if fmt.startswith("usd"):  # the USD library writes files, not streams
+        with tempfile.TemporaryDirectory(prefix="sylva-studio-") as tmp:
+            path = Path(tmp) / f"plant.{fmt}"
+            write(obj, path, format=fmt)
+            return path.read_bytes()
+    if fmt in BINARY:
+        buf = _Pieces() if fmt == "glb" else io.BytesIO()
+        write(obj, buf, format=fmt)
+        return buf.getvalue()
+    text = io.StringIO()
+    write(obj, text, format=fmt)
+    return text.getvalue().encode("utf-8")
+
+
 def export_mesh(session: Session, fmt: str, limits: Limits) -> bytes:
-    """The current mesh as ``glb``, ``obj`` or ``scad`` (OpenSCAD solids) bytes."""
+    """The current mesh in the export format ``fmt`` (:func:`export_formats`)."""
     drawn = mesh(session, limits)
     if fmt == "glb":
         return drawn.glb
-    if fmt in ("obj", "scad"):
-        from ..geometry.exchange import write_obj, write_scad
-
-        buf = io.StringIO()
-        (write_obj if fmt == "obj" else write_scad)(drawn.scene, buf)
-        return buf.getvalue().encode("utf-8")
-    raise SylvaError(f"unknown export format {fmt!r}; expected glb, obj or scad")
+    return scene_bytes(drawn.scene, fmt, drawn.geometry)
 
 
 # --------------------------------------------------------------------------- rule trace
@@ -523,8 +576,9 @@ def _axis_cross(length: float = 1.0, width: float = 0.04):
 
 
 def render_png(session: Session, limits: Limits, *, width: int, height: int, camera: dict,
-               focus: bool, background) -> bytes:
-    """Render the current mesh offscreen at ``width`` × ``height`` with the client's camera."""
+               focus: bool, background, fmt: str = "png", scene=None) -> bytes:
+    """Render the current mesh (or ``scene``, a tree's or a world's) offscreen at ``width``
+    × ``height`` with the client's camera, as a PNG or (``fmt="jpg"``) a JPEG."""
     from ..geometry.mesh import Scene
     from ..render import Camera, render
 
@@ -532,8 +586,7 @@ def render_png(session: Session, limits: Limits, *, width: int, height: int, cam
         raise CapError("size", f"image sides must be 1 to {limits.max_image_side} pixels")
     if width * height > limits.max_image_pixels:
         raise CapError("size", f"at most {limits.max_image_pixels:,} pixels per image")
-    drawn = mesh(session, limits)
-    meshes = list(drawn.scene.meshes)
+    meshes = list((scene if scene is not None else mesh(session, limits).scene).meshes)
     target = np.asarray(camera.get("target", (0, 0, 0)), dtype=np.float64).reshape(3)
     if focus:
         cross = _axis_cross(float(camera.get("axis", 1.0)))
@@ -556,7 +609,10 @@ def render_png(session: Session, limits: Limits, *, width: int, height: int, cam
                  bg=tuple(background) if background else "white",
                  ground=False, shadows=mode != "2d")
     buf = io.BytesIO()
-    img.save(buf, format="PNG")
+    if fmt == "jpg":
+        img.convert("RGB").save(buf, format="JPEG", quality=92)
+    else:
+        img.save(buf, format="PNG")
     return buf.getvalue()
 
 
