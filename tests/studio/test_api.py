@@ -305,7 +305,8 @@ def test_symlink_out_of_workspace_is_refused(client, workspace, tmp_path):
 def test_examples_and_help(client):
     info = client.get("/api/info").json()
     names = [e["name"] for e in info["examples"]]
-    assert len(names) == len(examples()) and info["dialects"] == ["lsys", "classic", "engine", "cpfg"]
+    assert len(names) == len(examples())
+    assert info["dialects"] == ["lsys", "classic", "engine", "cpfg"]
     ex = client.get("/api/example", params={"name": names[0]}).json()
     assert "axiom" in ex["text"]
     assert client.get("/api/example", params={"name": "../../etc"}).status_code == 404

@@ -74,6 +74,8 @@ def _parse_range(comment: str) -> dict:
                 "hi": hi if math.isfinite(hi) else None, "open_lo": m.group(1) == "(",
                 "doc": m.group(4).strip()}
     m = _DOTS.match(comment)
+    if m and m.group(3).startswith("or "):  # LeafShape: a number or a name
+        return {"kind": "choice", "doc": comment}
     if m:
         return {"kind": "integer", "lo": float(m.group(1)), "hi": float(m.group(2)),
                 "open_lo": False, "doc": m.group(3).strip()}
