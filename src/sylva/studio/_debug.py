@@ -59,8 +59,8 @@ class _Condition:
         src = text.strip()
         if ":" not in src:
             src += " : 1"
-        rule = parse_rule(src + " -> " + text.strip().split(":", 1)[0].strip(),
-                          constants=dict(constants), filename="<breakpoint>")
+        # the successor is never used: a rule's text is parsed for its pattern and condition
+        rule = parse_rule(src + " -> F", constants=dict(constants), filename="<breakpoint>")
         if rule.left or rule.right:
             raise SylvaError("a condition breakpoint is one module and a condition, such "
                              "as A(x) : x > 3 (no context)")
