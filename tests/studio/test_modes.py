@@ -203,3 +203,23 @@ def test_jpg_and_png_of_any_size(client):
             assert im.format == kind and im.size == (97, 41)
     r = client.post("/api/export-png", json={"width": 9, "height": 9, "format": "gif"})
     assert r.status_code == 400 and "png or jpg" in r.json()["message"]
+
+
+def test_a_plant_of_many_branches_comes_as_instanced_rows(client):
+    from sylva.plant import grow_geometry
+
+    text = "axiom = X\nX -> F[+X]F[-X]+X\nF -> FF\n"
+    load(client, text, steps=8, seed=1)
+    g = grow_geometry(loads(text), 8, seed=1)[-1]
+    assert g.n_segments > 10_000 and not g.n_leaves
+    r = client.get("/api/mesh", params={"instanced": "1"})
+    assert r.status_code == 200 and r.headers["x-sylva-kind"] == "segments"
+    rows = np.frombuffer(r.content, np.float32).reshape(-1, 11)
+    assert len(rows) == g.n_segments
+    np.testing.assert_allclose(rows[:, 0:3], g.seg_start, rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(rows[:, 3:6], g.seg_end, rtol=1e-6, atol=1e-6)
+    # the exports and a plain mesh request still get the whole mesh, from the same turtle
+    m = client.get("/api/mesh")
+    assert m.headers["x-sylva-kind"] == "glb" and m.content[:4] == b"glTF"
+    assert int(m.headers["x-sylva-triangles"]) > 16 * g.n_segments
+    assert client.get("/api/export.glb").content == m.content

@@ -68,11 +68,37 @@ class Drawn:
     step: int
     geometry: Any
     sources: np.ndarray | None  # render-word module -> word module
-    scene: Any
-    glb: bytes
+    scene: Any  # None while only the instanced branches were asked for
+    glb: bytes | None
     triangles: int
     sides: int | None
     mesh_ms: float
+    segments: bytes | None = None  # the branches as instanced rows (segment_rows)
+
+
+#: Plants of more branches than this (and nothing but branches) are sent to the page as
+#: instanced branches, not as a mesh (as the notebook widget does): a tenth of the bytes,
+#: no mesh to build, and the page draws one shared cylinder per branch.
+INSTANCE_FROM = 10_000
+
+
+def instanced(geometry) -> bool:
+    """Whether the page draws ``geometry`` as instanced branches."""
+    g = geometry
+    return g.n_segments > INSTANCE_FROM and not (g.n_leaves or g.n_polygons or g.n_blocks)
+
+
+def segment_rows(geometry) -> bytes:
+    """The branches as float32 rows ``start xyz, end xyz, r0, r1, linear rgb`` (11 floats
+    each), the rows the notebook widget sends too: the page turns one shared cylinder per
+    row (seed 001 §6.7's prism with per-segment instance data)."""
+    g = geometry
+    rows = np.empty((g.n_segments, 11), np.float32)
+    rows[:, 0:3] = g.seg_start
+    rows[:, 3:6] = g.seg_end
+    rows[:, 6:8] = g.seg_radius
+    rows[:, 8:11] = g.seg_color
+    return rows.tobytes()
 
 
 # --------------------------------------------------------------------------- loading
@@ -343,23 +369,28 @@ def _sides(geometry, limits: Limits) -> int | None:
     return sides if sides != wanted else wanted
 
 
-def meshing(session: Session, limits: Limits, clock=None):
+def meshing(session: Session, limits: Limits, clock=None, *, full: bool = True):
     """Interpret the current (render) word and build its mesh as GLB bytes (cached); a
     generator that yields between the phases (render word, turtle, mesh, GLB).
+
+    With ``full=False`` a plant of many branches (:func:`instanced`) gets only its
+    instanced rows (``Drawn.segments``, no scene): what the page draws.  Exports, renders
+    and a later ``full`` call build the mesh from the same turtle geometry.
 
     Between two phases it stops with :class:`CapError` when the client pressed Stop or
     sent a newer request, or when ``clock()`` (seconds of work so far) passed the time cap.
     """
-    from ..geometry.build import build_mesh
-    from ..geometry.exchange import write_glb
     from ..turtle import interpret
 
     d, p = session.derivation, session.program
-    if session.drawn is not None and session.drawn.step == d.step:
-        return session.drawn
+    old = session.drawn
+    if old is not None and old.step == d.step and (old.scene is not None or not full):
+        return old
     clock = clock or _clock()
     step = d.step
     t0 = time.perf_counter()
+    if old is not None and old.step == d.step:  # the instanced rows were sent: the mesh now
+        return (yield from _build(session, limits, clock, old.geometry, old.sources, t0))
     session.drawn = None  # the old mesh goes before the new one is built
 
     def turn(done: str):
@@ -384,6 +415,33 @@ def meshing(session: Session, limits: Limits, clock=None):
     session.progress["interpreted"] = len(rw)
     yield
     turn(f"the turtle ({geometry.n_segments:,} branches)")
+    if not full and instanced(geometry):
+        rows = segment_rows(geometry)
+        ms = (time.perf_counter() - t0) * 1e3
+        # the triangles the page draws: 8-sided open cylinders, 16 a branch
+        drawn = Drawn(step, geometry, sources, None, None, 16 * geometry.n_segments, 8, ms,
+                      segments=rows)
+        session.drawn = drawn
+        session.timings["mesh_ms"] = ms
+        return drawn
+    return (yield from _build(session, limits, clock, geometry, sources, t0))
+
+
+def _build(session: Session, limits: Limits, clock, geometry, sources, t0):
+    """The mesh and GLB of the turtle's ``geometry`` (the last phases of :func:`meshing`)."""
+    from ..geometry.build import build_mesh
+    from ..geometry.exchange import write_glb
+
+    step = session.derivation.step
+
+    def turn(done: str):
+        if session.cancel.is_set():
+            raise CapError("stopped", f"meshing step {step} was stopped after {done}")
+        if clock() > limits.time_cap:
+            raise CapError("time", f"meshing step {step} passed the time cap of "
+                           f"{limits.time_cap:g} s per request after {done}; lower the "
+                           "detail or derive fewer steps")
+
     sides = _sides(geometry, limits)
     scene = build_mesh(geometry, detail=sides)
     triangles = int(sum(m.n_triangles for m in scene.meshes))

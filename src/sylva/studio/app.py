@@ -18,7 +18,8 @@ API (all under ``/api``; JSON unless said otherwise; errors are ``{"error": kind
 ``POST stop``            stop the running derivation of this session
 ``GET  state``           step, module count, globals, settings, camera hint, timings
 ``GET  word?start=&count=``  a page of the current word, one text per module
-``GET  mesh``            the current (render) word as binary glTF (``model/gltf-binary``)
+``GET  mesh``            the current (render) word as binary glTF (``model/gltf-binary``);
+                         ``?instanced=1``: a plant of many branches as instanced rows
 ``POST pick``            ``{point}``: the module drawn there and the rule/step that made it
 ``GET  module?index=``   module ``index`` of the word: what it drew and its rule and step
 ``GET  export.FMT``      downloads of the mesh: ``glb``, ``obj``, ``scad`` (solids)
@@ -478,19 +479,21 @@ async def word(request: Request) -> JSONResponse:
     return JSONResponse(page)
 
 
-def _after_mesh(session: Session, limits: Limits, fn=None, *args, **kw):
+def _after_mesh(session: Session, limits: Limits, fn=None, *args, full: bool = True, **kw):
     """A job that builds the mesh (in turns) and then does ``fn(*args, **kw)``."""
 
     def make(job):
-        drawn = yield from _work.meshing(session, limits, job.used)
+        drawn = yield from _work.meshing(session, limits, job.used, full=full)
         return drawn if fn is None else fn(*args, **kw)
 
     return make
 
 
-async def _with_mesh(studio: Studio, session: Session, fn=None, *args, **kw):
+async def _with_mesh(studio: Studio, session: Session, fn=None, *args, full: bool = True,
+                     **kw):
     try:
-        return await studio.run(session, _after_mesh(session, studio.limits, fn, *args, **kw))
+        return await studio.run(session, _after_mesh(session, studio.limits, fn, *args,
+                                                     full=full, **kw))
     except _work.CapError as exc:
         raise ApiError(422, exc.kind, str(exc)) from None
 
@@ -518,8 +521,19 @@ async def mesh(request: Request) -> Response:
     studio = _studio(request)
     session = studio.session(request)
     _need(session)
-    drawn = await _with_mesh(studio, session)
+    # the page takes a large plant of branches as instanced rows (?instanced=1)
+    full = request.query_params.get("instanced") not in ("1", "true")
+    drawn = await _with_mesh(studio, session, full=full)
+    if drawn.segments is not None and not full:
+        return _body(drawn.segments, "application/octet-stream", {
+            "x-sylva-kind": "segments",
+            "x-sylva-step": str(drawn.step),
+            "x-sylva-triangles": str(drawn.triangles),
+            "x-sylva-mesh-ms": f"{drawn.mesh_ms:.1f}",
+            "cache-control": "no-store",
+        })
     return _body(drawn.glb, "model/gltf-binary", {
+        "x-sylva-kind": "glb",
         "x-sylva-step": str(drawn.step),
         "x-sylva-triangles": str(drawn.triangles),
         "x-sylva-mesh-ms": f"{drawn.mesh_ms:.1f}",

@@ -216,14 +216,18 @@ function showTiming() {
 async function drawMesh({ fit = false } = {}) {
   if (app.mode && app.mode !== "lsystem") return false;  // Tree and World modes draw their own
   const t0 = performance.now();
-  const r = await api("mesh", { raw: true });
+  const r = await api("mesh?instanced=1", { raw: true });
   if (!r.ok) { showError(r.data); return false; }
   app.timing.mesh_ms = Number(r.res.headers.get("x-sylva-mesh-ms"));
   const buf = await r.res.arrayBuffer();
   const t1 = performance.now();
-  await viewer.showGlb(buf, { fit });
+  app.meshKind = r.res.headers.get("x-sylva-kind") || "glb";
+  if (app.meshKind === "segments") viewer.showSegments(buf, { fit });
+  else await viewer.showGlb(buf, { fit });
   app.timing.draw_ms = performance.now() - t1;
   app.timing.roundtrip_ms = t1 - t0;
+  app.timing.mesh_bytes = buf.byteLength;
+  app.meshShownAt = performance.now();
   app.meshStep = Number(r.res.headers.get("x-sylva-step"));
   app.drawnSteps.push(app.meshStep);
   if (app.picked) {
@@ -517,16 +521,15 @@ function buildGlobals(constants) {
     box.appendChild(row);
     const range = row.querySelector("input[type=range]");
     const num = row.querySelector("input[type=number]");
-    let timer = null;
     const changed = (value) => {
+      app.changedAt = performance.now();
       if (editor.setNumber(name, value)) {
         const { [name]: _, ...rest } = app.overrides || {};
         app.overrides = rest;
       } else {
         app.overrides = { ...(app.overrides || {}), [name]: value };
       }
-      clearTimeout(timer);
-      timer = setTimeout(() => rerun(), 150);
+      rerun();
     };
     range.oninput = () => { num.value = formatNumber(Number(range.value)); markOk(num); changed(Number(num.value)); };
     num.oninput = () => {
@@ -568,18 +571,26 @@ function updateGlobals(constants) {
 }
 
 // Re-run to the current step with the sliders' values.
+// A change while one is being derived waits for it and then runs once with the latest
+// values (the changes in between are coalesced).
 async function rerun() {
-  if (app.busy) { setTimeout(rerun, 100); return; }
+  if (app.busy) { app.rerunPending = true; return; }
+  app.rerunPending = false;
   const steps = app.state ? app.state.step : 0;
   setBusy(true, steps);
+  const t0 = performance.now();
   try {
     const r = await api("load", { method: "POST", json: loadRequest({ steps }) });
+    app.timing.load_ms = performance.now() - t0;
     if (!r.ok) { showError(r.data); if (r.data.state) await refresh(); return; }
     clearError();
     app.loadedText = editor.text;
     showState(r.data);
     await refresh();
-  } finally { setBusy(false); }
+  } finally {
+    setBusy(false);
+    if (app.rerunPending) rerun();
+  }
 }
 
 // ------------------------------------------------------------------------- help
