@@ -832,6 +832,14 @@ class Derivation:
         (see :mod:`sylva.lsystem.environment`).  A program with query modules needs one:
         :func:`sylva.derive` and :func:`sylva.grow` pass the turtle's.
 
+    Attributes
+    ----------
+    on_rewrite : callable or None
+        A debugger's hook (the studio's breakpoints and profile): with ``trace=True``,
+        ``on_rewrite(step, src, rule)`` is called after each step with, per module of the
+        new word, the index of the old module it replaced and the production that made it
+        (-1: copied).  ``None`` (the default) costs nothing; the other roads never call it.
+
     Examples
     --------
     >>> from sylva.lsystem.ast import Module, Pattern, Program, Rule

@@ -19,7 +19,11 @@ export function initModes(ctx) {
     for (const el of $$("[data-mode]")) el.hidden = el.dataset.mode !== mode;
     viewer.clear();
     if (mode === "lsystem") {
-      ctx.refresh({ fit: true }).catch(() => {});
+      if (app.state) {
+        ctx.showState(app.state);  // its background, step and counts in the status bar
+        if (app.autoCamera) viewer.setMode(app.state.camera);
+        ctx.refresh({ fit: true }).catch(() => {});
+      }
     } else {
       viewer.setMode("perspective");
       viewer.setBackground([0.62, 0.78, 0.94]);
