@@ -185,7 +185,6 @@ async def biomes(request: Request) -> Response:
 
 def routes() -> list[Route]:
     """The routes of this module, mounted under ``/api`` by :func:`~.app.create_app`."""
-    _ = _once  # the jobs are one piece each
     return [
         Route("/debug", debug, methods=["POST"]),
         Route("/profile", profile_get),
