@@ -495,6 +495,18 @@ def test_tree_mode_draws_and_refuses_a_bad_parameter(page):
     assert "[0, 0.99]" in base.get_attribute("title")
     base.fill("0.3")
     assert "invalid" not in base.get_attribute("class")
+    # World mode: a small world beside its biome map, in the same viewer
+    page.click("[data-mode-button=world]")
+    page.fill("#world-size", "4")
+    page.click("#world-generate")
+    assert "[8, 256]" in page.text_content("#world-size + .field-error")
+    page.fill("#world-size", "16")
+    page.uncheck("#world-plants")
+    drawn = page.evaluate("window.studio.grownDrawn")
+    page.click("#world-generate")
+    until(page, f"window.studio.grownDrawn > {drawn} && "
+                "document.querySelector('#world-biomes').naturalWidth === 16", 120_000)
+    assert page.is_visible("#world-biomes") and page.evaluate("window.studio.viewer.triangles")
 
 
 def test_jpg_export_decodes(page):
