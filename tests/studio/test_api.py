@@ -305,7 +305,8 @@ def test_symlink_out_of_workspace_is_refused(client, workspace, tmp_path):
 def test_examples_and_help(client):
     info = client.get("/api/info").json()
     names = [e["name"] for e in info["examples"]]
-    assert len(names) == len(examples()) and info["dialects"] == ["lsys", "classic", "engine"]
+    assert len(names) == len(examples())
+    assert info["dialects"] == ["lsys", "classic", "engine", "cpfg"]
     ex = client.get("/api/example", params={"name": names[0]}).json()
     assert "axiom" in ex["text"]
     assert client.get("/api/example", params={"name": "../../etc"}).status_code == 404
@@ -332,7 +333,10 @@ def test_export_glb_and_obj(client):
     assert o.status_code == 200
     mesh = trimesh.load(io.BytesIO(o.content), file_type="obj", force="mesh")
     assert len(mesh.faces) == sum(len(x.faces) for x in glb_scene(g.content).geometry.values())
-    assert client.get("/api/export.stl").status_code == 400
+    stl = client.get("/api/export.stl")  # every mesh format of the File menu
+    assert stl.status_code == 200
+    assert len(trimesh.load(io.BytesIO(stl.content), file_type="stl").faces) == len(mesh.faces)
+    assert client.get("/api/export.xyz").status_code == 400
 
 
 def test_export_scad_is_solids_openscad_renders(client, tmp_path):

@@ -44,6 +44,7 @@ def page(shared_page):
     pg.wait_for_function("!window.studio.busy", polling=100)
     # every dock back to its first state, no menu open
     pg.evaluate("""() => {
+        if (window.studio.mode !== 'lsystem') window.studio.setMode('lsystem');
         for (const d of document.querySelectorAll('.dock')) {
             d.hidden = d.id.startsWith('dock-help');
         }
@@ -317,10 +318,21 @@ def test_globals_slider_reruns(page):
                     " el.dispatchEvent(new Event('input')); }")
     until(page, "document.querySelector('#word span').textContent === 'F(3)'")
     assert page.evaluate("window.studio.state.step") == 2
-    assert page.evaluate("window.studio.state.overrides") == {"size": 3}
+    # the text follows the slider: the number is set in the definition, no override
+    assert page.evaluate("window.studio.editor.text").startswith("size = 3\nangle = 30\n")
+    assert page.evaluate("window.studio.state.overrides") == {}
     # the slider under the pointer is the same element (not rebuilt while it is dragged)
     assert page.locator("input[data-global=size][data-mark=kept]").count() == 1
     assert page.input_value("input[data-global-number=size]") == "3"
+    # the slider's edit is undone like a typed one; derived again, the slider follows
+    page.locator("#editor .cm-content").click()
+    page.keyboard.press("Control+z")
+    assert page.evaluate("window.studio.editor.text").startswith("size = 2\n")
+    page.click("#btn-derive")
+    wait_idle(page, 2)
+    until(page, "document.querySelector('input[data-global-number=size]').value === '2'")
+    assert page.locator("input[data-global=size][data-mark=kept]").count() == 1
+    assert float(page.input_value("input[data-global=size]")) == 2.0
 
 
 def test_help_panels_and_docks(page):
@@ -414,3 +426,110 @@ def test_two_tabs_are_two_clients(page):
         assert page.evaluate("window.studio.state.modules") == len(derive(loads(PLANT), 4))
     finally:
         other.close()
+
+
+BREAK = "axiom = A\nA -> AB\nB -> C\nC -> CC\n"
+
+
+def test_breakpoint_stops_where_the_rule_first_fires(page):
+    """B -> C first rewrites in step 2 (A -> AB makes the first B in step 1); the modules
+    shown as matched are the C made there, and running on stops at the next step."""
+    type_definition(page, BREAK)
+    page.fill("#steps", "0")
+    page.click("#btn-derive")
+    wait_idle(page, 0)
+    page.select_option("#bp-kind", "rule")
+    page.select_option("#bp-rule", "1")  # B -> C
+    page.click("#bp-add")
+    assert "B -> C" in page.text_content("#bp-list")
+    page.fill("#steps", "10")
+    page.check("#bp-profile")
+    page.click("#bp-run")
+    until(page, "window.studio.hit && !window.studio.busy")
+    hit = page.evaluate("window.studio.hit")
+    word2 = str(derive(loads(BREAK), 2))
+    assert word2 == "ABC" and hit["step"] == 2 and hit["matched"] == [2]
+    assert page.text_content("#st-step") == "Step 2"
+    assert "Stopped at step 2" in page.text_content("#bp-hit")
+    # the profile: in step 2, A -> AB rewrote one A and B -> C one B
+    rows = page.locator("#profile tbody tr")
+    cells = [[c.text_content() for c in r.locator("td").all()] for r in rows.all()]
+    assert ["2", "A -> AB", "1", "2"] in [c[:4] for c in cells]
+    assert ["2", "B -> C", "1", "1"] in [c[:4] for c in cells]
+    # step on: B -> C fires again in step 3 (the B made in step 2)
+    page.evaluate("window.studio.hit = null")
+    page.click("#bp-run")
+    until(page, "window.studio.hit && !window.studio.busy")
+    assert page.evaluate("window.studio.hit.step") == 3
+    page.click("#bp-list .bp-del")
+    page.uncheck("#bp-profile")
+
+
+def test_bad_values_are_refused_in_place(page):
+    page.fill("#steps", "-3")
+    assert "invalid" in page.get_attribute("#steps", "class")
+    assert "[0, 1000]" in page.text_content("#steps + .field-error")
+    before = page.evaluate("window.studio.state && window.studio.state.step")
+    page.click("#btn-derive")
+    assert page.evaluate("window.studio.state && window.studio.state.step") == before
+    page.fill("#steps", "2")
+    assert "invalid" not in (page.get_attribute("#steps", "class") or "")
+    assert page.is_hidden("#steps + .field-error")
+
+
+def test_tree_mode_draws_and_refuses_a_bad_parameter(page):
+    page.click("[data-mode-button=tree]")
+    until(page, "window.studio.grownDrawn >= 1 && !window.studio.tree.busy", 120_000)
+    assert page.is_visible("#dock-tree") and page.is_hidden("#dock-editor")
+    img = canvas_pixels(page)
+    sky = np.array([158, 199, 240])  # the background (0.62, 0.78, 0.94)
+    far = np.abs(img - img[2, 2]).sum(axis=2) > 60
+    assert np.abs(img[2, 2] - sky).max() < 30 and 0.002 < far.mean() < 0.9, far.mean()
+    # every group of parameters, documented
+    assert page.locator("#tree-fields details").count() >= 4
+    base = page.locator("#tree-fields input[data-key=BaseSize]")
+    doc = "#tree-fields .fields small:near(input[data-key=BaseSize])"
+    assert "[0, 0.99]" in page.text_content(doc)
+    base.fill("2")
+    assert "invalid" in base.get_attribute("class")
+    assert "[0, 0.99]" in base.get_attribute("title")
+    base.fill("0.3")
+    assert "invalid" not in base.get_attribute("class")
+    # World mode: a small world beside its biome map, in the same viewer
+    page.click("[data-mode-button=world]")
+    page.fill("#world-size", "4")
+    page.click("#world-generate")
+    assert "[8, 256]" in page.text_content("#world-size + .field-error")
+    page.fill("#world-size", "16")
+    page.uncheck("#world-plants")
+    drawn = page.evaluate("window.studio.grownDrawn")
+    page.click("#world-generate")
+    until(page, f"window.studio.grownDrawn > {drawn} && "
+                "document.querySelector('#world-biomes').naturalWidth === 16", 120_000)
+    assert page.is_visible("#world-biomes") and page.evaluate("window.studio.viewer.triangles")
+
+
+def test_jpg_export_decodes(page):
+    pytest.importorskip("moderngl")
+    from PIL import Image
+
+    type_definition(page, PLANT)
+    page.fill("#steps", "2")
+    page.click("#btn-derive")
+    wait_idle(page, 2)
+    menu(page, "file")
+    page.click("[data-menu=file] [data-action=export-image]")
+    page.select_option("#export-format", "jpg")
+    page.fill("#export-w", "321")
+    page.fill("#export-h", "123")
+    try:
+        with page.expect_download(timeout=60_000) as dl:
+            page.click("#export-ok")
+    except Exception:
+        msg = page.text_content("#st-message")
+        if "cannot render" in msg:
+            pytest.skip(msg)
+        raise
+    assert dl.value.suggested_filename.endswith("-step2.jpg")
+    with Image.open(dl.value.path()) as im:
+        assert im.format == "JPEG" and im.size == (321, 123)

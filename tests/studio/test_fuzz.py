@@ -32,8 +32,12 @@ GROUPS = {
                ("POST", "/api/reset", []), ("POST", "/api/stop", []),
                ("POST", "/api/session", [])],  # without the page's token: a 403
     "mesh": [("POST", "/api/pick", ["point"]),
-             ("POST", "/api/export-png", ["width", "height", "camera", "focus"])],
+             ("POST", "/api/export-png", ["width", "height", "camera", "focus", "format",
+                                          "of"])],
     "file": [("PUT", "/api/file", ["path", "text", "overwrite"])],
+    # the debugger and Tree mode (World mode's bodies are in test_api: a world takes seconds)
+    "debug": [("POST", "/api/debug", ["n", "breakpoints", "profile"])],
+    "tree": [("POST", "/api/tree", ["blocks", "extra", "age", "seed", "wind", "leaves"])],
 }
 CAMERA = ["yaw", "pitch", "distance", "fov", "height", "axis", "mode", "target"]
 
@@ -149,6 +153,27 @@ SHAPES = {
             **{k: _slot(_NUM) for k in ("yaw", "pitch", "distance", "fov", "height", "axis")},
             "mode": _slot(_dumps(st.sampled_from(["perspective", "orthographic", "2d", "3d"]))),
             "target": _slot(_triple())})),
+        "format": _slot(_dumps(st.sampled_from(["png", "jpg", "gif"]))),
+        "of": _slot(_dumps(st.sampled_from(["lsystem", "tree", "world", "x"]))),
+    },
+    "/api/debug": {
+        "n": _slot(_NUM), "profile": _slot(_dumps(st.booleans())),
+        "breakpoints": _slot(_dumps(st.lists(st.sampled_from([
+            {"kind": "rule", "rule": 0}, {"kind": "rule", "rule": 9}, {"kind": "rule"},
+            {"kind": "module", "symbol": "F"}, {"kind": "module", "symbol": ""},
+            {"kind": "condition", "text": "F : 1"}, {"kind": "condition", "text": "A(x) : x >"},
+            {"kind": "condition", "text": "A(x,y) : x / 0 > y"}, {"kind": "x"}, {}]),
+            max_size=3))),
+    },
+    "/api/tree": {
+        "age": _slot(_NUM), "seed": _slot(_NUM), "wind": _slot(_NUM),
+        "blocks": _slot(_dumps(st.sampled_from([
+            {}, {"global": {}}, {"global": {"Levels": "1"}, "level0": {"Length": "1"}},
+            {"global": {"Levels": "1", "BaseSize": "2"}, "level0": {}},
+            {"global": {"Levels": "x"}}, {"level99": {}}, {"global": {"a b": "1"}},
+            {"global": {"Levels": "1\n[level 0]"}}, {"global": {"Levels": True}}]))),
+        "extra": _slot(_dumps(st.sampled_from([{}, {"global": ["ScaleV = 1"]},
+                                               {"global": [1]}]))),
     },
     "/api/file": {"path": _slot(_PATHS), "text": _slot(_TEXTS),
                   "overwrite": _slot(_dumps(st.booleans()))},

@@ -832,6 +832,14 @@ class Derivation:
         (see :mod:`sylva.lsystem.environment`).  A program with query modules needs one:
         :func:`sylva.derive` and :func:`sylva.grow` pass the turtle's.
 
+    Attributes
+    ----------
+    on_rewrite : callable or None
+        A debugger's hook (the studio's breakpoints and profile): with ``trace=True``,
+        ``on_rewrite(step, src, rule)`` is called after each step with, per module of the
+        new word, the index of the old module it replaced and the production that made it
+        (-1: copied).  ``None`` (the default) costs nothing; the other roads never call it.
+
     Examples
     --------
     >>> from sylva.lsystem.ast import Module, Pattern, Program, Rule
@@ -865,6 +873,10 @@ class Derivation:
         self._compiled = _compiled(program)
         self._history: list = []
         self._globals = None  # of program.statements, between steps
+        # a debugger's hook (the studio's breakpoints and profile), on the traced road only:
+        # on_rewrite(step, src, rule) after each step, with per new module the index of the
+        # old module it replaced and the production that made it (-1: copied)
+        self.on_rewrite: Callable[[int, np.ndarray, np.ndarray], None] | None = None
         self.reset()
 
     def _axiom(self) -> ModuleString:
@@ -1000,6 +1012,8 @@ class Derivation:
                     rule = np.where(made, rs.origin[np.maximum(rule, 0)], -1)
                 self._origin_rule = np.where(made, rule, self._origin_rule[src])
                 self._origin_step = np.where(made, self.step + 1, self._origin_step[src])
+                if self.on_rewrite is not None:
+                    self.on_rewrite(self.step + 1, src, np.where(made, rule, -1))
             if decompose:  # decomposed modules keep the origin of the module they replace
                 new, src = _passes(new, comp.decomposition, comp, self.seed, self.step + 1,
                                    self.program.decomposition_depth, "decomposition",

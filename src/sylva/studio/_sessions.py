@@ -57,6 +57,12 @@ class Session:
     # the last derivation step: (seconds, modules before, modules after), for estimates
     last_step: tuple[float, int, int] | None = None
     timings: dict = field(default_factory=dict)
+    # seed 001's two progress figures of the running job: steps derived, modules interpreted
+    progress: dict = field(default_factory=dict)
+    # the debugger's per-rule profile, one entry a step (sylva.studio._debug)
+    profile: list = field(default_factory=list)
+    # the Tree and World modes' last grown object and its GLB (sylva.studio._grown)
+    grown: Any = None
     # what the last mesh was built from, and the pieces the rule-trace debugger needs
     drawn: Any = None  # sylva.studio._work.Drawn
     # the scheduler's: the job running or ready to run, and the one waiting behind it
@@ -78,6 +84,7 @@ class Session:
         self.program = self.derivation = self.drawn = self.text = None
         self.last_step = None
         self.overrides, self.timings = {}, {}
+        self.grown, self.profile, self.progress = None, [], {}
 
 
 class SessionStore:

@@ -34,6 +34,7 @@ __all__ = [
     "advancing",
     "back",
     "camera_hint",
+    "export_formats",
     "export_mesh",
     "load_program",
     "mesh",
@@ -45,7 +46,7 @@ __all__ = [
     "word_page",
 ]
 
-DIALECTS = ("lsys", "classic", "engine")
+DIALECTS = ("lsys", "classic", "engine", "cpfg")
 # turtle commands that leave the plane: their presence makes the automatic camera 3D
 _OUT_OF_PLANE = {"PITCH_DOWN", "PITCH_UP", "ROLL_LEFT", "ROLL_RIGHT", "E_PITCH_UP",
                  "E_PITCH_DOWN", "LEVEL"}
@@ -67,11 +68,37 @@ class Drawn:
     step: int
     geometry: Any
     sources: np.ndarray | None  # render-word module -> word module
-    scene: Any
-    glb: bytes
+    scene: Any  # None while only the instanced branches were asked for
+    glb: bytes | None
     triangles: int
     sides: int | None
     mesh_ms: float
+    segments: bytes | None = None  # the branches as instanced rows (segment_rows)
+
+
+#: Plants of more branches than this (and nothing but branches) are sent to the page as
+#: instanced branches, not as a mesh (as the notebook widget does): a tenth of the bytes,
+#: no mesh to build, and the page draws one shared cylinder per branch.
+INSTANCE_FROM = 10_000
+
+
+def instanced(geometry) -> bool:
+    """Whether the page draws ``geometry`` as instanced branches."""
+    g = geometry
+    return g.n_segments > INSTANCE_FROM and not (g.n_leaves or g.n_polygons or g.n_blocks)
+
+
+def segment_rows(geometry) -> bytes:
+    """The branches as float32 rows ``start xyz, end xyz, r0, r1, linear rgb`` (11 floats
+    each), the rows the notebook widget sends too: the page turns one shared cylinder per
+    row (seed 001 §6.7's prism with per-segment instance data)."""
+    g = geometry
+    rows = np.empty((g.n_segments, 11), np.float32)
+    rows[:, 0:3] = g.seg_start
+    rows[:, 3:6] = g.seg_end
+    rows[:, 6:8] = g.seg_radius
+    rows[:, 8:11] = g.seg_color
+    return rows.tobytes()
 
 
 # --------------------------------------------------------------------------- loading
@@ -175,31 +202,46 @@ def advancing(session: Session, n: int, limits: Limits, clock=None):
     clock = clock or _clock()
     t0 = time.perf_counter()
     done = 0
+    session.progress = {"steps": 0, "of": n, "modules": len(d.word), "interpreted": 0}
     for _ in range(n):
-        if session.cancel.is_set():
-            raise CapError("stopped", f"stopped after {done} of {n} steps (step {d.step})")
-        elapsed = clock()
-        est = _estimate(session, len(d.word))
-        if done and elapsed >= limits.time_cap:
-            raise CapError("time", f"the time cap of {limits.time_cap:g} s per request was "
-                           f"reached after {done} of {n} steps (step {d.step})")
-        if elapsed + est > limits.time_cap:
-            raise CapError("time", f"step {d.step + 1} was refused: it is estimated to take "
-                           f"{est:.1f} s, past the cap of {limits.time_cap:g} s per request "
-                           f"({done} of {n} steps done)")
+        check_turn(session, limits, clock, done, n)
         before = len(d.word)
         ts = time.perf_counter()
         try:
             d.advance(1)
         except GrowthLimitError as exc:
-            raise CapError("modules", f"step {d.step + 1} was refused: {exc} (the module cap "
-                           f"is {limits.max_modules:,}; {done} of {n} steps done)") from None
+            raise CapError("modules", refused(d, exc, limits, done, n)) from None
         session.last_step = (time.perf_counter() - ts, before, len(d.word))
         done += 1
+        session.progress.update(steps=done, modules=len(d.word))
         session.timings["derive_ms"] = (time.perf_counter() - t0) * 1e3
         yield
     session.timings["derive_ms"] = (time.perf_counter() - t0) * 1e3
     return {"done": done}
+
+
+def check_turn(session: Session, limits: Limits, clock, done: int, n: int) -> None:
+    """Before a step of a request: :class:`CapError` when the client pressed Stop, the
+    time cap is spent, or the next step is estimated to pass it."""
+    d = session.derivation
+    if session.cancel.is_set():
+        raise CapError("stopped", f"stopped after {done} of {n} steps (step {d.step})")
+    elapsed = clock()
+    est = _estimate(session, len(d.word))
+    if done and elapsed >= limits.time_cap:
+        raise CapError("time", f"the time cap of {limits.time_cap:g} s per request was "
+                       f"reached after {done} of {n} steps (step {d.step})")
+    if elapsed + est > limits.time_cap:
+        raise CapError("time", f"step {d.step + 1} was refused: it is estimated to take "
+                       f"{est:.1f} s, past the cap of {limits.time_cap:g} s per request "
+                       f"({done} of {n} steps done)")
+
+
+def refused(d, exc: GrowthLimitError, limits: Limits, done: int, n: int) -> str:
+    """Why a step was refused by the module cap (the word before it is kept)."""
+    return (f"step {d.step + 1} was refused: {exc} (the module cap is "
+            f"{limits.max_modules:,}; {done} of {n} steps done, the view shows step "
+            f"{d.step}, the last word that fits)")
 
 
 def advance(session: Session, n: int, limits: Limits) -> dict:
@@ -245,10 +287,17 @@ def state(session: Session) -> dict:
         "trace": d.trace,
         "symbols": dict(sorted(word.counts().items(), key=lambda kv: (-kv[1], kv[0]))[:64]),
         "rules": len(p.rules),
+        "rule_list": _rule_list(p),
         "timings": dict(session.timings),
         "triangles": drawn.triangles if drawn else None,
         "limits": {"modules": d.limit},
     }
+
+
+def _rule_list(program) -> list[dict]:
+    from ._debug import rules
+
+    return rules(program)
 
 
 # --------------------------------------------------------------------------- word view
@@ -320,23 +369,28 @@ def _sides(geometry, limits: Limits) -> int | None:
     return sides if sides != wanted else wanted
 
 
-def meshing(session: Session, limits: Limits, clock=None):
+def meshing(session: Session, limits: Limits, clock=None, *, full: bool = True):
     """Interpret the current (render) word and build its mesh as GLB bytes (cached); a
     generator that yields between the phases (render word, turtle, mesh, GLB).
+
+    With ``full=False`` a plant of many branches (:func:`instanced`) gets only its
+    instanced rows (``Drawn.segments``, no scene): what the page draws.  Exports, renders
+    and a later ``full`` call build the mesh from the same turtle geometry.
 
     Between two phases it stops with :class:`CapError` when the client pressed Stop or
     sent a newer request, or when ``clock()`` (seconds of work so far) passed the time cap.
     """
-    from ..geometry.build import build_mesh
-    from ..geometry.exchange import write_glb
     from ..turtle import interpret
 
     d, p = session.derivation, session.program
-    if session.drawn is not None and session.drawn.step == d.step:
-        return session.drawn
+    old = session.drawn
+    if old is not None and old.step == d.step and (old.scene is not None or not full):
+        return old
     clock = clock or _clock()
     step = d.step
     t0 = time.perf_counter()
+    if old is not None and old.step == d.step:  # the instanced rows were sent: the mesh now
+        return (yield from _build(session, limits, clock, old.geometry, old.sources, t0))
     session.drawn = None  # the old mesh goes before the new one is built
 
     def turn(done: str):
@@ -356,9 +410,38 @@ def meshing(session: Session, limits: Limits, clock=None):
         raise CapError("modules", f"the render rules would pass the module cap: {exc}") from None
     yield
     turn(f"the render word ({len(rw):,} modules)")
+    session.progress = {**session.progress, "interpreting": len(rw), "interpreted": 0}
     geometry = interpret(rw, p, seed=d.seed)
+    session.progress["interpreted"] = len(rw)
     yield
     turn(f"the turtle ({geometry.n_segments:,} branches)")
+    if not full and instanced(geometry):
+        rows = segment_rows(geometry)
+        ms = (time.perf_counter() - t0) * 1e3
+        # the triangles the page draws: 8-sided open cylinders, 16 a branch
+        drawn = Drawn(step, geometry, sources, None, None, 16 * geometry.n_segments, 8, ms,
+                      segments=rows)
+        session.drawn = drawn
+        session.timings["mesh_ms"] = ms
+        return drawn
+    return (yield from _build(session, limits, clock, geometry, sources, t0))
+
+
+def _build(session: Session, limits: Limits, clock, geometry, sources, t0):
+    """The mesh and GLB of the turtle's ``geometry`` (the last phases of :func:`meshing`)."""
+    from ..geometry.build import build_mesh
+    from ..geometry.exchange import write_glb
+
+    step = session.derivation.step
+
+    def turn(done: str):
+        if session.cancel.is_set():
+            raise CapError("stopped", f"meshing step {step} was stopped after {done}")
+        if clock() > limits.time_cap:
+            raise CapError("time", f"meshing step {step} passed the time cap of "
+                           f"{limits.time_cap:g} s per request after {done}; lower the "
+                           "detail or derive fewer steps")
+
     sides = _sides(geometry, limits)
     scene = build_mesh(geometry, detail=sides)
     triangles = int(sum(m.n_triangles for m in scene.meshes))
@@ -378,18 +461,46 @@ def mesh(session: Session, limits: Limits) -> Drawn:
     return run_through(meshing(session, limits))
 
 
+def export_formats() -> list[str]:
+    """The mesh formats the File menu offers: every writer of
+    :mod:`sylva.geometry.exchange` (USD when ``usd-core`` is installed)."""
+    from ..geometry.exchange import WRITERS, usd_available
+
+    return [f for f in WRITERS if not f.startswith("usd") or usd_available()]
+
+
+def scene_bytes(scene, fmt: str, geometry=None) -> bytes:
+    """``scene`` written in the export format ``fmt`` (``svg`` from the turtle's
+    ``geometry`` when given), as bytes."""
+    import tempfile
+    from pathlib import Path
+
+    from ..geometry.exchange import BINARY, write
+
+    if fmt not in export_formats():
+        raise SylvaError(f"unknown export format {fmt!r}; expected one of "
+                         + ", ".join(export_formats()))
+    obj = geometry if fmt == "svg" and geometry is not None else scene
+    if fmt.startswith("usd"):  # the USD library writes files, not streams
+        with tempfile.TemporaryDirectory(prefix="sylva-studio-") as tmp:
+            path = Path(tmp) / f"plant.{fmt}"
+            write(obj, path, format=fmt)
+            return path.read_bytes()
+    if fmt in BINARY:
+        buf = _Pieces() if fmt == "glb" else io.BytesIO()
+        write(obj, buf, format=fmt)
+        return buf.getvalue()
+    text = io.StringIO()
+    write(obj, text, format=fmt)
+    return text.getvalue().encode("utf-8")
+
+
 def export_mesh(session: Session, fmt: str, limits: Limits) -> bytes:
-    """The current mesh as ``glb``, ``obj`` or ``scad`` (OpenSCAD solids) bytes."""
+    """The current mesh in the export format ``fmt`` (:func:`export_formats`)."""
     drawn = mesh(session, limits)
     if fmt == "glb":
         return drawn.glb
-    if fmt in ("obj", "scad"):
-        from ..geometry.exchange import write_obj, write_scad
-
-        buf = io.StringIO()
-        (write_obj if fmt == "obj" else write_scad)(drawn.scene, buf)
-        return buf.getvalue().encode("utf-8")
-    raise SylvaError(f"unknown export format {fmt!r}; expected glb, obj or scad")
+    return scene_bytes(drawn.scene, fmt, drawn.geometry)
 
 
 # --------------------------------------------------------------------------- rule trace
@@ -523,8 +634,9 @@ def _axis_cross(length: float = 1.0, width: float = 0.04):
 
 
 def render_png(session: Session, limits: Limits, *, width: int, height: int, camera: dict,
-               focus: bool, background) -> bytes:
-    """Render the current mesh offscreen at ``width`` × ``height`` with the client's camera."""
+               focus: bool, background, fmt: str = "png", scene=None) -> bytes:
+    """Render the current mesh (or ``scene``, a tree's or a world's) offscreen at ``width``
+    × ``height`` with the client's camera, as a PNG or (``fmt="jpg"``) a JPEG."""
     from ..geometry.mesh import Scene
     from ..render import Camera, render
 
@@ -532,8 +644,7 @@ def render_png(session: Session, limits: Limits, *, width: int, height: int, cam
         raise CapError("size", f"image sides must be 1 to {limits.max_image_side} pixels")
     if width * height > limits.max_image_pixels:
         raise CapError("size", f"at most {limits.max_image_pixels:,} pixels per image")
-    drawn = mesh(session, limits)
-    meshes = list(drawn.scene.meshes)
+    meshes = list((scene if scene is not None else mesh(session, limits).scene).meshes)
     target = np.asarray(camera.get("target", (0, 0, 0)), dtype=np.float64).reshape(3)
     if focus:
         cross = _axis_cross(float(camera.get("axis", 1.0)))
@@ -556,7 +667,10 @@ def render_png(session: Session, limits: Limits, *, width: int, height: int, cam
                  bg=tuple(background) if background else "white",
                  ground=False, shadows=mode != "2d")
     buf = io.BytesIO()
-    img.save(buf, format="PNG")
+    if fmt == "jpg":
+        img.convert("RGB").save(buf, format="JPEG", quality=92)
+    else:
+        img.save(buf, format="PNG")
     return buf.getvalue()
 
 

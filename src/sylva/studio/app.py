@@ -18,7 +18,8 @@ API (all under ``/api``; JSON unless said otherwise; errors are ``{"error": kind
 ``POST stop``            stop the running derivation of this session
 ``GET  state``           step, module count, globals, settings, camera hint, timings
 ``GET  word?start=&count=``  a page of the current word, one text per module
-``GET  mesh``            the current (render) word as binary glTF (``model/gltf-binary``)
+``GET  mesh``            the current (render) word as binary glTF (``model/gltf-binary``);
+                         ``?instanced=1``: a plant of many branches as instanced rows
 ``POST pick``            ``{point}``: the module drawn there and the rule/step that made it
 ``GET  module?index=``   module ``index`` of the word: what it drew and its rule and step
 ``GET  export.FMT``      downloads of the mesh: ``glb``, ``obj``, ``scad`` (solids)
@@ -335,6 +336,7 @@ async def info(request: Request) -> JSONResponse:
     lim = studio.limits
     return JSONResponse({
         "dialects": list(_work.DIALECTS),
+        "export_formats": _work.export_formats(),
         "examples": [{"name": e.name, "title": e.title, "file": e.path.name}
                      for e in examples()],
         "start_file": studio.start_file,
@@ -477,19 +479,21 @@ async def word(request: Request) -> JSONResponse:
     return JSONResponse(page)
 
 
-def _after_mesh(session: Session, limits: Limits, fn=None, *args, **kw):
+def _after_mesh(session: Session, limits: Limits, fn=None, *args, full: bool = True, **kw):
     """A job that builds the mesh (in turns) and then does ``fn(*args, **kw)``."""
 
     def make(job):
-        drawn = yield from _work.meshing(session, limits, job.used)
+        drawn = yield from _work.meshing(session, limits, job.used, full=full)
         return drawn if fn is None else fn(*args, **kw)
 
     return make
 
 
-async def _with_mesh(studio: Studio, session: Session, fn=None, *args, **kw):
+async def _with_mesh(studio: Studio, session: Session, fn=None, *args, full: bool = True,
+                     **kw):
     try:
-        return await studio.run(session, _after_mesh(session, studio.limits, fn, *args, **kw))
+        return await studio.run(session, _after_mesh(session, studio.limits, fn, *args,
+                                                     full=full, **kw))
     except _work.CapError as exc:
         raise ApiError(422, exc.kind, str(exc)) from None
 
@@ -517,8 +521,19 @@ async def mesh(request: Request) -> Response:
     studio = _studio(request)
     session = studio.session(request)
     _need(session)
-    drawn = await _with_mesh(studio, session)
+    # the page takes a large plant of branches as instanced rows (?instanced=1)
+    full = request.query_params.get("instanced") not in ("1", "true")
+    drawn = await _with_mesh(studio, session, full=full)
+    if drawn.segments is not None and not full:
+        return _body(drawn.segments, "application/octet-stream", {
+            "x-sylva-kind": "segments",
+            "x-sylva-step": str(drawn.step),
+            "x-sylva-triangles": str(drawn.triangles),
+            "x-sylva-mesh-ms": f"{drawn.mesh_ms:.1f}",
+            "cache-control": "no-store",
+        })
     return _body(drawn.glb, "model/gltf-binary", {
+        "x-sylva-kind": "glb",
         "x-sylva-step": str(drawn.step),
         "x-sylva-triangles": str(drawn.triangles),
         "x-sylva-mesh-ms": f"{drawn.mesh_ms:.1f}",
@@ -555,17 +570,40 @@ def _download_name(session: Session, ext: str) -> str:
     return f"{stem}-step{session.derivation.step}.{ext}"
 
 
+def _grown_of(request: Request, session: Session, of) -> object | None:
+    """The tree or world of the Tree and World modes an export asks for (``of``), or
+    ``None`` for the L-system."""
+    if of in (None, "", "lsystem"):
+        _need(session)
+        return None
+    if of not in ("tree", "world"):
+        raise ApiError(400, "bad_request", "of must be lsystem, tree or world")
+    g = session.grown
+    if g is None or g.kind != of:
+        raise ApiError(409, "no_program", f"no {of} is grown: grow one in {of.title()} mode "
+                       "first")
+    return g
+
+
 async def export(request: Request) -> Response:
     studio = _studio(request)
     fmt = request.path_params["fmt"]
     session = studio.session(request)
-    _need(session)
-    if fmt not in ("glb", "obj", "scad"):
-        raise ApiError(400, "invalid",
-                       f"unknown export format {fmt!r}; expected glb, obj or scad")  # fmt: skip
-    data = await _with_mesh(studio, session, _work.export_mesh, session, fmt, studio.limits)
-    media = "model/gltf-binary" if fmt == "glb" else "text/plain; charset=utf-8"
-    name = _download_name(session, fmt)
+    formats = _work.export_formats()
+    if fmt not in formats:
+        raise ApiError(400, "invalid", f"unknown export format {fmt!r}; expected one of "
+                       + ", ".join(formats))
+    grown = _grown_of(request, session, request.query_params.get("of"))
+    media = "model/gltf-binary" if fmt == "glb" else (
+        "application/octet-stream" if fmt in ("ply", "stl", "usd", "usdc")
+        else "text/plain; charset=utf-8")
+    if grown is not None:
+        data = await studio.run(session, _once(grown.export, fmt))
+        name = f"{grown.name}.{fmt}"
+    else:
+        data = await _with_mesh(studio, session, _work.export_mesh, session, fmt,
+                                studio.limits)
+        name = _download_name(session, fmt)
     return _body(data, media, {"content-disposition": f'attachment; filename="{name}"'})
 
 
@@ -594,23 +632,34 @@ async def export_png(request: Request) -> Response:
             isinstance(x, (int, float)) and math.isfinite(x) for x in t)):
         raise ApiError(400, "bad_request", "camera.target must be [x, y, z]")
     clean["target"] = [float(x) for x in t]
+    fmt = data.get("format", "png")
+    if fmt not in ("png", "jpg"):
+        raise ApiError(400, "bad_request", "format must be png or jpg")
     session = studio.session(request)
-    _need(session)
+    grown = _grown_of(request, session, data.get("of"))
     limits = studio.limits
 
     def render():
-        bg = _work.state(session).get("background")
+        if grown is not None:
+            bg, scene = grown.background, grown.scene
+        else:
+            bg, scene = _work.state(session).get("background"), None
         # the GL context lives in its own thread: the job waits there for the picture
         return studio.gl.submit(
             _work.render_png, session, limits, width=width, height=height, camera=clean,
-            focus=bool(data.get("focus")), background=bg).result()
+            focus=bool(data.get("focus")), background=bg, fmt=fmt, scene=scene).result()
 
     try:
-        png = await _with_mesh(studio, session, render)
+        if grown is not None:
+            image = await studio.run(session, _once(render))
+        else:
+            image = await _with_mesh(studio, session, render)
     except SylvaError as exc:
+        if isinstance(exc, _work.CapError):
+            raise ApiError(422, exc.kind, str(exc)) from None
         raise ApiError(503, "render", f"the server cannot render images: {exc}") from None
-    name = _download_name(session, "png")
-    return Response(png, media_type="image/png",
+    name = f"{grown.name}.{fmt}" if grown is not None else _download_name(session, fmt)
+    return Response(image, media_type="image/jpeg" if fmt == "jpg" else "image/png",
                     headers={"content-disposition": f'attachment; filename="{name}"'})
 
 
@@ -728,6 +777,8 @@ def create_app(
     warm_up : bool
         Compile the derivation and meshing kernels in the background at start-up.
     """
+    from . import _routes  # the debugger, progress, Tree and World modes
+
     limits = limits or Limits()
     studio = Studio(Workspace(workspace), limits, start_file)
     api = [
@@ -751,6 +802,7 @@ def create_app(
         Route("/file", file_get, methods=["GET"]),
         Route("/file", file_put, methods=["PUT"]),
         Route("/example", example),
+        *_routes.routes(),
     ]
 
     @contextlib.asynccontextmanager

@@ -1,6 +1,9 @@
 // sylva Studio: wires the editor, the simulation controls, the word view, the 3D canvas, the
 // rule-trace debugger, the globals sliders, the help panels, files and exports to the server.
-import { Editor } from "./editor.js";
+import { checkNumber, markBad, markOk, watch } from "./checks.js";
+import { initDebugger } from "./debug.js";
+import { Editor, formatNumber } from "./editor.js";
+import { initModes } from "./modes.js";
 import { Viewer } from "./viewer.js";
 
 const $ = (sel) => document.querySelector(sel);
@@ -190,13 +193,13 @@ function showState(s) {
   $("#word-length").textContent = s.modules.toLocaleString("en");
   viewer.setBackground(s.background);
   if (s.turtle !== app.lastTurtle) loadHelp(s.turtle);
-  // rebuild the sliders when the globals or their values in the text change, not when a
-  // slider itself moves
-  const base = app.sliderBase || {};
-  const key = JSON.stringify(Object.entries(s.constants)
-    .map(([k, v]) => [k, k in (s.overrides || {}) && k in base ? base[k] : v]));
+  // rebuild the sliders when the program's globals change; when only their values do (the
+  // text was edited, or a slider moved), the sliders follow in place
+  const key = JSON.stringify(Object.keys(s.constants));
   if (key !== app.constantsKey) buildGlobals(s.constants);
+  else updateGlobals(s.constants);
   app.constantsKey = key;
+  for (const f of ctx.onState) f(s);
   showTiming();
 }
 
@@ -211,15 +214,20 @@ function showTiming() {
 }
 
 async function drawMesh({ fit = false } = {}) {
+  if (app.mode && app.mode !== "lsystem") return false;  // Tree and World modes draw their own
   const t0 = performance.now();
-  const r = await api("mesh", { raw: true });
+  const r = await api("mesh?instanced=1", { raw: true });
   if (!r.ok) { showError(r.data); return false; }
   app.timing.mesh_ms = Number(r.res.headers.get("x-sylva-mesh-ms"));
   const buf = await r.res.arrayBuffer();
   const t1 = performance.now();
-  await viewer.showGlb(buf, { fit });
+  app.meshKind = r.res.headers.get("x-sylva-kind") || "glb";
+  if (app.meshKind === "segments") viewer.showSegments(buf, { fit });
+  else await viewer.showGlb(buf, { fit });
   app.timing.draw_ms = performance.now() - t1;
   app.timing.roundtrip_ms = t1 - t0;
+  app.timing.mesh_bytes = buf.byteLength;
+  app.meshShownAt = performance.now();
   app.meshStep = Number(r.res.headers.get("x-sylva-step"));
   app.drawnSteps.push(app.meshStep);
   if (app.picked) {
@@ -268,6 +276,26 @@ function setBusy(b, total = 0) {
   const p = $("#progress");
   p.max = Math.max(total, 1);
   p.value = 0;
+  clearInterval(app.progressTimer);
+  $("#st-progress").textContent = "";
+  if (b) app.progressTimer = setInterval(pollProgress, 250);
+}
+
+// Seed 001's two figures during long work: steps derived and modules interpreted.
+async function pollProgress() {
+  if (!app.busy || app.polling) return;
+  app.polling = true;
+  try {
+    const r = await api("progress");
+    if (!r.ok || !app.busy) return;
+    const g = r.data;
+    const parts = [];
+    if (g.of) parts.push(`${g.steps} of ${g.of} steps derived`);
+    if (g.interpreting) parts.push(`${(g.interpreted || 0).toLocaleString("en")} of ${g.interpreting.toLocaleString("en")} modules interpreted`);
+    $("#st-progress").textContent = parts.join(" · ");
+    if (g.of) $("#progress").value = Math.max($("#progress").value, g.steps);
+    app.progress = g;
+  } finally { app.polling = false; }
 }
 
 function loadRequest(extra = {}) {
@@ -280,7 +308,7 @@ function loadRequest(extra = {}) {
     overrides: app.overrides || {},
     ...extra,
   };
-  if (seedText !== "") body.seed = Number(seedText);
+  if (seedText !== "") body.seed = checkNumber($("#seed"));
   return body;
 }
 
@@ -288,7 +316,9 @@ function loadRequest(extra = {}) {
 async function resetSimulation({ keepOverrides = false } = {}) {
   // the sliders' values hold for the text they were set on; an edit starts afresh
   if (!keepOverrides || editor.text !== app.loadedText) app.overrides = {};
-  const r = await api("load", { method: "POST", json: loadRequest() });
+  const req = loadRequest();
+  if ("seed" in req && req.seed === undefined) { message(`Seed: ${$("#seed").title}`, "error"); return false; }
+  const r = await api("load", { method: "POST", json: req });
   if (!r.ok) { showError(r.data); return false; }
   clearError();
   app.loadedText = editor.text;
@@ -304,10 +334,14 @@ async function resetSimulation({ keepOverrides = false } = {}) {
 
 async function deriveSteps() {
   if (app.busy) return;
-  const total = Math.max(0, Math.floor(Number($("#steps").value) || 0));
+  const total = checkNumber($("#steps"));
   const animate = $("#animate").checked;
-  const every = Math.max(1, Math.floor(Number($("#every").value) || 1));
-  const frameMs = Math.max(0, Number($("#frame-ms").value) || 0);
+  const every = checkNumber($("#every"));
+  const frameMs = checkNumber($("#frame-ms"));
+  if (total === undefined || every === undefined || frameMs === undefined) {
+    message("A field of the simulation is out of its range (in red)", "error");
+    return;
+  }
   app.stopRequested = false;
   setBusy(true, total);
   try {
@@ -463,15 +497,22 @@ function esc(s) {
 }
 
 // ------------------------------------------------------------------------- globals sliders
+// A slider (or its number field) sets the number in the text, as one undoable edit, and the
+// plant is derived again to the same step; editing the number in the text moves the slider
+// when the text is derived.  A global the text computes (no plain number) is overridden.
+function sliderRange(v) {
+  const lo = v === 0 ? -1 : Math.min(0, 2 * v), hi = v === 0 ? 1 : Math.max(2 * v, 0);
+  return [lo, hi];
+}
+
 function buildGlobals(constants) {
-  app.sliderBase = { ...constants };
   const box = $("#globals");
   box.textContent = "";
   const names = Object.keys(constants);
   if (!names.length) { box.innerHTML = '<p class="muted">No numeric globals.</p>'; return; }
   for (const name of names) {
     const v = constants[name];
-    const lo = v === 0 ? -1 : Math.min(0, 2 * v), hi = v === 0 ? 1 : Math.max(2 * v, 0);
+    const [lo, hi] = sliderRange(v);
     const row = document.createElement("div");
     row.className = "row";
     row.innerHTML = `<label>${esc(name)}</label>
@@ -480,30 +521,76 @@ function buildGlobals(constants) {
     box.appendChild(row);
     const range = row.querySelector("input[type=range]");
     const num = row.querySelector("input[type=number]");
-    let timer = null;
     const changed = (value) => {
-      app.overrides = { ...(app.overrides || {}), [name]: value };
-      clearTimeout(timer);
-      timer = setTimeout(() => rerun(), 150);
+      app.changedAt = performance.now();
+      if (editor.setNumber(name, value)) {
+        const { [name]: _, ...rest } = app.overrides || {};
+        app.overrides = rest;
+      } else {
+        app.overrides = { ...(app.overrides || {}), [name]: value };
+      }
+      rerun();
     };
-    range.oninput = () => { num.value = range.value; changed(Number(range.value)); };
-    num.onchange = () => { range.value = num.value; changed(Number(num.value)); };
+    range.oninput = () => { num.value = formatNumber(Number(range.value)); markOk(num); changed(Number(num.value)); };
+    num.oninput = () => {
+      const t = num.value.trim();
+      if (t === "" || !Number.isFinite(Number(t))) markBad(num, "expected a finite number");
+      else markOk(num);
+    };
+    num.onchange = () => {
+      const x = Number(num.value);
+      if (num.value.trim() === "" || !Number.isFinite(x)) { markBad(num, "expected a finite number"); return; }
+      markOk(num);
+      if (x < Number(range.min) || x > Number(range.max)) {
+        const [a, b] = sliderRange(x);
+        range.min = Math.min(a, Number(range.min));
+        range.max = Math.max(b, Number(range.max));
+        range.step = (range.max - range.min) / 200;
+      }
+      range.value = x;
+      changed(x);
+    };
+  }
+}
+
+// The values of the text, derived: the sliders follow unless one is being moved.
+function updateGlobals(constants) {
+  for (const [name, v] of Object.entries(constants)) {
+    const range = document.querySelector(`input[data-global="${CSS.escape(name)}"]`);
+    const num = document.querySelector(`input[data-global-number="${CSS.escape(name)}"]`);
+    if (!range || !num || document.activeElement === range || document.activeElement === num) continue;
+    if (Math.abs(Number(num.value) - v) <= 1e-9 * Math.max(1, Math.abs(v))) continue;
+    if (v < Number(range.min) || v > Number(range.max)) {
+      const [lo, hi] = sliderRange(v);
+      range.min = lo; range.max = hi; range.step = (hi - lo) / 200;
+    }
+    range.value = v;
+    num.value = formatNumber(v);
+    markOk(num);
   }
 }
 
 // Re-run to the current step with the sliders' values.
+// A change while one is being derived waits for it and then runs once with the latest
+// values (the changes in between are coalesced).
 async function rerun() {
-  if (app.busy) { setTimeout(rerun, 100); return; }
+  if (app.busy) { app.rerunPending = true; return; }
+  app.rerunPending = false;
   const steps = app.state ? app.state.step : 0;
   setBusy(true, steps);
+  const t0 = performance.now();
   try {
     const r = await api("load", { method: "POST", json: loadRequest({ steps }) });
+    app.timing.load_ms = performance.now() - t0;
     if (!r.ok) { showError(r.data); if (r.data.state) await refresh(); return; }
     clearError();
     app.loadedText = editor.text;
     showState(r.data);
     await refresh();
-  } finally { setBusy(false); }
+  } finally {
+    setBusy(false);
+    if (app.rerunPending) rerun();
+  }
 }
 
 // ------------------------------------------------------------------------- help
@@ -619,34 +706,47 @@ function filenameOf(res, fallback) {
   return m ? m[1] : fallback;
 }
 
+// What the exports write: the L-system, or the tree or world of those modes.
+function exportOf() {
+  if (app.mode === "tree" || app.mode === "world") return app.grownKind === app.mode ? app.mode : null;
+  return app.state ? "lsystem" : null;
+}
+
 async function exportMesh(fmt) {
-  if (!app.state) { message("Derive an L-system first", "error"); return; }
-  const r = await api(`export.${fmt}`, { raw: true });
+  const of = exportOf();
+  if (!of) { message(app.mode === "lsystem" ? "Derive an L-system first" : `Grow a ${app.mode} first`, "error"); return; }
+  const r = await api(`export.${fmt}?of=${of}`, { raw: true });
   if (!r.ok) { message(r.data.message, "error"); return; }
   download(await r.res.blob(), filenameOf(r.res, `plant.${fmt}`));
   message(`Exported ${fmt.toUpperCase()}`);
 }
 
 function exportImageDialog() {
-  if (!app.state) { message("Derive an L-system first", "error"); return; }
+  if (!exportOf()) { message(app.mode === "lsystem" ? "Derive an L-system first" : `Grow a ${app.mode} first`, "error"); return; }
   const dlg = $("#dlg-export");
   $("#export-focus").checked = $("#opt-focus").checked;
   dlg.returnValue = "";
   dlg.showModal();
   dlg.onclose = async () => {
     if (dlg.returnValue !== "ok") return;
-    await exportImage(Number($("#export-w").value), Number($("#export-h").value), $("#export-focus").checked);
+    await exportImage(Number($("#export-w").value), Number($("#export-h").value), $("#export-focus").checked,
+      $("#export-format").value);
   };
 }
+// the size fields refuse a bad value in place; the dialog stays open
+$("#export-ok").addEventListener("click", (e) => {
+  const w = checkNumber($("#export-w")), h = checkNumber($("#export-h"));
+  if (w === undefined || h === undefined) e.preventDefault();
+});
 
-async function exportImage(width, height, focus) {
+async function exportImage(width, height, focus, format = "png") {
   message(`Rendering ${width}×${height}…`);
   const r = await api("export-png", { method: "POST", raw: true,
-    json: { width, height, focus, camera: viewer.cameraState() } });
+    json: { width, height, focus, format, of: exportOf(), camera: viewer.cameraState() } });
   if (!r.ok) { message(r.data.message, "error"); return null; }
   const blob = await r.res.blob();
-  download(blob, filenameOf(r.res, "plant.png"));
-  message(`Exported a ${width}×${height} PNG`);
+  download(blob, filenameOf(r.res, `plant.${format}`));
+  message(`Exported a ${width}×${height} ${format.toUpperCase()}`);
   return blob;
 }
 app.exportImage = exportImage;
@@ -654,19 +754,30 @@ app.exportImage = exportImage;
 // ------------------------------------------------------------------------- menus, docks
 const actions = {
   new: newFile, open: openDialog, save, "save-as": saveAs,
-  "export-image": exportImageDialog, "export-glb": () => exportMesh("glb"),
-  "export-obj": () => exportMesh("obj"), "export-scad": () => exportMesh("scad"),
+  "export-image": exportImageDialog, "export-scad": () => exportMesh("scad"),
   derive: deriveSteps, reset: resetAction, step: () => simpleAction("step", { n: 1 }),
   back: () => simpleAction("back"), stop,
   "reset-camera": () => viewer.resetCamera(),
   about: () => $("#dlg-about").showModal(),
 };
-for (const el of $$("[data-action]")) {
-  el.addEventListener("click", () => {
-    for (const m of $$(".menu.open")) m.classList.remove("open");
-    actions[el.dataset.action]();
-  });
+// every mesh format of sylva.geometry.exchange, from the server's list
+const FORMAT_NAMES = { glb: "GLB (binary glTF)", gltf: "glTF", obj: "OBJ", ply: "PLY", stl: "STL",
+  pov: "POV-Ray", svg: "SVG", usd: "USD", usda: "USDA", usdc: "USDC" };
+function exportMenu(formats) {
+  $("#export-formats").innerHTML = formats.filter((f) => f !== "scad")
+    .map((f) => `<button data-action="export-${f}">Export ${esc(FORMAT_NAMES[f] || f.toUpperCase())}</button>`).join("");
+  for (const f of formats) actions[`export-${f}`] ||= () => exportMesh(f);
+  bindActions($("#export-formats"));
 }
+function bindActions(root) {
+  for (const el of root.querySelectorAll("[data-action]")) {
+    el.addEventListener("click", () => {
+      for (const m of $$(".menu.open")) m.classList.remove("open");
+      actions[el.dataset.action]();
+    });
+  }
+}
+bindActions(document);
 for (const m of $$(".menu")) {
   m.querySelector(".menu-title").addEventListener("click", (e) => {
     e.stopPropagation();
@@ -719,9 +830,22 @@ window.addEventListener("beforeunload", (e) => {
 });
 
 // ------------------------------------------------------------------------- start
+// what the debugger and the modes use of this page
+const ctx = {
+  api, app, viewer, editor, message, esc, onState: [],
+  refresh: (o) => refresh(o), showState: (x) => showState(x), showError: (d) => showError(d),
+  clearError: () => clearError(), setBusy: (b, t) => setBusy(b, t),
+  resetSimulation: (o) => resetSimulation(o), traceModule: (i) => traceModule(i),
+};
+for (const id of ["#steps", "#every", "#frame-ms", "#export-w", "#export-h"]) watch($(id));
+watch($("#seed"), { optional: true });
+initDebugger(ctx);
+initModes(ctx);
+
 async function start() {
   const r = await api("info");
   app.info = r.data;
+  exportMenu(app.info.export_formats || ["glb", "obj", "scad"]);
   await loadHelp("lsys");
   showCamera(viewer.cameraState());
   const sf = app.info.start_file;

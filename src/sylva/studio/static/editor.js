@@ -8,6 +8,12 @@ import {
   searchKeymap, highlightSelectionMatches, tags, StateEffect, StateField, Decoration,
 } from "./vendor/codemirror.js";
 
+// a slider's value as the text writes it: at most 6 significant digits, no trailing zeros
+export function formatNumber(v) {
+  if (!Number.isFinite(v)) return String(v);
+  return String(Number(v.toPrecision(6)));
+}
+
 const SPECIAL = new Set([
   "axiom", "ignore", "consider", "detail", "bg", "len", "thick", "rot", "color", "len_delta",
   "thick_delta", "rot_delta", "color_delta", "steps", "seed", "iteration", "iterations",
@@ -121,6 +127,29 @@ export class Editor {
   setText(text) {
     this.view.dispatch({ changes: { from: 0, to: this.view.state.doc.length, insert: text } });
     this.clearError();
+  }
+
+  // Set the number a global is assigned in the text (``name = 2.5`` of .lsys and the
+  // classic format, cpfg's ``#define name 2.5``), as one undoable edit; false when the text
+  // assigns it no plain number.
+  setNumber(name, value) {
+    const doc = this.view.state.doc.toString();
+    const esc = name.replace(/[.*+?^${}()|[\]\\]/g, "\\$&");
+    const res = [
+      new RegExp(`^([ \\t]*${esc}[ \\t]*[=:][ \\t]*)(-?(?:\\d+\\.?\\d*|\\.\\d+)(?:e[-+]?\\d+)?)`, "mi"),
+      new RegExp(`^([ \\t]*#define[ \\t]+${esc}[ \\t]+)(-?(?:\\d+\\.?\\d*|\\.\\d+)(?:e[-+]?\\d+)?)`, "mi"),
+    ];
+    for (const re of res) {
+      const m = re.exec(doc);
+      if (!m) continue;
+      const from = m.index + m[1].length, to = from + m[2].length;
+      const text = formatNumber(value);
+      if (doc.slice(from, to) !== text) {
+        this.view.dispatch({ changes: { from, to, insert: text }, userEvent: "input.slider" });
+      }
+      return true;
+    }
+    return false;
   }
 
   _cursor() {

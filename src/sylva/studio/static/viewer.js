@@ -46,7 +46,7 @@ export class Viewer {
     new ResizeObserver(() => this.resize()).observe(canvas);
     this.resize();
     const loop = () => {
-      if (this._dirty) this._render();
+      if (this._dirty) { this._render(); this.renderedAt = performance.now(); }
       requestAnimationFrame(loop);
     };
     requestAnimationFrame(loop);
@@ -72,7 +72,11 @@ export class Viewer {
 
   setBackground(rgb) {
     const c = rgb || [0.9, 0.9, 0.9];
-    this.scene.background = new THREE.Color().setRGB(c[0], c[1], c[2], THREE.SRGBColorSpace);
+    const color = new THREE.Color().setRGB(c[0], c[1], c[2], THREE.SRGBColorSpace);
+    // the same colour again draws nothing new (a large plant's frame costs seconds in
+    // software WebGL)
+    if (this.scene.background && this.scene.background.equals(color)) return;
+    this.scene.background = color;
     this.invalidate();
   }
 
@@ -151,6 +155,43 @@ export class Viewer {
     this.clearHighlight();
     this.invalidate();
     return gltf;  // its animations are the caller's (the notebook widget plays the wind)
+  }
+
+  // Branches as instanced cylinders: float32 rows of 11 (start xyz, end xyz, r0, r1, linear
+  // rgb), one shared 8-sided cylinder scaled and turned per branch (LSysVis's TurtleVAO,
+  // seed 001 §6.7); what the server sends for a plant of many branches.
+  showSegments(buffer, { fit = false } = {}) {
+    const f = new Float32Array(buffer);
+    this._disposePlant();
+    const n = Math.floor(f.length / 11);
+    const geo = new THREE.CylinderGeometry(1, 1, 1, 8, 1, true);
+    geo.translate(0, 0.5, 0);  // from the origin along +Y
+    const mat = new THREE.MeshStandardMaterial({ roughness: 0.8, metalness: 0, side: THREE.DoubleSide });
+    const mesh = new THREE.InstancedMesh(geo, mat, n);
+    const m = new THREE.Matrix4(), q = new THREE.Quaternion(), scale = new THREE.Vector3();
+    const p = new THREE.Vector3(), d = new THREE.Vector3(), up = new THREE.Vector3(0, 1, 0);
+    const c = new THREE.Color(), box = new THREE.Box3();
+    for (let i = 0, k = 0; i < n; i++, k += 11) {
+      p.set(f[k], f[k + 1], f[k + 2]);
+      d.set(f[k + 3] - f[k], f[k + 4] - f[k + 1], f[k + 5] - f[k + 2]);
+      const len = d.length();
+      const r = 0.5 * (f[k + 6] + f[k + 7]);
+      if (len > 0) q.setFromUnitVectors(up, d.multiplyScalar(1 / len)); else q.identity();
+      m.compose(p, q, scale.set(r, len, r));
+      mesh.setMatrixAt(i, m);
+      mesh.setColorAt(i, c.setRGB(f[k + 8], f[k + 9], f[k + 10], THREE.LinearSRGBColorSpace));
+      box.expandByPoint(p);
+      box.expandByPoint(p.set(f[k + 3], f[k + 4], f[k + 5]));
+    }
+    mesh.instanceMatrix.needsUpdate = true;
+    if (mesh.instanceColor) mesh.instanceColor.needsUpdate = true;
+    mesh.computeBoundingSphere();
+    this.plant.add(mesh);
+    this.triangles = n * geo.index.count / 3;
+    this.bounds = box.isEmpty() ? null : box;
+    if (fit) this.resetCamera();
+    this.clearHighlight();
+    this.invalidate();
   }
 
   _disposePlant() {

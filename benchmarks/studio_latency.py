@@ -1,0 +1,133 @@
+"""Studio latency: from a globals slider change to the new frame, a ~100 k-module plant.
+
+    python benchmarks/studio_latency.py [--changes 20] [--steps 9]
+
+A Studio server runs in this process (uvicorn on 127.0.0.1, a thread); the page runs in
+headless Chromium (Debian's ``/usr/bin/chromium``, driven by Playwright; WebGL on the CPU
+through SwiftShader, as in the tests).  The program is the widget benchmark's (ABOP fig.
+1.24d with its angle a global), derived to ``--steps`` (9: 126,912 modules).  Each of
+``--changes`` changes moves the ``angle`` slider (the page sets the number in the text,
+derives again to the same step and draws); after one warm-up change, the medians of:
+
+* total — the slider's input event to the new frame drawn (the page then reads a pixel
+  back, so the frame is really on the canvas);
+* derive — the server's parse and derivation to the step (``state.timings.derive_ms``);
+* load — the page's round trip of that request (derive plus HTTP and JSON);
+* mesh — the server's render word, turtle, mesh and GLB (``x-sylva-mesh-ms``);
+* transfer — the page's round trip of the mesh request less ``mesh``: the GLB's bytes
+  from the server into the page;
+* draw — the mesh (or the instanced branches) taken into three.js (upload) and the frame
+  rendered (frame: from then until the pixel is read back);
+* other — total less the rest (the page's own work: the word page, the globals).
+
+Nothing leaves the machine; the server, the browser and the page are stopped at the end.
+"""
+
+from __future__ import annotations
+
+import argparse
+import socket
+import statistics
+import tempfile
+import threading
+import time
+
+PROGRAM = "angle = 20\naxiom = X\nX -> F[+(angle)X]F[-(angle)X]+(angle)X\nF -> FF\n"
+CHROMIUM = "/usr/bin/chromium"
+ARGS = ["--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
+        "--enable-unsafe-swiftshader", "--no-first-run", "--disable-background-networking"]
+
+# waits for the frame after the change at ``since``, forces it onto the canvas, and
+# returns the page's figures
+FRAME = """async (since) => {
+  const s = window.studio;
+  for (;;) {
+    const shown = s.meshShownAt > since && s.viewer.renderedAt > s.meshShownAt;
+    if (shown && !s.busy && !s.rerunPending) break;
+    await new Promise((ok) => setTimeout(ok, 2));
+  }
+  const gl = s.viewer.renderer.getContext();
+  gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+  const now = performance.now();
+  return { total: now - since, derive: s.state.timings.derive_ms, load: s.timing.load_ms,
+           mesh: s.timing.mesh_ms, roundtrip: s.timing.roundtrip_ms, draw: s.timing.draw_ms,
+           frame: now - s.meshShownAt, bytes: s.timing.mesh_bytes, modules: s.state.modules,
+           triangles: s.viewer.triangles };
+}"""
+
+CHANGE = """(value) => {
+  const el = document.querySelector('input[data-global=angle]');
+  el.value = value;
+  const at = performance.now();
+  el.dispatchEvent(new Event('input'));
+  return at;
+}"""
+
+
+def serve(workspace: str):
+    import uvicorn
+
+    from sylva.studio import Limits, create_app
+
+    app = create_app(workspace, limits=Limits(time_cap=120.0, max_triangles=10_000_000))
+    sock = socket.socket()
+    sock.bind(("127.0.0.1", 0))
+    server = uvicorn.Server(uvicorn.Config(app, log_level="error", timeout_keep_alive=60))
+    thread = threading.Thread(target=server.run, kwargs={"sockets": [sock]}, daemon=True)
+    thread.start()
+    while not server.started:
+        time.sleep(0.05)
+    return server, thread, f"http://127.0.0.1:{sock.getsockname()[1]}"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--changes", type=int, default=20)
+    ap.add_argument("--steps", type=int, default=9)
+    args = ap.parse_args()
+    from playwright.sync_api import sync_playwright
+
+    with tempfile.TemporaryDirectory() as ws:
+        server, thread, url = serve(ws)
+        try:
+            with sync_playwright() as pw:
+                browser = pw.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+                # the benchmark's functions are evaluated as strings: the page's CSP forbids it
+                page = browser.new_page(viewport={"width": 1280, "height": 800},
+                                        bypass_csp=True)
+                page.goto(url + "/")
+                page.wait_for_selector("body[data-ready='1']", timeout=600_000)
+                page.evaluate("(t) => window.studio.editor.setText(t)", PROGRAM)
+                page.fill("#steps", str(args.steps))
+                page.click("#btn-derive")
+                page.wait_for_function(
+                    f"window.studio.meshStep === {args.steps} && !window.studio.busy",
+                    timeout=600_000, polling=100)
+                rows = []
+                for i in range(args.changes + 1):
+                    at = page.evaluate(CHANGE, 20.0 + 0.5 * (i + 1))
+                    r = page.evaluate(FRAME, at)
+                    r["upload"] = r["draw"]
+                    r["transfer"] = r["roundtrip"] - r["mesh"]
+                    r["draw"] = r["draw"] + r["frame"]
+                    r["other"] = r["total"] - r["load"] - r["roundtrip"] - r["frame"]
+                    if i:  # the first change is the warm-up
+                        rows.append(r)
+                browser.close()
+        finally:
+            server.should_exit = True
+            thread.join(30)
+    last = rows[-1]
+    print(f"studio slider -> frame, {last['modules']:,} modules, {last['triangles']:,} "
+          f"triangles, GLB {last['bytes'] / 1e6:.1f} MB; median of {len(rows)} changes")
+    for k in ("total", "derive", "load", "mesh", "transfer", "draw", "upload", "frame",
+              "other"):
+        v = [r[k] for r in rows]
+        print(f"  {k:9s} {statistics.median(v):9.1f} ms   (min {min(v):.1f}, "
+              f"max {max(v):.1f})")
+    med = statistics.median(r["total"] for r in rows)
+    print(f"target <= 150 ms: {'met' if med <= 150 else 'not met'}")
+
+
+if __name__ == "__main__":
+    main()
