@@ -15,9 +15,8 @@ Pictures are rendered once, when the build starts, into ``_build/.sylva-cache`` 
 from __future__ import annotations
 
 import importlib
-import types
-
 import time
+import types
 from pathlib import Path
 
 from docutils import nodes
@@ -37,10 +36,15 @@ def _jobs() -> list[pictures.Job]:
             for e in catalog.gallery_entries()]
     jobs += [pictures.Job("texture", n, pictures.TEXTURE_SIZE)
              for n in catalog.gallery_textures()]
+    jobs.append(SHEET)
     for table in ("lsys", "abop", "classic", "engine"):
         jobs += [pictures.Job("turtle", r.program, pictures.TURTLE_SIZE)
                  for r in catalog.turtle_rows(table)]
     return jobs
+
+
+#: Every tree species at three ages, on one scale (``sylva tree --sheet``).
+SHEET = pictures.Job("trees", "species", (0, 0))
 
 
 def _render(app) -> None:
@@ -134,7 +138,10 @@ class GalleryDirective(_Generated):
     has_titles = True
 
     def depends_on(self):
-        return [*super().depends_on(), *(e.path for e in catalog.gallery_entries())]
+        import sylva.tree
+
+        species = sorted((Path(sylva.tree.__file__).parent / "species").glob("*"))
+        return [*super().depends_on(), *(e.path for e in catalog.gallery_entries()), *species]
 
     def lines(self):
         entries = catalog.gallery_entries()
@@ -152,6 +159,12 @@ class GalleryDirective(_Generated):
                     ".. code-block:: sh", "", f"   {e.command}", "",
                     f".. code-block:: {e.language}", f"   :caption: {e.path.name}", ""]
             out += _indent(text) + [""]
+        out += ["Tree species", "------------", "",
+                "Every shipped tree species (:doc:`tutorials/trees`) at three ages, on one "
+                "scale (the red bar is 5 m), as ``sylva tree --sheet -o sheet.png`` draws "
+                "them; ``sylva tree --list`` names each species and the source of its "
+                "parameters.", "",
+                f".. image:: {_image(SHEET)}", "   :alt: the tree species contact sheet", ""]
         out += ["Textures", "--------", "",
                 "Some of the texture presets (:doc:`tutorials/textures`), as ``sylva gallery`` "
                 "renders them; each is ``sylva texture NAME -o NAME.png``.", "",

@@ -24,8 +24,8 @@ TEXTURE_SIZE = (192, 192)
 
 @dataclass(frozen=True)
 class Job:
-    kind: str  # "example", "turtle" or "texture"
-    key: str  # the example's name, the program text or the texture preset
+    kind: str  # "example", "turtle", "texture" or "trees" (the species contact sheet)
+    key: str  # the example's name, the program text, the texture preset, or "species"
     size: tuple[int, int]
 
     def filename(self) -> str:
@@ -40,6 +40,13 @@ class Job:
 
             h.update(repr(sorted(PRESETS[self.key].items())).encode())
             stem = f"texture-{self.key}"
+        elif self.kind == "trees":
+            import sylva.tree
+
+            folder = Path(sylva.tree.__file__).parent
+            for f in sorted([*folder.glob("species/*"), *folder.glob("*.py")]):
+                h.update(f.name.encode() + b"\0" + f.read_bytes())
+            stem = "tree-species"
         else:
             h.update(self.key.encode())
             stem = "turtle"
@@ -81,6 +88,12 @@ def _render_texture(name: str, out: Path, size: tuple[int, int]) -> None:
     Image.fromarray(render(recipe)).save(out)
 
 
+def _render_trees(out: Path) -> None:
+    from sylva.cli._tree_sheet import contact_sheet
+
+    contact_sheet().save(out)
+
+
 def _run(job: Job, folder: str) -> str:
     out = Path(folder) / job.filename()
     tmp = out.with_suffix(".part.png")
@@ -88,6 +101,8 @@ def _run(job: Job, folder: str) -> str:
         _render_example(job.key, tmp, job.size)
     elif job.kind == "texture":
         _render_texture(job.key, tmp, job.size)
+    elif job.kind == "trees":
+        _render_trees(tmp)
     else:
         _render_turtle(job.key, tmp, job.size)
     os.replace(tmp, out)
@@ -105,8 +120,8 @@ def render_missing(jobs: list[Job], folder: Path, workers: int | None = None) ->
         return [_run(j, str(folder)) for j in todo]
     import multiprocessing
 
-    # examples first: they take longest
-    todo.sort(key=lambda j: j.kind != "example")
+    # the species sheet and the examples first: they take longest
+    todo.sort(key=lambda j: (j.kind != "trees", j.kind != "example"))
     ctx = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(workers, mp_context=ctx) as pool:
         return list(pool.map(_run, todo, [str(folder)] * len(todo), chunksize=1))
