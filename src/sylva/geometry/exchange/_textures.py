@@ -3,8 +3,7 @@
 
 The images are laid over the mesh's uvs with ``v = 0`` on the first row of the file,
 glTF's convention and the renderer's.  OBJ, USD and POV-Ray put ``v = 0`` on the last row,
-so their files are written flipped (:func:`image_files` with ``flip=True``; a flipped
-normal map has its green channel inverted, as its "up" turns over).
+so those writers write ``1 - v`` (:func:`v_up`), and every format shares the same files.
 
 Writers that reference images:
 
@@ -21,7 +20,7 @@ Examples
 --------
 >>> import numpy as np
 >>> from sylva.geometry.mesh import Material, with_images
->>> rgba = np.full((8, 8, 4), 200, np.uint8)
+>>> rgba = np.full((8, 8, 4), 255, np.uint8)
 >>> files = image_files(with_images(Material("bark"), rgba), "tree")
 >>> sorted(files), files["color"][0]
 (['color'], 'tree.bark.color.png')
@@ -39,7 +38,8 @@ import numpy as np
 from ..mesh import Material
 from ._common import safe_name
 
-__all__ = ["GltfTextures", "image_files", "png_bytes", "textured", "textured_materials"]
+__all__ = ["GltfTextures", "image_files", "png_bytes", "scene_images", "tangents", "textured",
+           "textured_materials", "v_up", "write_companions"]
 
 
 def textured(mat: Material | None) -> bool:
@@ -67,35 +67,35 @@ def png_bytes(arr: np.ndarray) -> bytes:
     return buf.getvalue()
 
 
-def _flipped(arr: np.ndarray, normal: bool = False) -> np.ndarray:
-    out = arr[::-1].copy()
-    if normal:
-        out[:, :, 1] = 255 - out[:, :, 1]
+def v_up(uvs: np.ndarray) -> np.ndarray:
+    """``uvs`` with ``v`` measured up the image (``1 - v``): OBJ's, USD's and POV-Ray's
+    convention, from sylva's (glTF's) ``v`` down the image."""
+    out = np.array(uvs, np.float32, copy=True)
+    out[:, 1] = 1.0 - out[:, 1]
     return out
 
 
-def image_files(mat: Material, stem: str, *, flip: bool = False,
-                gltf: bool = False) -> dict[str, tuple[str, bytes]]:
-    """``{slot: (file name, PNG bytes)}`` of ``mat``'s images, slots ``color`` (RGBA),
-    ``alpha`` (the cut-out's alpha as grey, with ``flip``: for MTL's ``map_d``),
-    ``normal`` and ``roughness`` (glTF's ``metallicRoughness`` layout with ``gltf``:
-    roughness in green, metallic 0 in blue).  ``flip``: ``v = 0`` on the last row."""
+def image_files(mat: Material, stem: str, *, gltf: bool = False) -> dict[str, tuple[str, bytes]]:
+    """``{slot: (file name, PNG bytes)}`` of ``mat``'s images: ``color`` (RGBA) and
+    ``normal`` always; with ``gltf``, ``metallic_roughness`` (roughness in green, metallic
+    0 in blue); else ``roughness`` (grey) and, for a cut-out, ``alpha`` (its alpha as grey,
+    for MTL's ``map_d``)."""
     imgs = mat.images
     if imgs is None:
         return {}
     base = f"{stem}.{safe_name(mat.name)}"
-    flip_ = (lambda a, normal=False: _flipped(a, normal)) if flip else (lambda a, normal=False: a)
-    out = {"color": (f"{base}.color.png", png_bytes(flip_(imgs.base_color)))}
-    if flip and imgs.has_alpha:
-        a = flip_(imgs.base_color[:, :, 3])
-        out["alpha"] = (f"{base}.alpha.png", png_bytes(a))
+    out = {"color": (f"{base}.color.png", png_bytes(imgs.base_color))}
+    if not gltf and imgs.has_alpha:
+        out["alpha"] = (f"{base}.alpha.png", png_bytes(imgs.base_color[:, :, 3]))
     if imgs.normal is not None:
-        out["normal"] = (f"{base}.normal.png", png_bytes(flip_(imgs.normal, normal=True)))
+        out["normal"] = (f"{base}.normal.png", png_bytes(imgs.normal))
     if imgs.roughness is not None:
-        r = flip_(imgs.roughness)
+        r = imgs.roughness
         if gltf:
-            r = np.stack([np.full_like(r, 255), r, np.zeros_like(r)], axis=-1)
-        out["roughness"] = (f"{base}.roughness.png", png_bytes(r))
+            mr = np.stack([np.full_like(r, 255), r, np.zeros_like(r)], axis=-1)
+            out["roughness"] = (f"{base}.metallic_roughness.png", png_bytes(mr))
+        else:
+            out["roughness"] = (f"{base}.roughness.png", png_bytes(r))
     return out
 
 
@@ -223,3 +223,76 @@ def tangents(mesh) -> np.ndarray:
     ts /= np.maximum(length, 1e-30)[:, None]
     w = np.where((np.cross(n, ts) * -bs).sum(axis=1) < 0.0, -1.0, 1.0)
     return np.concatenate([ts, w[:, None]], axis=1).astype(np.float32)
+
+
+# --------------------------------------------------------------------------- files beside
+def scene_images(scene, stem: str) -> dict[str, dict[str, tuple[str, bytes]]]:
+    """``{material name: image_files(...)}`` of the textured materials of ``scene`` (the
+    files OBJ, USD and POV-Ray write beside)."""
+    return {name: image_files(mat, stem)
+            for name, mat in textured_materials(scene.meshes).items()}  # fmt: skip
+
+
+def write_companions(group, folder: str, images: dict) -> None:
+    """Write every image of ``images`` (:func:`scene_images`) into ``folder`` as members
+    of the :class:`~sylva._atomic.AtomicGroup` ``group``."""
+    for files in images.values():
+        for name, data in files.values():
+            with group.open(os.path.join(folder, name), "wb") as fh:
+                fh.write(data)
+
+
+def mtl_maps(files: dict[str, tuple[str, bytes]]) -> list[str]:
+    """The MTL lines referencing one material's image files."""
+    out = [f"map_Kd {files['color'][0]}"]
+    if "alpha" in files:
+        out.append(f"map_d {files['alpha'][0]}")
+    if "normal" in files:
+        out.append(f"norm {files['normal'][0]}")
+    if "roughness" in files:
+        out.append(f"map_Pr {files['roughness'][0]}")
+    return out
+
+
+# --------------------------------------------------------------------------- USD
+def usd_textures(stage, material, surface, files: dict, mat: Material, pxr) -> None:
+    """Connect ``files`` (one material's :func:`image_files`, written beside the stage) to
+    the ``UsdPreviewSurface`` ``surface`` of ``material``: ``UsdUVTexture`` shaders reading
+    the ``st`` primvar through one ``UsdPrimvarReader_float2``."""
+    Gf, Sdf, _Usd, _UsdGeom, UsdShade, _Vt = pxr
+    path = material.GetPath()
+    reader = UsdShade.Shader.Define(stage, path.AppendChild("STReader"))
+    reader.CreateIdAttr("UsdPrimvarReader_float2")
+    st_name = material.CreateInput("frame:stPrimvarName", Sdf.ValueTypeNames.String)
+    st_name.Set("st")
+    reader.CreateInput("varname", Sdf.ValueTypeNames.String).ConnectToSource(st_name)
+    st_out = reader.CreateOutput("result", Sdf.ValueTypeNames.Float2)
+
+    def texture(slot: str, name: str, colour_space: str):
+        tex = UsdShade.Shader.Define(stage, path.AppendChild(name))
+        tex.CreateIdAttr("UsdUVTexture")
+        tex.CreateInput("file", Sdf.ValueTypeNames.Asset).Set("./" + files[slot][0])
+        tex.CreateInput("st", Sdf.ValueTypeNames.Float2).ConnectToSource(st_out)
+        tex.CreateInput("wrapS", Sdf.ValueTypeNames.Token).Set("repeat")
+        tex.CreateInput("wrapT", Sdf.ValueTypeNames.Token).Set("repeat")
+        tex.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set(colour_space)
+        return tex
+
+    colour = texture("color", "ColorTexture", "sRGB")
+    rgb = colour.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
+    surface.GetInput("diffuseColor").ConnectToSource(rgb)
+    if mat.images.has_alpha:
+        a = colour.CreateOutput("a", Sdf.ValueTypeNames.Float)
+        surface.GetInput("opacity").ConnectToSource(a)
+        cut = mat.alpha_cutoff if mat.alpha_cutoff is not None else 0.5
+        surface.CreateInput("opacityThreshold", Sdf.ValueTypeNames.Float).Set(float(cut))
+    if "normal" in files:
+        nt = texture("normal", "NormalTexture", "raw")
+        nt.CreateInput("scale", Sdf.ValueTypeNames.Float4).Set(Gf.Vec4f(2, 2, 2, 1))
+        nt.CreateInput("bias", Sdf.ValueTypeNames.Float4).Set(Gf.Vec4f(-1, -1, -1, 0))
+        out = nt.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
+        surface.CreateInput("normal", Sdf.ValueTypeNames.Normal3f).ConnectToSource(out)
+    if "roughness" in files:
+        rt = texture("roughness", "RoughnessTexture", "raw")
+        out = rt.CreateOutput("r", Sdf.ValueTypeNames.Float)
+        surface.GetInput("roughness").ConnectToSource(out)
