@@ -37,11 +37,13 @@ from .geometry.mesh import Material, Scene, with_images
 
 __all__ = [
     "BAKED_TEXTURES",
+    "IMAGE_FORMATS",
     "TEXTURE_SIZES",
     "bake_material",
     "bake_scene",
     "check_texture_size",
     "leaf_coverage",
+    "textured_export",
 ]
 
 #: The procedural textures baked, by ``Material.texture`` name (the renderer's kinds).
@@ -49,6 +51,9 @@ BAKED_TEXTURES = {"bark": 2, "leaf": 3, "grass": 4}
 
 #: Allowed image sizes: powers of two (mipmapped, repeat-wrapped textures in every engine).
 TEXTURE_SIZES = tuple(2**k for k in range(3, 13))
+
+#: The export formats that reference images (the others carry colours only).
+IMAGE_FORMATS = ("glb", "gltf", "obj", "usd", "usda", "usdc", "pov")
 
 #: Relief depth of the normal maps, in units of the tile (a groove of 1 % of the tile).
 NORMAL_DEPTH = {"bark": 0.006, "leaf": 0.004, "grass": 0.0}
@@ -253,3 +258,14 @@ def bake_scene(scene: Scene, size: int = 256) -> Scene:
             mats.append(done[mat.name])
         meshes.append(replace(mesh, materials=mats))
     return Scene(meshes, name=scene.name)
+
+
+def textured_export(scene: Scene, fmt: str, size, option: str = "--textures") -> Scene:
+    """``scene`` baked for an export to ``fmt`` at ``size`` (the CLI's ``--textures``):
+    a SylvaError naming ``option`` for a bad size or a format that carries no images."""
+    size = check_texture_size(size, option)
+    if fmt not in IMAGE_FORMATS:
+        raise SylvaError(f"{option}: {fmt.upper()} files carry no images; write one of "
+                         + ", ".join("." + f for f in IMAGE_FORMATS) + " (or leave "
+                         f"{option} out)")  # fmt: skip
+    return bake_scene(scene, size)
