@@ -11,7 +11,8 @@ Writers that reference images:
   ``metallicRoughnessTexture`` (roughness in green), a white ``baseColorFactor``; a
   cut-out (an image with transparent pixels: a leaf's outline) is ``alphaMode: MASK``
   and double-sided.  GLB embeds the PNGs in its buffer; ``.gltf`` writes them beside.
-* OBJ / MTL — ``map_Kd``, ``map_d`` (cut-outs), ``norm`` and ``map_Pr``.
+* OBJ / MTL — ``map_Kd``, ``map_d`` (cut-outs), ``norm`` (and ``map_Bump``, where Blender
+  reads normal maps) and ``map_Pr``.
 * USD — ``UsdUVTexture`` shaders reading ``st`` through a ``UsdPrimvarReader_float2``,
   connected to the ``UsdPreviewSurface``.
 * POV-Ray — ``uv_mapping`` ``image_map`` pigments.
@@ -247,8 +248,9 @@ def mtl_maps(files: dict[str, tuple[str, bytes]]) -> list[str]:
     out = [f"map_Kd {files['color'][0]}"]
     if "alpha" in files:
         out.append(f"map_d {files['alpha'][0]}")
-    if "normal" in files:
+    if "normal" in files:  # norm: the PBR extension; map_Bump: as Blender reads (and writes) it
         out.append(f"norm {files['normal'][0]}")
+        out.append(f"map_Bump -bm 1 {files['normal'][0]}")
     if "roughness" in files:
         out.append(f"map_Pr {files['roughness'][0]}")
     return out
