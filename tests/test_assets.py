@@ -141,3 +141,18 @@ def test_cli_bad_textures_option(tmp_path, capsys, size, out, message):
     assert main(argv) != 0
     assert message in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []  # refused before anything is written
+
+
+@pytest.mark.parametrize("ext", ["gltf", "obj", "usda", "pov"])
+def test_a_failed_textured_export_leaves_no_image_behind(tmp_path, ext):
+    from sylva.geometry.exchange import write
+
+    if ext == "usda":
+        pytest.importorskip("pxr")
+    m = Mesh(np.eye(3), np.array([[0, 1, 2]]), uvs=np.eye(3)[:, :2], materials=[BARK])
+    scene = bake_scene(Scene([m]), 8)
+    target = tmp_path / f"plant.{ext}"
+    target.mkdir()  # a folder where the file should go: the write fails
+    with pytest.raises(OSError):
+        write(scene, target)
+    assert [p.name for p in tmp_path.iterdir()] == [target.name]  # no PNG, no temporary

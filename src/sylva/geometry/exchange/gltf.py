@@ -7,7 +7,9 @@ sylva is, so coordinates are written unchanged (``up="z"`` rotates them for tool
 want Z up, against the glTF convention).  Vertex colours are a tint of the material colour
 and may pass one; ``COLOR_0`` must not, so tints are divided by a factor per material that
 ``baseColorFactor`` carries instead (:func:`~._common.tint_scales`).  Double-sided
-materials (leaves, polygons: one face each) get ``doubleSided``.  The output passes the
+materials (leaves, polygons: one face each) get ``doubleSided``.  Materials with baked images
+(:mod:`._textures`) reference them as PBR textures, with a white ``baseColorFactor`` (the
+image carries the colour) and ``COLOR_0`` the tint itself, clamped to [0, 1].  The output passes the
 Khronos ``gltf-validator`` without errors or warnings (the tests run it).
 
 Examples
