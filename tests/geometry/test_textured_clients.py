@@ -92,22 +92,30 @@ def _camera(scene: Scene):
     return cam, (c[0], -(c[2] + dist), c[1]), height
 
 
-def test_every_writer_writes_the_images_beside_or_inside(files):
+def _textured(scene: Scene) -> dict:
+    return {m.name: m for mesh in scene.meshes for m in mesh.materials if m.images is not None}
+
+
+def test_every_writer_writes_the_images_beside_or_inside(files, baked):
+    textured = _textured(baked["tree"])
+    bark = next(n for n, m in textured.items() if m.texture == "bark")
+    leaf = next(n for n, m in textured.items() if m.texture == "leaf")
     folder = files["tree", "obj"].parent
     names = sorted(p.name for p in folder.glob("tree.*.png"))
-    assert "tree.bark.shrub.color.png" in names and "tree.leaf.shrub.alpha.png" in names
-    assert "tree.leaf.shrub.metallic_roughness.png" in names  # the .gltf's, beside it
+    assert f"tree.{bark}.color.png" in names and f"tree.{leaf}.alpha.png" in names
+    assert f"tree.{leaf}.metallic_roughness.png" in names  # the .gltf's, beside it
     mtl = files["tree", "obj"].with_suffix(".mtl").read_text()
-    assert "map_Kd tree.bark.shrub.color.png" in mtl and "map_d tree.leaf.shrub.alpha.png" in mtl
-    assert "norm tree.bark.shrub.normal.png" in mtl
+    assert f"map_Kd tree.{bark}.color.png" in mtl and f"map_d tree.{leaf}.alpha.png" in mtl
+    assert f"norm tree.{bark}.normal.png" in mtl
     pov = files["tree", "pov"].read_text()
-    assert 'image_map { png "tree.leaf.shrub.color.png"' in pov
+    assert f'image_map {{ png "tree.{leaf}.color.png"' in pov
     glb = files["tree", "glb"].read_bytes()
-    assert glb.count(b"\x89PNG\r\n\x1a\n") == 6  # colour, normal, roughness x bark, leaf
+    # colour, normal and roughness of each textured material, embedded
+    assert glb.count(b"\x89PNG\r\n\x1a\n") == 3 * len(textured)
 
 
 # --------------------------------------------------------------------------- glTF validator
-def test_khronos_validator_passes_the_textured_gltf_and_glb(files):
+def test_khronos_validator_passes_the_textured_gltf_and_glb(files, baked):
     node = shutil.which("node")
     _need(node is not None and (NODE_DIR / "node_modules" / "gltf-validator").is_dir(),
           "the Khronos glTF validator (node, npm ci in tests/geometry/_node)")
@@ -125,7 +133,8 @@ def test_khronos_validator_passes_the_textured_gltf_and_glb(files):
         assert info["materialCount"] >= 2 and info["hasTextures"]
         # every image is read and decoded by the validator (embedded or beside)
         resources = [r for r in info["resources"] if r["pointer"].startswith("/images/")]
-        assert len(resources) == 6
+        name = Path(report["file"]).stem
+        assert len(resources) == 3 * len(_textured(baked[name]))
         assert all(r["mimeType"] == "image/png" and r["image"]["width"] == TEX
                    for r in resources)  # fmt: skip
 
@@ -237,9 +246,8 @@ def blender(files, baked, tmp_path_factory):
 def test_blender_connects_the_images_to_the_materials(blender, files, baked, name, ext):
     report, _ = blender
     found = report[str(files[name, ext])]
-    textured = {m.name: m for mesh in baked[name].meshes for m in mesh.materials
-                if m.images is not None}  # fmt: skip
-    assert len(textured) == 2  # bark and leaf
+    textured = _textured(baked[name])
+    assert {m.texture for m in textured.values()} == {"bark", "leaf"}
     for mat_name, mat in textured.items():
         # importers may rename a material (OBJ/USD sanitise the dots): match by stem
         key = next(k for k in found if k.replace("_", ".").startswith(mat_name.replace("_", ".")))
@@ -320,7 +328,7 @@ def test_povray_renders_the_textured_tree_in_the_textures_colours(files, tmp_pat
 
 # --------------------------------------------------------------------------- usd-core
 @pytest.mark.parametrize("name", ("plant", "tree"))
-def test_usd_validation_passes_the_textured_stage(files, name):
+def test_usd_validation_passes_the_textured_stage(files, baked, name):
     _need(_have_module("pxr"), "usd-core")
     from pxr import Usd, UsdShade, UsdValidation
 
@@ -330,7 +338,7 @@ def test_usd_validation_passes_the_textured_stage(files, name):
     assert [(e.GetName(), e.GetMessage()[:200]) for e in errors] == []
     textures = [p for p in stage.Traverse() if p.IsA(UsdShade.Shader)
                 and UsdShade.Shader(p).GetIdAttr().Get() == "UsdUVTexture"]  # fmt: skip
-    assert len(textures) == 6
+    assert len(textures) == 3 * len(_textured(baked[name]))  # colour, normal, roughness
     for p in textures:
         asset = UsdShade.Shader(p).GetInput("file").Get()
         assert (files[name, "usda"].parent / asset.path).is_file()
