@@ -156,3 +156,14 @@ def test_a_failed_textured_export_leaves_no_image_behind(tmp_path, ext):
     with pytest.raises(OSError):
         write(scene, target)
     assert [p.name for p in tmp_path.iterdir()] == [target.name]  # no PNG, no temporary
+
+
+def test_the_one_line_api_saves_textured(tmp_path):
+    import sylva
+
+    plant = sylva.grow("24-seed000-bush-leaves", 2)
+    out = plant.save(tmp_path / "bush.glb", textures=16)
+    doc = _glb_json(out)
+    assert len(doc["images"]) == 6
+    with pytest.raises(SylvaError, match="textures: PLY files carry no images"):
+        plant.save(tmp_path / "bush.ply", textures=16)
