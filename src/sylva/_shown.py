@@ -116,6 +116,8 @@ class Shown:
         :meth:`render`); every other extension is an export format of
         :mod:`sylva.geometry.exchange` (``.glb .gltf .obj .ply .stl .scad .pov .svg .usd``),
         its ``options`` going to the writer.  The file appears whole or not at all.
+        ``textures=SIZE`` bakes the procedural materials into ``SIZE``-pixel images that the
+        file references (glTF, OBJ, USD, POV-Ray; see :mod:`sylva.assets`).
 
         Returns
         -------
@@ -135,6 +137,14 @@ class Shown:
         from .geometry.exchange import format_of
 
         fmt = format_of(path)
+        textures = options.pop("textures", None)
+        if textures is not None:
+            from .assets import textured_export
+            from .geometry.exchange import write
+
+            write(textured_export(self.scene, fmt, textures, "textures"), path, format=fmt,
+                  **options)  # fmt: skip
+            return path
         self._write(path, fmt, options)
         return path
 

@@ -422,6 +422,7 @@ API_MODULES = {
     "sylva.world": "voxel worlds",
     "sylva.studio": "the browser workbench",
     "sylva.data": "the built-in examples",
+    "sylva.assets": "baking the renderer's materials into images that exports carry",
 }
 
 

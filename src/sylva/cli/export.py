@@ -52,6 +52,10 @@ def register(subparsers) -> None:
     p.add_argument("--up", choices=("y", "z"), default=None,
                    help="up axis of the file (default: the format's convention: Z for STL, "
                         "PLY and OpenSCAD, Y for glTF, OBJ, USD and POV-Ray)")  # fmt: skip
+    p.add_argument("--textures", metavar="SIZE", default=None,
+                   help="bake the bark, leaf and grass textures the renderer draws to SIZE x "
+                        "SIZE PNG images (a power of two, e.g. 512) that the file references "
+                        "(glTF/GLB, OBJ, USD, POV-Ray; default: colours only)")  # fmt: skip
     p.add_argument("--view", metavar="V", default=None,
                    help="cpfg: the view file (.v) to read (default: the one beside FILE)")
     p.set_defaults(func=run)
@@ -60,11 +64,16 @@ def register(subparsers) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..geometry.build import build_mesh
     from ..geometry.exchange import format_of, write
+    from ..geometry.mesh import Scene
     from ..lsystem import render_word
     from ..turtle import interpret
     from .derive import load_program
 
     fmt = format_of(args.output)  # fail before deriving when OUT is unusable
+    if args.textures is not None:
+        from ..assets import textured_export
+
+        textured_export(Scene(), fmt, args.textures)  # a bad size or format fails now
     if args.up is not None and fmt in ("svg", "pov"):
         raise SylvaError(f"--up: {fmt.upper()} files have a fixed frame; leave --up out")
     from ..lsystem import DEFAULT_MODULE_LIMIT
@@ -87,6 +96,10 @@ def run(args: argparse.Namespace) -> int:
             geometry, detail=args.detail, mode=args.mode,
             taper=None if args.taper == "none" else args.taper,
         )  # fmt: skip
+        if args.textures is not None:
+            from ..assets import textured_export
+
+            scene = textured_export(scene, fmt, args.textures)
         options = {} if args.up is None else {"up": args.up}
         write(scene, args.output, format=fmt, **options)
         what = f"{scene.n_triangles} triangles"

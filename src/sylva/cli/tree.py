@@ -65,6 +65,10 @@ def register(subparsers) -> None:
                    help="frames per second (default 24 for wind, 12 for growth)")
     p.add_argument("--size", default="640x640", metavar="WxH", help="image/video size")
     p.add_argument("--no-leaves", action="store_true", help="leave the leaves out")
+    p.add_argument("--textures", metavar="SIZE", default=None,
+                   help="bake the bark and leaf textures the renderer draws to SIZE x SIZE "
+                        "PNG images (a power of two, e.g. 512) that the file references "
+                        "(glTF/GLB, OBJ, USD, POV-Ray; default: colours only)")  # fmt: skip
     p.add_argument("--season", choices=("spring", "summer", "autumn", "winter"), default=None,
                    help="show a deciduous tree in this season (default: the species' Season)")
     p.add_argument("--leaf-turn", type=float, default=None, metavar="F",
@@ -112,6 +116,11 @@ def run(args: argparse.Namespace) -> int:
         raise SylvaError("tree: expected an output file (-o OUT)")
     out = Path(args.out)
     ext = out.suffix.lower()
+    if args.textures is not None:
+        from ..assets import textured_export
+        from ..geometry.mesh import Scene
+
+        textured_export(Scene(), ext.lstrip("."), args.textures)  # fail before growing
     tree = Tree(args.species, seed=args.seed, season=args.season, leaf_turn=args.leaf_turn,
                 leaf_fall=args.leaf_fall)
     age = tree.default_age if args.age is None else args.age
@@ -140,6 +149,10 @@ def run(args: argparse.Namespace) -> int:
     else:
         from ..geometry.exchange import write
 
+        if args.textures is not None:
+            from ..assets import textured_export
+
+            scene = textured_export(scene, ext.lstrip("."), args.textures)
         write(scene, out)
     print(f"wrote {out}")
     return 0

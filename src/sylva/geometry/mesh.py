@@ -18,11 +18,66 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-__all__ = ["Material", "Mesh", "Scene"]
+__all__ = ["Material", "MaterialImages", "Mesh", "Scene", "with_images"]
+
+
+@dataclass(frozen=True, eq=False)
+class MaterialImages:
+    """Baked images of a material, as arrays, for the writers that reference images.
+
+    All images share one size and are laid over the mesh's ``uvs`` (``v = 0`` the first
+    row: glTF's and Pillow's convention, top row first, with ``v`` growing down the image).
+
+    Attributes
+    ----------
+    base_color : uint8[h, w, 4]
+        sRGB colour with a linear alpha (a leaf's outline: 0 outside the blade).
+    normal : uint8[h, w, 3] or None
+        Tangent-space normal map, ``(n + 1) / 2 · 255`` (OpenGL/glTF convention, +Y up).
+    roughness : uint8[h, w] or None
+        Linear roughness, 0 smooth … 255 rough.
+    name : str
+        A stem for the image files (``<name>_color.png`` …).
+    """
+
+    base_color: np.ndarray
+    normal: np.ndarray | None = None
+    roughness: np.ndarray | None = None
+    name: str = "texture"
+
+    def __post_init__(self) -> None:
+        from ..errors import SylvaError
+
+        bc = np.ascontiguousarray(self.base_color, dtype=np.uint8)
+        if bc.ndim != 3 or bc.shape[2] != 4 or bc.shape[0] < 1 or bc.shape[1] < 1:
+            raise SylvaError(f"base_color: expected uint8[h, w, 4], got shape {bc.shape}")
+        object.__setattr__(self, "base_color", bc)
+        if self.normal is not None:
+            n = np.ascontiguousarray(self.normal, dtype=np.uint8)
+            if n.shape != bc.shape[:2] + (3,):
+                raise SylvaError(f"normal: expected uint8{list(bc.shape[:2]) + [3]}, "
+                                 f"got shape {n.shape}")  # fmt: skip
+            object.__setattr__(self, "normal", n)
+        if self.roughness is not None:
+            r = np.ascontiguousarray(self.roughness, dtype=np.uint8)
+            if r.shape != bc.shape[:2]:
+                raise SylvaError(f"roughness: expected uint8{list(bc.shape[:2])}, "
+                                 f"got shape {r.shape}")  # fmt: skip
+            object.__setattr__(self, "roughness", r)
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """``(width, height)`` in pixels."""
+        return int(self.base_color.shape[1]), int(self.base_color.shape[0])
+
+    @property
+    def has_alpha(self) -> bool:
+        """Whether any pixel is not fully opaque (a cut-out)."""
+        return bool((self.base_color[:, :, 3] < 255).any())
 
 
 @dataclass(frozen=True)
@@ -43,6 +98,9 @@ class Material:
         Leaves and flat polygons are double-sided.
     alpha_cutoff : float or None
         Alpha-test threshold (billboards, textured leaves).
+    images : MaterialImages or None
+        Baked images (base colour, normal, roughness) that writers which carry images
+        reference instead of :attr:`color` (see :func:`with_images`); not compared.
     """
 
     name: str
@@ -52,6 +110,32 @@ class Material:
     texture: str | None = None
     double_sided: bool = False
     alpha_cutoff: float | None = None
+    images: MaterialImages | None = field(default=None, compare=False, repr=False)
+
+
+def with_images(material: Material, base_color, normal=None, roughness=None, *,
+                alpha_cutoff: float | None = 0.5) -> Material:
+    """``material`` carrying baked images: an RGBA colour image, and optionally a normal map
+    and a roughness map of the same size (see :class:`MaterialImages` for the layouts).
+
+    The image carries the colour: writers that reference it write a white colour factor
+    (glTF multiplies ``baseColorFactor`` by the texture), while the material's
+    :attr:`~Material.color`, kept, is what writers without images (PLY, STL, OpenSCAD) and
+    the renderer's procedural textures use.  When the image has transparent pixels (a
+    leaf's outline, an impostor) the material gets ``alpha_cutoff`` and is double-sided.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rgba = np.zeros((4, 4, 4), np.uint8); rgba[1:3, 1:3] = 255
+    >>> m = with_images(Material("card", (0.2, 0.5, 0.1, 1.0)), rgba)
+    >>> m.images.size, m.alpha_cutoff, m.double_sided, m.color
+    ((4, 4), 0.5, True, (0.2, 0.5, 0.1, 1.0))
+    """
+    imgs = MaterialImages(base_color, normal, roughness, name=material.name)
+    cut = alpha_cutoff if imgs.has_alpha else material.alpha_cutoff
+    return replace(material, images=imgs, alpha_cutoff=cut,
+                   double_sided=material.double_sided or cut is not None)
 
 
 def _face_normals(vertices: np.ndarray, indices: np.ndarray) -> np.ndarray:

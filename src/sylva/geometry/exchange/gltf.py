@@ -7,7 +7,9 @@ sylva is, so coordinates are written unchanged (``up="z"`` rotates them for tool
 want Z up, against the glTF convention).  Vertex colours are a tint of the material colour
 and may pass one; ``COLOR_0`` must not, so tints are divided by a factor per material that
 ``baseColorFactor`` carries instead (:func:`~._common.tint_scales`).  Double-sided
-materials (leaves, polygons: one face each) get ``doubleSided``.  The output passes the
+materials (leaves, polygons: one face each) get ``doubleSided``.  Materials with baked images
+(:mod:`._textures`) reference them as PBR textures, with a white ``baseColorFactor`` (the
+image carries the colour) and ``COLOR_0`` the tint itself, clamped to [0, 1].  The output passes the
 Khronos ``gltf-validator`` without errors or warnings (the tests run it).
 
 Examples
@@ -24,10 +26,12 @@ from __future__ import annotations
 
 import base64
 import json
+import os
 import struct
 
 import numpy as np
 
+from ..._atomic import AtomicGroup
 from ._common import (
     PathOrFile,
     as_scene,
@@ -36,8 +40,10 @@ from ._common import (
     open_target,
     oriented_scene,
     scaled_base,
+    target_path,
     tint_scales,
 )
+from ._textures import GltfTextures, needs_tangents, stem_of, tangents
 
 __all__ = ["gltf_document", "write_glb", "write_gltf"]
 
@@ -55,14 +61,15 @@ class _Builder:
         self.views: list[dict] = []
         self.accessors: list[dict] = []
 
-    def view(self, data: bytes, target: int) -> int:
+    def view(self, data: bytes, target: int | None) -> int:
         pad = (-self.size) % 4
         if pad:
             self.chunks.append(b"\0" * pad)
             self.size += pad
-        self.views.append(
-            {"buffer": 0, "byteOffset": self.size, "byteLength": len(data), "target": target}
-        )
+        view = {"buffer": 0, "byteOffset": self.size, "byteLength": len(data)}
+        if target is not None:  # image views have none
+            view["target"] = target
+        self.views.append(view)
         self.chunks.append(data)
         self.size += len(data)
         return len(self.views) - 1
@@ -106,10 +113,16 @@ def _material_json(mat, scales: dict[str, float]) -> dict:
     return out
 
 
-def gltf_document(scene, *, up: str = "y") -> tuple[dict, bytes]:
-    """The glTF JSON document (without ``buffers[0].uri``) and its binary buffer."""
+def gltf_document(scene, *, up: str = "y", images: list | None = None,
+                  stem: str = "scene") -> tuple[dict, bytes]:
+    """The glTF JSON document (without ``buffers[0].uri``) and its binary buffer.
+
+    Baked material images (:mod:`._textures`) are embedded in the buffer, or, when
+    ``images`` is a list, referenced as files ``<stem>.<material>.<slot>.png`` beside the
+    document and appended to it as ``(name, PNG bytes)``."""
     scene = oriented_scene(as_scene(scene), up)
-    scales = tint_scales(scene.meshes)
+    tex = GltfTextures(stem, embed=images is None)
+    scales = tex.scales(scene.meshes, tint_scales(scene.meshes))
     b = _Builder()
     materials: list[dict] = []
     mat_index: dict[str, int] = {}
@@ -137,6 +150,8 @@ def gltf_document(scene, *, up: str = "y") -> tuple[dict, bytes]:
         }
         if mesh.uvs is not None:
             attrs["TEXCOORD_0"] = b.accessor(sel(mesh.uvs), "VEC2", _FLOAT, _ARRAY)
+        if needs_tangents(mesh):  # normal maps: the tangent frame, not left to the client
+            attrs["TANGENT"] = b.accessor(sel(tangents(mesh)), "VEC4", _FLOAT, _ARRAY)
         if mesh.colors is not None:
             attrs["COLOR_0"] = b.accessor(sel(gltf_color0(mesh, scales)), "VEC4", _FLOAT, _ARRAY)
         nverts = int(used.size)
@@ -154,17 +169,20 @@ def gltf_document(scene, *, up: str = "y") -> tuple[dict, bytes]:
             if mat is not None:
                 if mat.name not in mat_index:
                     mat_index[mat.name] = len(materials)
-                    materials.append(_material_json(mat, scales))
+                    materials.append(tex.material(mat, _material_json(mat, scales)))
                 prim["material"] = mat_index[mat.name]
             prims.append(prim)
         meshes.append({"name": mesh.name, "primitives": prims})
         nodes.append({"name": mesh.name, "mesh": len(meshes) - 1})
-    blob = b.blob()
     doc: dict = {
         "asset": {"version": "2.0", "generator": "sylva"},
         "scene": 0,
         "scenes": [{"name": scene.name}],
     }
+    tex.finish(doc, b)
+    if images is not None:
+        images.extend(tex.files)
+    blob = b.blob()
     if nodes:  # an empty scene has no node list at all: empty arrays are invalid glTF
         doc["scenes"][0]["nodes"] = list(range(len(nodes)))
         doc["nodes"] = nodes
@@ -181,7 +199,7 @@ def gltf_document(scene, *, up: str = "y") -> tuple[dict, bytes]:
 def write_glb(scene, target: PathOrFile, *, up: str = "y") -> None:
     """Write binary glTF (``.glb``) to a path or a binary file object (``up``: the up axis,
     ``"y"`` as glTF specifies, or ``"z"``)."""
-    doc, blob = gltf_document(scene, up=up)
+    doc, blob = gltf_document(scene, up=up, stem=stem_of(target_path(target)))
     js = json.dumps(doc, separators=(",", ":")).encode("utf-8")
     js += b" " * ((-len(js)) % 4)
     total = 12 + 8 + len(js) + (8 + len(blob) if blob else 0)
@@ -196,11 +214,26 @@ def write_glb(scene, target: PathOrFile, *, up: str = "y") -> None:
 
 
 def write_gltf(scene, target: PathOrFile, *, up: str = "y") -> None:
-    """Write JSON glTF (``.gltf``) with the buffer embedded as a base64 data URI."""
-    doc, blob = gltf_document(scene, up=up)
+    """Write JSON glTF (``.gltf``) with the buffer embedded as a base64 data URI.
+
+    Baked material images are PNG files beside a path target (``<stem>.<material>.<slot>
+    .png``, written in one :class:`~sylva._atomic.AtomicGroup` with the document, which
+    appears last), and embedded in the buffer for a file object."""
+    files: list | None = [] if isinstance(target, (str, os.PathLike)) else None
+    doc, blob = gltf_document(scene, up=up, images=files,
+                              stem=stem_of(target_path(target)))  # fmt: skip
     if "buffers" in doc:
         doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(
             blob
         ).decode("ascii")
+    if files:
+        folder = os.path.dirname(os.fspath(target))
+        with AtomicGroup() as group:
+            for name, data in files:
+                with group.open(os.path.join(folder, name), "wb") as fh:
+                    fh.write(data)
+            with group.open(target, "w", main=True) as fh:
+                json.dump(doc, fh, indent=1)
+        return
     with open_target(target, binary=False) as fh:
         json.dump(doc, fh, indent=1)

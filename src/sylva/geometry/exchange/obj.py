@@ -1,9 +1,12 @@
 """Wavefront OBJ with its MTL material library.
 
 Vertices carry their colour (the vertex tint times the material colour) as the common
-``v x y z r g b`` extension when the mesh has vertex colours; ``vt`` and ``vn`` follow;
+``v x y z r g b`` extension when the mesh has vertex colours; ``vt`` (``u, 1 - v``: OBJ's
+``v`` runs up the image, sylva's down) and ``vn`` follow;
 faces are grouped by ``usemtl``.  Writing to a path also writes ``<stem>.mtl`` beside it
-(``mtllib``); writing to a file object writes the MTL to ``mtl_file`` when given.  OBJ has
+(``mtllib``), and the PNGs of baked material images (``map_Kd``, ``map_d``, ``norm``,
+``map_Pr``); writing to a file object writes the MTL to ``mtl_file`` when given (without
+images).  OBJ has
 no up axis of its own; importers (Blender's among them) assume +Y, sylva's, which
 ``up="y"`` (the default) keeps; ``up="z"`` rotates to +Z.
 
@@ -37,13 +40,20 @@ from ._common import (
     shaded_colors,
     target_path,
 )
+from ._textures import mtl_maps, scene_images, stem_of, v_up, write_companions
 
 __all__ = ["mtl_text", "write_obj"]
 
 
-def mtl_text(scene) -> str:
-    """The MTL library of every material in ``scene`` (unique by name)."""
+def mtl_text(scene, images: dict | None = None) -> str:
+    """The MTL library of every material in ``scene`` (unique by name).
+
+    ``images``: ``{material name: {slot: (file name, bytes)}}`` of the baked images
+    written beside (:func:`._textures.image_files`), referenced as ``map_Kd``, ``map_d``,
+    ``norm`` and ``map_Pr``; a textured material's ``Kd`` is white (the image is its
+    colour)."""
     scene = as_scene(scene)
+    images = images or {}
     seen: dict[str, object] = {}
     for mesh in scene.meshes:
         for mat in mesh.materials:
@@ -51,6 +61,9 @@ def mtl_text(scene) -> str:
     out = ["# sylva material library"]
     for name, mat in seen.items():
         r, g, b, a = mat.color  # type: ignore[attr-defined]
+        files = images.get(mat.name)  # type: ignore[attr-defined]
+        if files:
+            r = g = b = 1.0
         shininess = max(1.0, (1.0 - float(mat.roughness)) ** 2 * 1000.0)  # type: ignore[attr-defined]
         out += [
             f"newmtl {name}",
@@ -61,7 +74,9 @@ def mtl_text(scene) -> str:
             f"d {a:.6g}",
             "illum 2",
         ]
-        if mat.texture:  # type: ignore[attr-defined]
+        if files:
+            out += mtl_maps(files)
+        elif mat.texture:  # type: ignore[attr-defined]
             out.append(f"# procedural texture: {mat.texture}")  # type: ignore[attr-defined]
         out.append("")
     return "\n".join(out) + "\n"
@@ -78,8 +93,10 @@ def write_obj(scene, target: PathOrFile, *, mtl_file=None, up: str = "y") -> Non
             group = stack.enter_context(AtomicGroup())
             mtl_path = os.path.splitext(path)[0] + ".mtl"
             mtl_name = os.path.basename(mtl_path)
+            images = scene_images(scene, stem_of(path))
+            write_companions(group, os.path.dirname(path), images)
             with group.open(mtl_path, "w") as fh:
-                fh.write(mtl_text(scene))
+                fh.write(mtl_text(scene, images))
             fh = stack.enter_context(group.open(path, "w", main=True))
         else:
             if mtl_file is not None:
@@ -106,7 +123,7 @@ def _write_obj_body(fh, scene, mtl_name) -> None:
             fh.write(rows("v %.7g %.7g %.7g", mesh.vertices))
         has_uv = mesh.uvs is not None
         if has_uv:
-            fh.write(rows("vt %.6g %.6g", mesh.uvs))
+            fh.write(rows("vt %.6g %.6g", v_up(mesh.uvs)))  # OBJ's v runs up the image
         fh.write(rows("vn %.5g %.5g %.5g", mesh.normals))
         for mid, tris in material_groups(mesh):
             fh.write(f"usemtl {safe_name(material_of(mesh, mid).name)}\n")

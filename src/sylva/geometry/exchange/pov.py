@@ -5,7 +5,9 @@ POV-Ray is left-handed with +Y up; sylva is right-handed with +Y up, so z is neg
 points and normals).  Each (mesh, material) becomes a ``mesh2`` with its vertex, normal and
 uv vectors and a texture from the material; vertex colours (the tint times the material
 colour, :func:`~._common.shaded_colors`) become a ``texture_list`` of the distinct colours,
-referenced per vertex.  Render with ``povray +Iplant.pov +W800 +H600``.
+referenced per vertex.  A material with baked images (written beside a path target) is a
+``uv_mapping`` ``image_map`` pigment instead (uvs as ``u, 1 - v``: POV-Ray's ``v`` runs up
+the image).  Render with ``povray +Iplant.pov +W800 +H600``.
 
 Examples
 --------
@@ -19,8 +21,12 @@ True
 
 from __future__ import annotations
 
+import contextlib
+import os
+
 import numpy as np
 
+from ..._atomic import AtomicGroup
 from ._common import (
     PathOrFile,
     as_scene,
@@ -29,7 +35,9 @@ from ._common import (
     open_target,
     rows,
     shaded_colors,
+    target_path,
 )
+from ._textures import scene_images, stem_of, v_up, write_companions
 
 __all__ = ["write_pov"]
 
@@ -50,7 +58,16 @@ def write_pov(
         center, radius = np.zeros(3), 1.0
     dist = radius / np.tan(np.radians(camera_angle) / 2.0) * 1.1
     cx, cy, cz = center[0], center[1], -center[2]
-    with open_target(target, binary=False) as fh:
+    images = {}
+    with contextlib.ExitStack() as stack:
+        if isinstance(target, (str, os.PathLike)):
+            images = scene_images(scene, stem_of(target_path(target)))
+        if images:  # the images beside, appearing with the scene (the scene last)
+            group = stack.enter_context(AtomicGroup())
+            write_companions(group, os.path.dirname(os.fspath(target)), images)
+            fh = stack.enter_context(group.open(target, "w", main=True))
+        else:
+            fh = stack.enter_context(open_target(target, binary=False))
         w = fh.write
         w(f"// sylva: {scene.name}\n#version 3.7;\nglobal_settings {{ assumed_gamma 1.0 }}\n")
         r, g, b = background
@@ -91,9 +108,15 @@ def write_pov(
                     + "\n  }\n"
                 )
                 if mesh.uvs is not None:
-                    uv = mesh.uvs[used]
+                    uv = v_up(mesh.uvs[used])
                     w(f"  uv_vectors {{ {len(p)},\n" + rows("  <%.6g,%.6g>,", uv)[:-2] + "\n  }\n")
-                if shaded is not None:
+                files = images.get(mat.name) if mesh.uvs is not None else None
+                if files:
+                    w(f"  face_indices {{ {len(faces)},\n"
+                      + rows("  <%d,%d,%d>,", faces)[:-2] + "\n  }\n")  # fmt: skip
+                    w(f'  texture {{ uv_mapping pigment {{ image_map {{ png "{files["color"][0]}" '
+                      f"interpolate 2 }} }} {finish} }}\n")  # fmt: skip
+                elif shaded is not None:
                     cols = shaded[used, :3]
                     uniq, cidx = np.unique(np.round(cols, 3), axis=0, return_inverse=True)
                     cidx = cidx.reshape(-1)

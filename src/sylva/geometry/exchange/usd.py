@@ -4,9 +4,12 @@ Each mesh becomes a ``UsdGeom.Mesh`` (points, normals, ``primvars:st``, ``displa
 the colour each vertex is drawn with, its tint times its material colour) with a
 ``GeomSubset`` per material bound to a ``UsdPreviewSurface`` material; the subsets form a
 ``partition`` of the faces (every face in exactly one), the family type that
-``UsdValidation`` asks of material subsets.  Double-sided materials make their meshes
-``doubleSided``.  The stage has one metre per unit and its ``upAxis`` is ``up``: ``"y"``
-(the default, sylva's frame) or ``"z"`` (the points rotated, ``(x, y, z) -> (x, -z, y)``).
+``UsdValidation`` asks of material subsets.  Baked material images (written beside a path
+target) are ``UsdUVTexture`` shaders reading ``st`` (``u, 1 - v``: USD's ``t`` runs up the
+image) and feeding the surface's colour, opacity (cut-outs), normal and roughness.
+Double-sided materials make their meshes ``doubleSided``.  The stage has one metre per unit
+and its ``upAxis`` is ``up``: ``"y"`` (the default, sylva's frame) or ``"z"`` (the points
+rotated, ``(x, y, z) -> (x, -z, y)``).
 
 Examples
 --------
@@ -22,7 +25,7 @@ import tempfile
 
 import numpy as np
 
-from ..._atomic import atomic_path, os_error_from_text
+from ..._atomic import AtomicGroup, atomic_path, os_error_from_text
 from ...errors import SylvaError
 from ._common import (
     PathOrFile,
@@ -33,7 +36,9 @@ from ._common import (
     oriented_scene,
     safe_name,
     shaded_colors,
+    target_path,
 )
+from ._textures import scene_images, stem_of, usd_textures, v_up, write_companions
 
 __all__ = ["available", "write_usd"]
 
@@ -66,6 +71,16 @@ def write_usd(scene, target: PathOrFile, *, suffix: str | None = None, up: str =
     scene = oriented_scene(as_scene(scene), up)
     pxr = (Gf, Sdf, Usd, UsdGeom, UsdShade, Vt)
     if isinstance(target, (str, os.PathLike)):
+        images = scene_images(scene, stem_of(target_path(target)))
+        if images:  # baked images beside the stage, all appearing together, the stage last
+            with AtomicGroup() as group:
+                write_companions(group, os.path.dirname(os.fspath(target)), images)
+                tmp = group.path(target, main=True)
+                try:
+                    _write_stage(scene, tmp, up, pxr, images)
+                except Tf.ErrorException as exc:
+                    raise os_error_from_text(str(exc), tmp, "usd-core") from None
+            return
         with atomic_path(target) as tmp:
             try:
                 _write_stage(scene, tmp, up, pxr)
@@ -82,7 +97,7 @@ def write_usd(scene, target: PathOrFile, *, suffix: str | None = None, up: str =
         shutil.rmtree(tmpdir, ignore_errors=True)
 
 
-def _write_stage(scene, path: str, up: str, pxr) -> None:
+def _write_stage(scene, path: str, up: str, pxr, images: dict | None = None) -> None:
     Gf, Sdf, Usd, UsdGeom, UsdShade, Vt = pxr
     stage = Usd.Stage.CreateNew(path)
     UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z if up == "z" else UsdGeom.Tokens.y)
@@ -115,7 +130,7 @@ def _write_stage(scene, path: str, up: str, pxr) -> None:
             st = pv.CreatePrimvar(
                 "st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.vertex
             )
-            st.Set(Vt.Vec2fArray.FromNumpy(mesh.uvs))
+            st.Set(Vt.Vec2fArray.FromNumpy(v_up(mesh.uvs)))  # USD's t runs up the image
         if mesh.colors is not None:
             dc = gm.CreateDisplayColorPrimvar(UsdGeom.Tokens.vertex)
             dc.Set(Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(shaded_colors(mesh)[:, :3])))
@@ -137,6 +152,8 @@ def _write_stage(scene, path: str, up: str, pxr) -> None:
                 sh.CreateInput("opacity", Sdf.ValueTypeNames.Float).Set(float(mat.color[3]))
                 sh.CreateInput("roughness", Sdf.ValueTypeNames.Float).Set(float(mat.roughness))
                 sh.CreateInput("metallic", Sdf.ValueTypeNames.Float).Set(float(mat.metallic))
+                if images and mat.name in images:
+                    usd_textures(stage, m, sh, images[mat.name], mat, pxr)
                 m.CreateSurfaceOutput().ConnectToSource(sh.ConnectableAPI(), "surface")
                 looks[key] = m
             mesh_looks.add(key)
