@@ -43,7 +43,17 @@ from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
 from ._memory import _check_limit, block_step_bytes, fast_step_bytes, general_step_bytes
 from ._steps import _FLOOR_ITERATIONS, DEFAULT_MODULE_LIMIT, check_steps
 from .ast import MAX_STEPS, Program, Rule
-from .environment import Query, apply_query, has_queries, missing_query
+from .environment import (
+    Environment,
+    Locate,
+    Query,
+    apply_environment,
+    apply_query,
+    has_communication,
+    has_queries,
+    missing_environment,
+    missing_query,
+)
 from .expr import compile_expr, truth
 from .lstring import CLOSE, ID_DTYPE, OPEN, Alphabet, ModuleString
 from .matching import ignored_table, pattern_match
@@ -831,6 +841,16 @@ class Derivation:
         (``?P ?H ?U ?L``, at positions ``index``), called on the axiom and after every step
         (see :mod:`sylva.lsystem.environment`).  A program with query modules needs one:
         :func:`sylva.derive` and :func:`sylva.grow` pass the turtle's.
+    environment : callable, optional
+        The environment of an open L-system: ``environment(communication) -> float64[m,
+        k]`` gives the ``?E`` modules their parameters, all at once, on the axiom and after
+        every step (after the query modules; see
+        :class:`~sylva.lsystem.environment.Communication`).  A program with ``?E`` modules
+        needs one: :func:`sylva.grow` and :func:`sylva.derive` resolve the program's
+        ``environment = …`` or their own ``environment=``.
+    locate : callable, optional
+        ``locate(word, index) -> (positions, frames)``: the turtle's state at the ``?E``
+        modules, for the environment (:func:`sylva.plant.turtle_locate`).
 
     Examples
     --------
@@ -853,10 +873,16 @@ class Derivation:
         trace: bool = False,
         lineage: bool = False,
         query: Query | None = None,
+        environment: Environment | None = None,
+        locate: Locate | None = None,
     ) -> None:
         if query is None and has_queries(program):
             raise missing_query(program)
+        if environment is None and has_communication(program):
+            raise missing_environment(program)
         self.query = query
+        self.environment = environment
+        self.locate = locate
         self.program = program
         self.seed = _resolve_seed(seed, program)
         self.limit = int(limit)
@@ -924,6 +950,8 @@ class Derivation:
         self.word = self._axiom()
         if self.query is not None:
             self.word = apply_query(self.word, self.query, 0)
+        if self.environment is not None:
+            self.word = apply_environment(self.word, self.environment, 0, self.locate)
         self.step = 0
         self._history.clear()
         self._origin_rule = self._origin_step = None
@@ -943,6 +971,7 @@ class Derivation:
             not self.trace
             and not self.lineage
             and self.query is None
+            and self.environment is None
             and self.program.statements is None
             and comp.group_fn is None
             and not comp.decomposition.rules
@@ -1018,6 +1047,8 @@ class Derivation:
                                  self.limit)  # fmt: skip
         if self.query is not None:  # the turtle's state into the query modules
             new = apply_query(new, self.query, self.step + 1)
+        if self.environment is not None:  # the environment answers the ?E modules
+            new = apply_environment(new, self.environment, self.step + 1, self.locate)
         if stm is not None:
             stm.after(self._globals, self.step)
         self._history.append(saved)
@@ -1087,12 +1118,14 @@ def derive(
     limit: int = DEFAULT_MODULE_LIMIT,
     lineage: bool = False,
     query: Query | None = None,
+    environment: Environment | None = None,
+    locate: Locate | None = None,
 ) -> ModuleString:
     """The word after ``steps`` derivation steps (default: the program's own count, else 0).
 
-    ``lineage=True`` keys the random choices by ancestry and ``query`` fills the query
-    modules between steps (see :class:`Derivation`; :func:`sylva.derive` passes the
-    turtle's for a program with query modules).
+    ``lineage=True`` keys the random choices by ancestry, ``query`` fills the query
+    modules and ``environment`` the communication modules between steps (see
+    :class:`Derivation`; :func:`sylva.derive` passes the turtle's and the program's).
 
     >>> from sylva.lsystem.ast import Module, Pattern, Program, Rule
     >>> koch = Program(axiom=(Module("F"),), rules=(Rule(Pattern("F"),
@@ -1107,12 +1140,14 @@ def derive(
             raise
         # fast growth: the steps that fit are few, so keep their word as a step-by-step
         # derivation that met the limit would
-        d = Derivation(program, seed=seed, limit=limit, lineage=lineage, query=query)
+        d = Derivation(program, seed=seed, limit=limit, lineage=lineage, query=query,
+                       environment=environment, locate=locate)  # fmt: skip
         with contextlib.suppress(GrowthLimitError):
             d.advance(exc.fits)
         exc.word, exc.step = d.word, d.step
         raise
-    d = Derivation(program, seed=seed, limit=limit, lineage=lineage, query=query)
+    d = Derivation(program, seed=seed, limit=limit, lineage=lineage, query=query,
+                   environment=environment, locate=locate)  # fmt: skip
     return d.advance(n)
 
 
@@ -1123,10 +1158,13 @@ def iterate(
     seed: int | None = None,
     limit: int = DEFAULT_MODULE_LIMIT,
     query: Query | None = None,
+    environment: Environment | None = None,
+    locate: Locate | None = None,
 ) -> Iterator[ModuleString]:
     """Yield the words of steps ``0 … steps`` (step 0 is the axiom)."""
     n = check_steps(program, steps, limit=limit)
-    d = Derivation(program, seed=seed, limit=limit, query=query)
+    d = Derivation(program, seed=seed, limit=limit, query=query, environment=environment,
+                   locate=locate)  # fmt: skip
     yield d.word
     for _ in range(n):
         yield d.advance()

@@ -41,7 +41,7 @@ __all__ = [
 ]
 
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
-# "?" is quoted so that a module ? before P, H, U or L is not read back as a query module.
+# "?" is quoted so that a module ? before P, H, U, L or E is not read back as a query module.
 _NOT_BARE = set('()"#<>:=[]?')
 _UNARY_PRECEDENCE = 9  # above every binary operator, ** included (seed 001 §3.4)
 _ATOM = 10
@@ -211,7 +211,8 @@ def format_program(program: Program) -> str:
         raise ValueError("statements between steps (cpfg's StartEach:/EndEach:) have no "
                          ".lsys form")  # fmt: skip
     settings = dict(program.settings)
-    unknown = set(settings) - set(NUMERIC_SETTINGS) - set(COLOUR_SETTINGS) - {"turtle"}
+    unknown = set(settings) - set(NUMERIC_SETTINGS) - set(COLOUR_SETTINGS)
+    unknown -= {"turtle", "environment"}
     if unknown:
         raise ValueError(f"settings without a .lsys form: {', '.join(sorted(unknown))}")
     if "turtle" in settings:
@@ -219,6 +220,8 @@ def format_program(program: Program) -> str:
         if turtle not in TURTLES:
             raise ValueError(f"unknown turtle {turtle!r}")
         lines.append(f"turtle = {turtle}")
+    if "environment" in settings:
+        lines.append(f"environment = {settings['environment']}")
     if program.steps is not None:
         lines.append(f"steps = {int(program.steps)}")
     if program.seed is not None:

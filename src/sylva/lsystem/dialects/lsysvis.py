@@ -62,6 +62,11 @@ Extensions (so that every dialect converts to ``.lsys`` and back)
     ux, uy, uz])`` sets the heading (and up).  ``@`` is a module of its own; the letters
     after it name the function, as in cpfg, and an ``@`` followed by anything else is an
     error.
+``environment = light`` (or ``obstacle``, ``world``; options in parentheses)
+    The environment of an open L-system (Měch & Prusinkiewicz 1996): between steps it
+    sets the parameters of the communication modules ``?E(…)``
+    (:mod:`sylva.lsystem.environment`, :mod:`sylva.environments`), e.g. ``environment =
+    obstacle(shape = box, y = 2, sx = 3)``.
 ``decomposition:``, ``interpretation:``, ``production:``, ``group N:`` (section lines)
     The rules after ``decomposition:`` rewrite the word after every step (and the axiom),
     again and again until none applies, at most ``decomposition_depth = N`` times (default
@@ -125,6 +130,7 @@ from ..ast import (
     Unary,
     Var,
 )
+from ..environment import EnvironmentSpecError, parse_environment
 from ..expr import FUNCTIONS, evaluate_constant, free_variables
 from ._diagnostics import Where, describe_expected, join_words
 
@@ -174,7 +180,7 @@ TURTLES: tuple[str, ...] = ("lsys", "abop", "classic", "engine")
 DEPTHS: tuple[str, ...] = ("decomposition_depth", "interpretation_depth")
 SPECIAL_VARIABLES: frozenset[str] = frozenset(
     (*NUMERIC_SETTINGS, *COLOUR_SETTINGS, *DEPTHS, "axiom", "ignore", "consider", "seed",
-     "steps", "turtle", "group")
+     "steps", "turtle", "group", "environment")
 )  # fmt: skip
 #: The section headers among the rules and the phase of the rules after them.
 SECTIONS: Mapping[str, str] = {
@@ -890,6 +896,13 @@ class _Reader:
                 lambda: _known_hint(["step", *self.constants], "'step' or a global variable"),
             )
             self.group_expr = expr
+        elif name == "environment":
+            text = rest.split("#")[0].strip()
+            try:
+                parse_environment(text)
+            except EnvironmentSpecError as exc:
+                raise where.semantic(f"{exc}", value_col + exc.column) from None
+            self.settings["environment"] = text
         elif name == "turtle":
             t = _WORD_NAME.match(rest)
             if not t or t.group(1) not in TURTLES:
