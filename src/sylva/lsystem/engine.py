@@ -39,21 +39,12 @@ import numpy as np
 
 from .._jit import lazy
 from ..errors import GrowthLimitError, LSystemSemanticError, StepsError
+from . import environment as _open
 from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
 from ._memory import _check_limit, block_step_bytes, fast_step_bytes, general_step_bytes
 from ._steps import _FLOOR_ITERATIONS, DEFAULT_MODULE_LIMIT, check_steps
 from .ast import MAX_STEPS, Program, Rule
-from .environment import (
-    Environment,
-    Locate,
-    Query,
-    apply_environment,
-    apply_query,
-    has_communication,
-    has_queries,
-    missing_environment,
-    missing_query,
-)
+from .environment import Query, apply_query, has_queries, missing_query
 from .expr import compile_expr, truth
 from .lstring import CLOSE, ID_DTYPE, OPEN, Alphabet, ModuleString
 from .matching import ignored_table, pattern_match
@@ -67,7 +58,6 @@ __all__ = [
     "check_steps",
     "derive",
     "iterate",
-    "render_word",
 ]
 
 _MASK = (1 << 64) - 1
@@ -841,16 +831,11 @@ class Derivation:
         (``?P ?H ?U ?L``, at positions ``index``), called on the axiom and after every step
         (see :mod:`sylva.lsystem.environment`).  A program with query modules needs one:
         :func:`sylva.derive` and :func:`sylva.grow` pass the turtle's.
-    environment : callable, optional
-        The environment of an open L-system: ``environment(communication) -> float64[m,
-        k]`` gives the ``?E`` modules their parameters, all at once, on the axiom and after
-        every step (after the query modules; see
-        :class:`~sylva.lsystem.environment.Communication`).  A program with ``?E`` modules
-        needs one: :func:`sylva.grow` and :func:`sylva.derive` resolve the program's
-        ``environment = …`` or their own ``environment=``.
-    locate : callable, optional
-        ``locate(word, index) -> (positions, frames)``: the turtle's state at the ``?E``
-        modules, for the environment (:func:`sylva.plant.turtle_locate`).
+    environment, locate : callable, optional
+        An open L-system's environment, ``environment(communication) -> float64[m, k]``,
+        sets the ``?E`` modules' parameters on the axiom and after every step (after the
+        queries); ``locate(word, index)`` gives it the turtle's state there
+        (:mod:`sylva.lsystem.environment`; :func:`sylva.grow` passes the program's).
 
     Examples
     --------
@@ -873,13 +858,13 @@ class Derivation:
         trace: bool = False,
         lineage: bool = False,
         query: Query | None = None,
-        environment: Environment | None = None,
-        locate: Locate | None = None,
+        environment: _open.Environment | None = None,
+        locate: _open.Locate | None = None,
     ) -> None:
         if query is None and has_queries(program):
             raise missing_query(program)
-        if environment is None and has_communication(program):
-            raise missing_environment(program)
+        if environment is None and _open.has_communication(program):
+            raise _open.missing_environment(program)
         self.query = query
         self.environment = environment
         self.locate = locate
@@ -951,7 +936,7 @@ class Derivation:
         if self.query is not None:
             self.word = apply_query(self.word, self.query, 0)
         if self.environment is not None:
-            self.word = apply_environment(self.word, self.environment, 0, self.locate)
+            self.word = _open.apply_environment(self.word, self.environment, 0, self.locate)
         self.step = 0
         self._history.clear()
         self._origin_rule = self._origin_step = None
@@ -1048,7 +1033,7 @@ class Derivation:
         if self.query is not None:  # the turtle's state into the query modules
             new = apply_query(new, self.query, self.step + 1)
         if self.environment is not None:  # the environment answers the ?E modules
-            new = apply_environment(new, self.environment, self.step + 1, self.locate)
+            new = _open.apply_environment(new, self.environment, self.step + 1, self.locate)
         if stm is not None:
             stm.after(self._globals, self.step)
         self._history.append(saved)
@@ -1118,8 +1103,8 @@ def derive(
     limit: int = DEFAULT_MODULE_LIMIT,
     lineage: bool = False,
     query: Query | None = None,
-    environment: Environment | None = None,
-    locate: Locate | None = None,
+    environment: _open.Environment | None = None,
+    locate: _open.Locate | None = None,
 ) -> ModuleString:
     """The word after ``steps`` derivation steps (default: the program's own count, else 0).
 
@@ -1158,8 +1143,8 @@ def iterate(
     seed: int | None = None,
     limit: int = DEFAULT_MODULE_LIMIT,
     query: Query | None = None,
-    environment: Environment | None = None,
-    locate: Locate | None = None,
+    environment: _open.Environment | None = None,
+    locate: _open.Locate | None = None,
 ) -> Iterator[ModuleString]:
     """Yield the words of steps ``0 … steps`` (step 0 is the axiom)."""
     n = check_steps(program, steps, limit=limit)
@@ -1168,47 +1153,6 @@ def iterate(
     yield d.word
     for _ in range(n):
         yield d.advance()
-
-
-def render_word(
-    program: Program,
-    word: ModuleString,
-    *,
-    seed: int | None = None,
-    step: int = 0,
-) -> ModuleString:
-    """Apply the render rules (``->>``) of ``program`` once to ``word``.
-
-    ``word`` should come from a derivation of the same program (it shares its alphabet);
-    a word read from text is re-coded first.
-    """
-    comp = _compiled(program)
-    if not comp.render.rules and not comp.interpretation.rules:
-        return word
-    if word.alphabet is not comp.alphabet:
-        word = ModuleString.from_modules(iter(word), comp.alphabet)
-        comp.render.grow()
-    seed = _resolve_seed(seed, program)
-    word, _ = _passes(word, comp.interpretation, comp, seed, step,
-                      program.interpretation_depth, "interpretation",
-                      DEFAULT_MODULE_LIMIT)  # fmt: skip
-    if not comp.render.rules:
-        return word
-    key = step_key(seed, step, render=True)
-    return _step(word, comp.render, comp, key, DEFAULT_MODULE_LIMIT, step)
-
-
-def rewrite(
-    program: Program, word: ModuleString, *, seed: int | None = None, step: int = 0
-) -> ModuleString:
-    """One derivation step of ``program`` applied to an arbitrary ``word``."""
-    comp = _compiled(program)
-    rs = comp.rules_for(step)
-    if word.alphabet is not comp.alphabet:
-        word = ModuleString.from_modules(iter(word), comp.alphabet)
-        rs.grow()
-    key = step_key(_resolve_seed(seed, program), step)
-    return _step(word, rs, comp, key, DEFAULT_MODULE_LIMIT, step)
 
 
 _ = (OPEN, CLOSE)
