@@ -208,7 +208,7 @@ def turtle_query(program: Program, *, seed: int | None = None):
     rows = {"?H": 0, "?L": 1, "?U": 2}
 
     def query(word: ModuleString, index: np.ndarray) -> np.ndarray:
-        t = trace(word, program, seed=seed)
+        t = trace(_drawn(word, program), program, seed=seed)
         out = np.empty((index.size, 3))
         names = word.alphabet.names
         kind = np.array([names[i] for i in word.ids[index]])
@@ -220,6 +220,15 @@ def turtle_query(program: Program, *, seed: int | None = None):
         return out + 0.0  # no negative zeros
 
     return query
+
+
+def _drawn(word: ModuleString, program: Program) -> ModuleString:
+    """The word as the turtle reads it: a sub-L-system's end ``$`` draws nothing."""
+    if any(r.lsystem for r in program.rules):
+        from .lsystem._sublsystems import silence
+
+        return silence(word)
+    return word
 
 
 def turtle_locate(program: Program, *, seed: int | None = None):
@@ -238,7 +247,7 @@ def turtle_locate(program: Program, *, seed: int | None = None):
     """
 
     def locate(word: ModuleString, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        t = trace(word, program, seed=seed)
+        t = trace(_drawn(word, program), program, seed=seed)
         return t.positions[index] + 0.0, t.frames[index] + 0.0
 
     return locate

@@ -7,6 +7,7 @@ compiled rules and the step road are :mod:`sylva.lsystem.engine`'s.
 from __future__ import annotations
 
 from ._steps import DEFAULT_MODULE_LIMIT
+from ._sublsystems import scope, silence
 from .ast import Program
 from .engine import _compiled, _passes, _resolve_seed, _step, step_key
 from .lstring import ModuleString
@@ -28,7 +29,7 @@ def render_word(
     """
     comp = _compiled(program)
     if not comp.render.rules and not comp.interpretation.rules:
-        return word
+        return silence(word) if comp.sublsystems else word
     if word.alphabet is not comp.alphabet:
         word = ModuleString.from_modules(iter(word), comp.alphabet)
         comp.render.grow()
@@ -36,10 +37,10 @@ def render_word(
     word, _ = _passes(word, comp.interpretation, comp, seed, step,
                       program.interpretation_depth, "interpretation",
                       DEFAULT_MODULE_LIMIT)  # fmt: skip
-    if not comp.render.rules:
-        return word
-    key = step_key(seed, step, render=True)
-    return _step(word, comp.render, comp, key, DEFAULT_MODULE_LIMIT, step)
+    if comp.render.rules:
+        key = step_key(seed, step, render=True)
+        word = _step(word, comp.render, comp, key, DEFAULT_MODULE_LIMIT, step)
+    return silence(word) if comp.sublsystems else word
 
 
 def rewrite(
@@ -52,4 +53,5 @@ def rewrite(
         word = ModuleString.from_modules(iter(word), comp.alphabet)
         rs.grow()
     key = step_key(_resolve_seed(seed, program), step)
-    return _step(word, rs, comp, key, DEFAULT_MODULE_LIMIT, step)
+    where = scope(word) if comp.sublsystems else None
+    return _step(word, rs, comp, key, DEFAULT_MODULE_LIMIT, step, where)

@@ -39,6 +39,7 @@ import numpy as np
 
 from .._jit import lazy
 from ..errors import GrowthLimitError, LSystemSemanticError, StepsError
+from . import _sublsystems as _sub
 from . import environment as _open
 from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
 from ._memory import _check_limit, block_step_bytes, fast_step_bytes, general_step_bytes
@@ -329,6 +330,7 @@ class _Compiled:
         self._constants = constants
         self._groups: dict[int, _RuleSet] = {}
         self.productions = self.group_rules(0)
+        self.sublsystems = any(r.lsystem for r in program.productions)  # cpfg's ?(n) … $
         self.render = _RuleSet(program.render_rules, alphabet, constants)
         self.decomposition = _RuleSet(program.decompositions, alphabet, constants)
         self.interpretation = _RuleSet(program.interpretations, alphabet, constants)
@@ -538,10 +540,12 @@ def _step_general(
     step: int,
     choices: list | None = None,
     keys: np.ndarray | None = None,
+    scope: np.ndarray | None = None,
 ) -> ModuleString:
     """The general road; when ``choices`` is a list, the rule chosen per module is appended.
 
-    ``keys`` (``uint64[n]``, lineage keys) replace the positions in the random draws."""
+    ``keys`` (``uint64[n]``, lineage keys) replace the positions in the random draws;
+    ``scope`` (``int64[n]``) is each module's sub-L-system, which a rule's must match."""
     n = len(word)
     ids = word.ids
     choice = np.full(n, -1, np.int64)
@@ -569,6 +573,8 @@ def _step_general(
                     )
                 else:
                     ok = np.ones(k, np.bool_)
+                if scope is not None:
+                    ok &= scope[undecided] == cr.rule.lsystem
                 lpos = rpos = None
                 if cr.left.size:
                     okl, lpos = _kernels.match_left(
@@ -705,10 +711,12 @@ def _step_context(word, rs, comp, key, limit, step) -> ModuleString:
     return ModuleString(word.alphabet, ids)
 
 
-def _step(word, rs, comp, key, limit, step):
+def _step(word, rs, comp, key, limit, step, scope=None):
     if not rs.rules:
         return word
-    if rs.fast and not word.has_params:
+    if scope is not None:
+        out = _step_general(word, rs, comp, key, limit, step, scope=scope)
+    elif rs.fast and not word.has_params:
         out = _step_fast(word, rs, key, limit, step)
     elif rs.ctx_fast and not word.has_params:
         out = _step_context(word, rs, comp, key, limit, step)
@@ -775,7 +783,7 @@ def _passes(word, rs, comp, seed, step, depth, phase, limit, track=False):
     return word, src  # pragma: no cover - the loop returns or raises
 
 
-def _traced_step(word, rs, comp, key, limit, step, keys=None):
+def _traced_step(word, rs, comp, key, limit, step, keys=None, scope=None):
     """A general-road step that also says where every new module came from.
 
     Returns the new word, the index of the old module each new module replaced
@@ -788,7 +796,7 @@ def _traced_step(word, rs, comp, key, limit, step, keys=None):
         return word, idx, np.full(len(word), -1, np.int64), keys
     rs.grow()
     got: list[np.ndarray] = []
-    new = _step_general(word, rs, comp, key, limit, step, choices=got, keys=keys)
+    new = _step_general(word, rs, comp, key, limit, step, choices=got, keys=keys, scope=scope)
     choice = got[0]
     lens = np.where(choice < 0, 1, rs.rule_len[np.maximum(choice, 0)])
     src = np.repeat(np.arange(len(word), dtype=np.int64), lens)
@@ -959,6 +967,7 @@ class Derivation:
             and self.environment is None
             and self.program.statements is None
             and comp.group_fn is None
+            and not comp.sublsystems
             and not comp.decomposition.rules
             and rs.rules
             and rs.fast
@@ -1003,11 +1012,12 @@ class Derivation:
         key = step_key(self.seed, self.step)
         rs = comp.rules_for(self.step)
         decompose = comp.decomposition.rules
+        scope = _sub.scope(self.word) if comp.sublsystems else None
         saved = (self.word, self._origin_rule, self._origin_step, self._keys,
                  before if stm is not None else None)  # fmt: skip
         if self.trace or self.lineage:
             new, src, rule, keys = _traced_step(self.word, rs, comp, key, self.limit,
-                                                self.step, self._keys)  # fmt: skip
+                                                self.step, self._keys, scope)  # fmt: skip
             if self.trace:
                 made = rule >= 0
                 if made.any():  # the group's rule index in program.productions
@@ -1025,7 +1035,7 @@ class Derivation:
                     keys = decomposed_keys(keys, src)
             self._keys = keys
         else:
-            new = _step(self.word, rs, comp, key, self.limit, self.step)
+            new = _step(self.word, rs, comp, key, self.limit, self.step, scope)
             if decompose:
                 new, _ = _passes(new, comp.decomposition, comp, self.seed, self.step + 1,
                                  self.program.decomposition_depth, "decomposition",
@@ -1062,10 +1072,10 @@ class Derivation:
         word, _ = _passes(self.word, comp.interpretation, comp, self.seed, self.step,
                           self.program.interpretation_depth, "interpretation",
                           self.limit)  # fmt: skip
-        if not comp.render.rules:
-            return word
-        key = step_key(self.seed, self.step, render=True)
-        return _step(word, comp.render, comp, key, self.limit, self.step)
+        if comp.render.rules:
+            key = step_key(self.seed, self.step, render=True)
+            word = _step(word, comp.render, comp, key, self.limit, self.step)
+        return _sub.silence(word) if comp.sublsystems else word
 
     def render_word_sources(self) -> tuple[ModuleString, np.ndarray]:
         """The render word and, per render-word module, the index of the word module it
@@ -1076,7 +1086,7 @@ class Derivation:
                               self.limit, track=True)  # fmt: skip
         key = step_key(self.seed, self.step, render=True)
         word, src, _, _ = _traced_step(word, comp.render, comp, key, self.limit, self.step)
-        return word, first[src]
+        return (_sub.silence(word) if comp.sublsystems else word), first[src]
 
     def __iter__(self) -> Iterator[ModuleString]:
         """Yield the current word, then each following word, without end."""

@@ -257,12 +257,16 @@ def format_program(program: Program) -> str:
     lines.append("axiom = " + format_word(program.axiom))
     if program.rules:
         lines.append("")
-        section = ("production", 0)
+        section = ("production", 0, 0)
         for r in program.rules:
-            if (r.phase, r.group) != section:
-                if r.phase not in SECTIONS or (r.group and r.phase != "production"):
+            lsys = getattr(r, "lsystem", 0)
+            if (r.phase, r.group, lsys) != section:
+                if r.phase not in SECTIONS or ((r.group or lsys) and r.phase != "production"):
                     raise ValueError(f"a rule of phase {r.phase!r} in group {r.group}")
-                section = (r.phase, r.group)
-                lines.append(f"group {int(r.group)}:" if r.group else f"{r.phase}:")
+                if r.group and lsys:
+                    raise ValueError(f"a rule of group {r.group} in sub-L-system {lsys}")
+                section = (r.phase, r.group, lsys)
+                lines.append(f"group {int(r.group)}:" if r.group else
+                             f"lsystem {int(lsys)}:" if lsys else f"{r.phase}:")  # fmt: skip
             lines.append(format_rule(r))
     return "\n".join(lines) + "\n"

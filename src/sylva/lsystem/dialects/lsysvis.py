@@ -77,6 +77,12 @@ Extensions (so that every dialect converts to ``.lsys`` and back)
     L-Py's groups); ``group = expression`` (of ``step``, the steps done before, from 0, and
     the global variables) picks each step's table, and the rules outside any group apply
     in every step.  ``production:`` returns to those.
+``lsystem N:`` (a section line; N >= 1) and the calls ``?(N)`` … ``$``
+    Sub-L-systems (cpfg's, for compound plants): the productions after ``lsystem N:``
+    rewrite only the modules between a call ``?(N)`` and its ``$`` (calls nest; ``?(N)``
+    belongs to the caller, ``$`` to the callee); the main productions only the others.
+    ``?`` and ``$`` draw nothing, so in a program with sub-L-systems ``$`` is not ABOP's
+    roll to vertical (write ``@v``).  Any other section line returns to the main L-system.
 
 Special variables go to :attr:`Program.settings` (only those the file sets; ``bg``, ``color``
 and ``color_delta`` as 3-tuples of floats, ``turtle`` as a string, the rest as floats), user
@@ -188,8 +194,11 @@ SECTIONS: Mapping[str, str] = {
     "decomposition": "decomposition",
     "interpretation": "interpretation",
     "group": "production",
+    "lsystem": "production",
 }
-_SECTION_LINE = re.compile(r"\s*(production|decomposition|interpretation|group)\b(?!\s*=)")
+_SECTION_LINE = re.compile(
+    r"\s*(production|decomposition|interpretation|group|lsystem)\b(?!\s*=)"
+)
 
 #: The functions that follow ``@`` in a word (cpfg's ``@O @v @M @R @Ts @Ti @Td``), for the
 #: turtles that read them; ``T`` is followed by one of its own letters.
@@ -765,6 +774,7 @@ class _Reader:
         self.at_words: list[tuple[list[_Item], Where]] = []  # checked once the turtle is known
         self.phase = "production"  # of the rules that follow: set by section headers
         self.group = 0
+        self.lsystem = 0  # of the productions that follow: set by 'lsystem N:'
         self.group_expr: Expr | None = None
         self.depths: dict[str, int] = {}
 
@@ -814,8 +824,9 @@ class _Reader:
                         ) from None
                     raise
                 rule = _build_rule(parts, where, self.constants)
-                if self.phase != "production" or self.group:
-                    rule = replace(rule, phase=self.phase, group=self.group)
+                if self.phase != "production" or self.group or self.lsystem:
+                    rule = replace(rule, phase=self.phase, group=self.group,
+                                   lsystem=self.lsystem)  # fmt: skip
                 self.rules.append(rule)
                 if any(it.symbol == "@" and not it.bracket for it in parts[-1]):
                     self.at_words.append((parts[-1], where))
@@ -823,17 +834,23 @@ class _Reader:
     def section(self, parts, where: Where) -> None:
         kw, number, _colon = parts
         name = str(kw)
-        if name == "group":
+        self.lsystem = 0
+        if name in ("group", "lsystem"):
+            what = "a group" if name == "group" else "a sub-L-system"
             if number is None:
                 raise where.error(
-                    "expected the group's number: 'group 1:'", where.end_column()
+                    f"expected the {name}'s number: '{name} 1:'", where.end_column()
                 )
             v = float(number)
-            if not v.is_integer() or v < 0:
+            low = 0 if name == "group" else 1
+            if not v.is_integer() or v < low:
                 raise where.semantic(
-                    f"a group is a whole number >= 0, got {number}", number.column
+                    f"{what} is a whole number >= {low}, got {number}", number.column
                 )
-            self.group = int(v)
+            if name == "group":
+                self.group = int(v)
+            else:
+                self.group, self.lsystem = 0, int(v)
         elif number is not None:
             raise where.error(
                 f"'{name}:' takes no number; expected ':' after {name!r}", number.column
