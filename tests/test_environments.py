@@ -125,3 +125,23 @@ def test_the_command_line_takes_an_environment(tmp_path, capsys):
     assert capsys.readouterr().out.strip() == 'F(2)F(1)F(1)"?E"(0.5)'
     assert main(["derive", str(f), "-n", "1"]) == 2
     assert "expected an environment" in capsys.readouterr().err
+
+
+def test_the_light_example_two_trees_shade_each_other_and_lean_apart():
+    import dataclasses
+
+    from sylva.data import find
+
+    p = sylva.load(find("41-sylva-light-competition").path)
+    cut = [m.symbol for m in p.axiom].index("@")  # the axiom: [tree 1] @M(2.6,0,0) [tree 2]
+    lone = grow(dataclasses.replace(p, axiom=p.axiom[:cut]), 12).geometry.seg_end
+    both = grow(p, 12)
+    syms = [s for s, _ in both.word]
+    n1 = syms[: syms.index("M")].count("F")  # tree 1's segments come first
+    ends = both.geometry.seg_end
+    one, two = ends[:n1], ends[n1:] - [2.6, 0, 0]
+    # alone, the tree is what the second tree would be; together each crown turns away
+    # from the other's shade (tree 2 stands at +x), and tree 1 loses shoots to it
+    assert one[:, 0].mean() < lone[:, 0].mean() - 0.15
+    assert two[:, 0].mean() > lone[:, 0].mean() + 0.15
+    assert len(one) < len(lone)

@@ -108,3 +108,19 @@ def test_every_road_gives_the_same_word_with_sub_lsystems(rules, seed):
         for _ in range(3):
             d.advance(1)
         assert d.word == plain
+
+
+def test_the_compound_inflorescence_example_keeps_each_rule_in_its_sub_lsystem():
+    from sylva.data import find
+
+    p = sylva.load(find("43-sylva-compound-inflorescence").path)
+    w = sylva.derive(p)
+    lengths = [v[0] for s, v in w if s == "F"]
+    # the main axis: F(0.6) and six F(0.45), untouched by sub-L-system 1's F rule; the
+    # racemes' internodes start at 0.2 and elongate by 1.15 a step up to 0.35 and more
+    assert lengths.count(0.45) == 6 and lengths.count(0.6) == 1
+    raceme = [x for x in lengths if x not in (0.45, 0.6)]
+    assert raceme and min(raceme) >= 0.2 and max(raceme) > 0.35
+    assert any(abs(x - 0.2 * 1.15**3) < 1e-9 for x in raceme)
+    # flowers (sub-L-system 2) opened into five petals each
+    assert sum(1 for s, _ in w if s == "~") % 5 == 0 and any(s == "~" for s, _ in w)

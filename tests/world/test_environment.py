@@ -67,3 +67,19 @@ def test_a_rock_is_stone_and_the_probe_answers_height_and_biome():
     assert len(ends) >= 2 and ends[-1][0] > -4  # it grew, and stopped short of the centre
     assert [v for s, v in word if s == "?E"][-1][1] == Block.STONE  # with the rock ahead
     assert (env.probe(ends)[:, 0] == Block.AIR).all()  # nothing of it is in the stone
+
+
+def test_the_rock_example_grows_around_the_boulder_and_not_into_it():
+    from sylva.data import find
+    from sylva.environments import resolve_environment
+
+    p = loads(find("42-sylva-world-rock").path.read_text(), filename="42.lsys")
+    env = resolve_environment(None, p)
+    assert isinstance(env, WorldEnvironment)
+    plant = grow(p)
+    out = env.probe(plant.geometry.seg_end)
+    above = out[:, 1] > 0
+    assert above.sum() > 50 and (out[above, 0] == Block.AIR).all()  # no shoot in the rock
+    # shoots met it and turned (the +(20) of a blocked apex), and some climbed past its top
+    assert sum(1 for s, v in plant.word if s == "+" and v == (20.0,)) >= 3
+    assert plant.geometry.seg_end[:, 1].max() > 0.8 + 1.3
