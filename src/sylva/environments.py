@@ -49,7 +49,6 @@ from .lsystem.environment import (
     Communication,
     Environment,
     EnvironmentSpecError,
-    has_communication,
     parse_environment,
 )
 
@@ -262,7 +261,3 @@ def resolve_environment(
         raise SylvaError(f"environment {environment!r}: {exc}") from None
     return builtin(name, options)
 
-
-def needs_environment(program: Program) -> bool:
-    """True when ``program`` has ``?E`` modules."""
-    return has_communication(program)

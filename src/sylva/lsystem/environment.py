@@ -59,12 +59,22 @@ QUERY_MODULES = {"?P": "position", "?H": "heading", "?U": "up", "?L": "left"}
 Query = Callable[[ModuleString, np.ndarray], np.ndarray]
 
 
+def _written(program: Program) -> frozenset[str]:
+    """The symbols of ``program``'s axiom and successors, found once and kept on the
+    (frozen) program: an axiom of 100 k modules is not walked again for every derivation."""
+    found = program.__dict__.get("_sylva_written")
+    if found is None:
+        names = {m.symbol for m in program.axiom}
+        for rule in program.rules:
+            names.update(m.symbol for m in rule.successor)
+        found = frozenset(names)
+        object.__setattr__(program, "_sylva_written", found)
+    return found
+
+
 def has_queries(program: Program) -> bool:
     """True when a query module appears in the axiom or in a successor of ``program``."""
-    mods = list(program.axiom)
-    for rule in program.rules:
-        mods.extend(rule.successor)
-    return any(m.symbol in QUERY_MODULES for m in mods)
+    return not _written(program).isdisjoint(QUERY_MODULES)
 
 
 def query_index(word: ModuleString) -> np.ndarray:
@@ -204,10 +214,7 @@ Locate = Callable[[ModuleString, np.ndarray], tuple[np.ndarray, np.ndarray]]
 
 def has_communication(program: Program) -> bool:
     """True when a ``?E`` module appears in the axiom or in a successor of ``program``."""
-    mods = list(program.axiom)
-    for rule in program.rules:
-        mods.extend(rule.successor)
-    return any(m.symbol == COMMUNICATION for m in mods)
+    return COMMUNICATION in _written(program)
 
 
 def communication_index(word: ModuleString) -> np.ndarray:
