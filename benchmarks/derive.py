@@ -6,8 +6,11 @@ Each figure is the median of several runs after a warm-up (compilation excluded)
 peer runs when ``node`` is on PATH; ``npm ci`` in ``benchmarks/peers`` is done on demand.
 Figures are symbols (or modules) of the final word per second of the whole derivation,
 except for the context-sensitive rows, which count every module rewritten in every step,
-and the tropism row, which counts the modules the turtle interprets per second (ABOP §2.3
-bending after every step; the peer has no turtle).
+the tropism row, which counts the modules the turtle interprets per second (ABOP §2.3
+bending after every step; the peer has no turtle), and the open L-system row, which counts
+module-steps per second of a tree of 82 k modules whose 8,192 buds ask the light
+environment (Palubicki's shadow grid) after every step: derivation, the turtle's trace and
+the grid together (``--open-steps``, default 100; the issue's figure is 1,000).
 """
 
 from __future__ import annotations
@@ -43,9 +46,13 @@ WORKLOADS = {
     "parametric": ("R = 1.456\naxiom = A(1)\nA(s) -> F(s)[+A(s/R)][-A(s/R)]", 18, 8.0),
     # interpretation, not derivation: the turtle walks ABOP Fig. 2.8b (T, e) at n = 10
     "tropism": (None, 10, 5.0),
+    # an open L-system: a fixed tree whose buds read their light every step
+    "open": (None, 100, 1.0),
 }
 #: Workloads that time the turtle (modules interpreted per second); the peer has none.
 TURTLE = ("tropism",)
+#: Workloads that time an open L-system with its environment (module-steps per second).
+OPEN = ("open",)
 LABELS = {
     "koch": "D0L Koch, 10 steps",
     "plant": "bracketed plant ABOP 1.24d, 11 steps",
@@ -54,6 +61,7 @@ LABELS = {
     "bracketed": "bracketed context-sensitive, tree of 116 k modules",
     "parametric": "parametric A(s) -> F(s)[+A(s/R)][-A(s/R)], 18 steps",
     "tropism": "turtle with tropism: ABOP Fig. 2.8b, n = 10 (interpret)",
+    "open": "open L-system, light: 82 k-module tree, {steps} steps",
 }
 
 
@@ -81,6 +89,32 @@ def measure_turtle(name: str, repeat: int, **overrides) -> tuple[float, int]:
         interpret(word, p, **overrides)
         times.append(time.perf_counter() - t)
     return statistics.median(times), len(word)
+
+
+def open_program(name: str = "open"):
+    """A tree of 13 binary levels with a bud ``?E(q,u,v,w) A(n)`` at each of its 8,192
+    tips; a bud counts the steps it spent in light (the word keeps its size)."""
+    tree = derive(loads("axiom = X\nX -> F(1)[&(35)X]/(137.5)[&(35)X]"), 13).to_text()
+    text = "axiom = " + tree.replace("X", "?E(0,0,0,0)A(0)")
+    return loads(text + "\n?E(q,u,v,w) < A(n) : q > 0.5 -> A(n + 1)\n")
+
+
+def measure_open(name: str, repeat: int, steps: int) -> tuple[float, int]:
+    from sylva.environments import Light
+    from sylva.lsystem import Derivation
+    from sylva.plant import turtle_locate
+
+    p = open_program(name)
+    env, locate = Light(voxel=0.5, shadow=0.1), turtle_locate(p)
+    d = Derivation(p, environment=env, locate=locate)
+    d.advance(2)  # compile
+    times = []
+    for _ in range(max(1, repeat // 3)):
+        d = Derivation(p, environment=env, locate=locate)
+        t = time.perf_counter()
+        d.advance(steps)
+        times.append(time.perf_counter() - t)
+    return statistics.median(times), len(d.word) * steps
 
 
 def measure(name: str, repeat: int) -> tuple[float, int]:
@@ -127,13 +161,19 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--no-peer", action="store_true")
+    ap.add_argument("--open-steps", type=int, default=WORKLOADS["open"][1],
+                    help="steps of the open L-system row (default 100)")
     ap.add_argument("names", nargs="*", default=list(WORKLOADS))
     args = ap.parse_args()
     rows = []
     for name in args.names:
-        sec, size = (measure_turtle if name in TURTLE else measure)(name, args.repeat)
+        if name in OPEN:
+            sec, size = measure_open(name, args.repeat, args.open_steps)
+        else:
+            sec, size = (measure_turtle if name in TURTLE else measure)(name, args.repeat)
         rows.append((name, size / sec / 1e6, sec))
-    theirs = {} if args.no_peer else peer([n for n in args.names if n not in TURTLE])
+    theirs = {} if args.no_peer else peer([n for n in args.names
+                                            if n not in TURTLE and n not in OPEN])
     print(f"{'workload':56s} {'sylva M/s':>10s} {'target':>7s} {'peer M/s':>9s} {'ratio':>7s}")
     for name, mps, _sec in rows:
         target = WORKLOADS[name][2]
@@ -142,7 +182,10 @@ def main() -> int:
         ratio = f"{mps / pm:6.1f}x" if pm else "     -"
         pms = f"{pm:9.2f}" if pm else "        -"
         flag = "" if mps >= target else "  (below target)"
-        print(f"{LABELS[name]:56s} {mps:10.1f} {target:7.0f} {pms} {ratio}{flag}")
+        label = LABELS[name].format(steps=args.open_steps)
+        print(f"{label:56s} {mps:10.1f} {target:7.0f} {pms} {ratio}{flag}")
+        if name in OPEN:
+            print(f"{'  seconds per step':56s} {_sec / args.open_steps:10.3f}")
     if "tropism" in args.names:  # the same word and walk without bending, for comparison
         sec, size = measure_turtle("tropism", args.repeat, elasticity=0.0)
         print(f"{'  the same word without tropism (elasticity = 0)':56s} {size / sec / 1e6:10.1f}")

@@ -1,8 +1,8 @@
 """A mature quaking aspen from parameters to mesh, and the contact sheet of every species.
 
-Run: ``PYTHONPATH=src python benchmarks/tree.py [--runs N] [--sheet] [--all]``.  Prints the median and
-best of N warm runs of ``Tree("quaking_aspen", seed=7).grow().mesh()`` (the first run, which
-imports and compiles, is reported apart), and with ``--sheet`` the time of
+Run: ``PYTHONPATH=src python benchmarks/tree.py [--runs N] [--sheet] [--all]``.  Prints the
+median and best of N warm runs of ``Tree("quaking_aspen", seed=7).grow().mesh()`` (the
+first run, which imports and compiles, is reported apart), and with ``--sheet`` the time of
 ``sylva tree --sheet`` (every species at three ages, rendered).  The CPU time of the process
 is printed beside the wall clock: on a loaded machine the wall clock mostly measures others.
 ``--all`` also grows every shipped species at its mature age (``Age``), warm, and prints the

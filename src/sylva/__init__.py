@@ -114,18 +114,22 @@ def _register_ipython() -> None:
 _register_ipython()
 
 
-def derive(program, steps=None, *, seed=None, limit=None, lineage=False):
+def derive(program, steps=None, *, seed=None, limit=None, lineage=False, environment=None):
     """The word after ``steps`` derivation steps: :func:`sylva.lsystem.derive`, and for a
-    program with query modules (``?P ?H ?U ?L``) the turtle answers them between steps
-    (:func:`sylva.plant.derive`)."""
+    program with query modules (``?P ?H ?U ?L``) the turtle answers them between steps,
+    for one with communication modules (``?E``) the ``environment`` (default: the
+    program's own; :func:`sylva.plant.derive`)."""
     from .lsystem import DEFAULT_MODULE_LIMIT
-    from .lsystem.environment import has_queries
+    from .lsystem.environment import has_communication, has_queries
 
     limit = DEFAULT_MODULE_LIMIT if limit is None else limit
-    if has_queries(program):
+    if has_queries(program) or has_communication(program):
         from .plant import derive as _derive
-    else:
-        from .lsystem import derive as _derive
+
+        return _derive(program, steps, seed=seed, limit=limit, lineage=lineage,
+                       environment=environment)  # fmt: skip
+    from .lsystem import derive as _derive
+
     return _derive(program, steps, seed=seed, limit=limit, lineage=lineage)
 
 

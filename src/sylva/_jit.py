@@ -54,6 +54,7 @@ KERNEL_MODULES = {
     "sylva.texture._fractal_kernels": "fractal",
     "sylva.tree._kernels": "tree",
     "sylva.world._kernels": "world",
+    "sylva._light_kernels": "light",
 }
 
 

@@ -29,12 +29,13 @@ from .geometry.mesh import Scene
 from .geometry.records import Geometry
 from .lsystem import DEFAULT_MODULE_LIMIT, Derivation, ModuleString, Program, load
 from .lsystem.engine import check_steps
-from .lsystem.environment import has_queries
+from .lsystem.environment import has_communication, has_queries
 from .turtle import interpret, trace
 
 __all__ = [
-    "Plant", "derive", "grow", "grow_geometry", "growth_scenes", "is_2d", "plant_texture",
-    "query_for", "resolve", "texture_segments", "turtle_query",
+    "Plant", "derive", "environment_for", "grow", "grow_geometry", "growth_scenes", "is_2d",
+    "plant_texture", "query_for", "resolve", "texture_segments", "turtle_locate",
+    "turtle_query",
 ]  # fmt: skip
 
 #: Symbols that leave the plane (seed 001 §5.3: the camera is 2D when none is used).
@@ -207,7 +208,7 @@ def turtle_query(program: Program, *, seed: int | None = None):
     rows = {"?H": 0, "?L": 1, "?U": 2}
 
     def query(word: ModuleString, index: np.ndarray) -> np.ndarray:
-        t = trace(word, program, seed=seed)
+        t = trace(_drawn(word, program), program, seed=seed)
         out = np.empty((index.size, 3))
         names = word.alphabet.names
         kind = np.array([names[i] for i in word.ids[index]])
@@ -219,6 +220,56 @@ def turtle_query(program: Program, *, seed: int | None = None):
         return out + 0.0  # no negative zeros
 
     return query
+
+
+def _drawn(word: ModuleString, program: Program) -> ModuleString:
+    """The word as the turtle reads it: a sub-L-system's end ``$`` draws nothing."""
+    if any(r.lsystem for r in program.rules):
+        from .lsystem._sublsystems import silence
+
+        return silence(word)
+    return word
+
+
+def turtle_locate(program: Program, *, seed: int | None = None):
+    """The ``locate`` callback of :class:`~sylva.lsystem.Derivation`: the turtle's
+    position and frame (rows H, L, U) at the communication modules ``?E`` of a word, for
+    an open L-system's environment (the word as derived, like :func:`turtle_query`).
+
+    Examples
+    --------
+    >>> from sylva.lsystem import loads
+    >>> from sylva.lsystem.lstring import ModuleString
+    >>> p = loads("axiom = F")
+    >>> pos, frames = turtle_locate(p)(ModuleString.from_text("F(2)?E(0)"), np.array([1]))
+    >>> pos.round(9).tolist(), frames[0, 0].round(9).tolist()
+    ([[0.0, 2.0, 0.0]], [0.0, 1.0, 0.0])
+    """
+
+    def locate(word: ModuleString, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        t = trace(_drawn(word, program), program, seed=seed)
+        return t.positions[index] + 0.0, t.frames[index] + 0.0
+
+    return locate
+
+
+def environment_for(program: Program, seed: int | None = None, environment=None):
+    """``(environment, locate)`` for :class:`~sylva.lsystem.Derivation`: ``environment``
+    (a name such as ``"light"``, a function, or None for the program's own ``environment
+    = …``, :func:`sylva.environments.resolve_environment`) and the turtle's
+    :func:`turtle_locate`; ``(None, None)`` for a program without ``?E`` modules."""
+    if not has_communication(program):
+        return None, None
+    from .environments import resolve_environment
+
+    env = resolve_environment(environment, program)
+    return env, (turtle_locate(program, seed=seed) if env is not None else None)
+
+
+def _derivation(program: Program, seed, environment=None, **kw) -> Derivation:
+    env, locate = environment_for(program, seed, environment)
+    return Derivation(program, seed=seed, query=query_for(program, seed), environment=env,
+                      locate=locate, **kw)  # fmt: skip
 
 
 def query_for(program: Program, seed: int | None = None):
@@ -234,17 +285,24 @@ def derive(
     seed: int | None = None,
     limit: int = DEFAULT_MODULE_LIMIT,
     lineage: bool = False,
+    environment=None,
 ) -> ModuleString:
-    """:func:`sylva.lsystem.derive`, with the turtle answering the query modules.
+    """:func:`sylva.lsystem.derive`, with the turtle answering the query modules and the
+    environment the communication modules.
 
     A program with ``?P`` / ``?H`` / ``?U`` / ``?L`` modules is derived with
-    :func:`turtle_query` (the word is interpreted after every step); any other program
-    exactly as :func:`sylva.lsystem.derive` derives it.
+    :func:`turtle_query` (the word is interpreted after every step), one with ``?E``
+    modules with ``environment`` (default: the program's ``environment = …``, see
+    :func:`environment_for`); any other program exactly as :func:`sylva.lsystem.derive`
+    derives it.
     """
     from .lsystem.engine import derive as _derive
 
-    q = query_for(program, seed if seed is not None else program.seed)
-    return _derive(program, steps, seed=seed, limit=limit, lineage=lineage, query=q)
+    s = seed if seed is not None else program.seed
+    q = query_for(program, s)
+    env, locate = environment_for(program, s, environment)
+    return _derive(program, steps, seed=seed, limit=limit, lineage=lineage, query=q,
+                   environment=env, locate=locate)  # fmt: skip
 
 
 def grow(
@@ -256,6 +314,7 @@ def grow(
     mode: str = "tube",
     taper: str | None = None,
     limit: int = DEFAULT_MODULE_LIMIT,
+    environment=None,
 ) -> Plant:
     """Derive ``source`` and build its meshes.
 
@@ -271,15 +330,22 @@ def grow(
         Passed to :func:`sylva.geometry.build.build_mesh`.
     limit : int
         The module limit of the derivation.
+    environment : str or callable, optional
+        The environment of an open L-system's ``?E`` modules: a built-in's name with
+        options (``"light"``, ``"obstacle(shape = box)"``, ``"world"``;
+        :mod:`sylva.environments`) or a function of a
+        :class:`~sylva.lsystem.environment.Communication`.  Default: the program's
+        ``environment = …``.
     """
-    program, seed, n, word, rw, geometry = grow_geometry(source, steps, seed=seed, limit=limit)
+    program, seed, n, word, rw, geometry = grow_geometry(source, steps, seed=seed, limit=limit,
+                                                         environment=environment)  # fmt: skip
     dd = _detail(program, detail)
     scene = build_mesh(geometry, detail=dd, mode=mode, taper=taper)
     return Plant(program, seed, n, word, rw, geometry, scene, dd, mode, taper)
 
 
 def grow_geometry(source, steps: int | None = None, *, seed: int | None = None,
-                  limit: int = DEFAULT_MODULE_LIMIT):
+                  limit: int = DEFAULT_MODULE_LIMIT, environment=None):
     """:func:`grow` up to the turtle, without the meshes.
 
     Returns
@@ -293,7 +359,7 @@ def grow_geometry(source, steps: int | None = None, *, seed: int | None = None,
     _check_count(n, "steps")
     _check_count(seed, "seed", signed=True)
     n = check_steps(program, steps, limit=limit)
-    d = Derivation(program, seed=seed, limit=limit, query=query_for(program, seed))
+    d = _derivation(program, seed, environment, limit=limit)
     d.advance(n)
     rw = d.render_word()
     return program, seed, n, d.word, rw, interpret(rw, program, seed=seed)
@@ -322,6 +388,7 @@ def growth_scenes(
     detail: int | None = None,
     mode: str = "tube",
     limit: int = DEFAULT_MODULE_LIMIT,
+    environment=None,
 ) -> Iterator[Scene]:
     """Scenes of a plant growing: one per derivation step, or ``substeps`` per step.
 
@@ -335,7 +402,7 @@ def growth_scenes(
         seed = program.seed if program.seed is not None else 1
     n = check_steps(program, steps, limit=limit)
     smooth = substeps > 1 and program.turtle != "engine"
-    d = Derivation(program, seed=seed, trace=smooth, limit=limit, query=query_for(program, seed))
+    d = _derivation(program, seed, environment, trace=smooth, limit=limit)
     dd = _detail(program, detail)
 
     def scene_of(word: ModuleString) -> Scene:
@@ -448,7 +515,7 @@ def plant_texture(
     program = resolve(source)
     if seed is None:
         seed = program.seed if program.seed is not None else 1
-    d = Derivation(program, seed=seed, limit=limit, query=query_for(program, seed))
+    d = _derivation(program, seed, None, limit=limit)
     d.advance(check_steps(program, steps, limit=limit))
     geometry = interpret(d.render_word(), program, seed=seed)
     return draw_segments(

@@ -412,6 +412,7 @@ def cli_commands() -> dict[str, str]:
 API_MODULES = {
     "sylva": "the curated API: read, write, define and derive L-systems",
     "sylva.plant": "from an L-system to meshes in one call",
+    "sylva.environments": "the environments of open L-systems (light, obstacles, the world)",
     "sylva.lsystem": "the language, the programs and the derivation engine",
     "sylva.turtle": "the 3D turtle and its command tables",
     "sylva.geometry": "meshes and scenes",
@@ -432,6 +433,7 @@ API_CLASSES = {
     "sylva": ("Program", "ModuleString", "Derivation", "SylvaError", "LSystemSyntaxError",
               "LSystemSemanticError", "GrowthLimitError"),
     "sylva.plant": ("Plant",),
+    "sylva.environments": ("Light", "Obstacle"),
     "sylva.geometry": ("Scene", "Mesh", "Material"),
     "sylva.render": ("Camera", "Sun", "PointLight", "Sky", "Ground"),
     "sylva.tree": ("Tree", "Wind"),

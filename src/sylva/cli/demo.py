@@ -27,7 +27,7 @@ def register(sub) -> None:
 def grow_all(out=sys.stdout) -> list[tuple[str, int, float]]:
     from ..data import examples
     from ..lsystem import Derivation, load
-    from ..plant import query_for
+    from ..plant import environment_for, query_for
 
     rows = []
     print(f"{'example':40s} {'dialect':8s} {'steps':>5s} {'modules':>10s} {'time':>8s}", file=out)
@@ -35,7 +35,8 @@ def grow_all(out=sys.stdout) -> list[tuple[str, int, float]]:
         p = load(ex.path)
         t = time.perf_counter()
         seed = p.seed if p.seed is not None else 1
-        d = Derivation(p, seed=seed, query=query_for(p, seed))
+        env, locate = environment_for(p, seed)
+        d = Derivation(p, seed=seed, query=query_for(p, seed), environment=env, locate=locate)
         d.advance(p.steps or 0)
         r = d.render_word()
         dt = time.perf_counter() - t

@@ -49,6 +49,10 @@ def add_common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--limit", type=int, default=DEFAULT_MODULE_LIMIT,
                    help=f"stop before a word passes this many modules "
                         f"(default {DEFAULT_MODULE_LIMIT:,})")
+    p.add_argument("--environment", metavar="ENV", default=None,
+                   help="an open L-system's environment for its ?E modules: light, "
+                        "obstacle, world, with options as in the .lsys directive, e.g. "
+                        "'obstacle(shape = box, sy = 2)' (default: the file's environment = …)")
 
 
 def register(sub) -> None:
@@ -108,6 +112,20 @@ def stopped_note(exc: GrowthLimitError, asked: int, word: ModuleString) -> str:
             f"modules: {exc}")  # fmt: skip
 
 
+def _environment(program: Program, seed: int | None, environment=None) -> dict:
+    """The environment of the ?E modules and the turtle's locate, for a program that has
+    them (the ``environment=`` and ``locate=`` of :class:`~sylva.lsystem.Derivation`)."""
+    from ..lsystem.environment import has_communication
+
+    if not has_communication(program):
+        return {}
+    from ..plant import environment_for
+
+    env, locate = environment_for(program, seed if seed is not None else program.seed,
+                                  environment)  # fmt: skip
+    return {"environment": env, "locate": locate}
+
+
 def _query(program: Program, seed: int | None):
     """The turtle's answer to the query modules, for a program that has them."""
     if not has_queries(program):
@@ -118,7 +136,7 @@ def _query(program: Program, seed: int | None):
 
 
 def derive_keeping(program: Program, steps: int | None, *, seed: int | None, limit: int,
-                   keep_last: bool) -> ModuleString:  # fmt: skip
+                   keep_last: bool, environment=None) -> ModuleString:  # fmt: skip
     """The word after ``steps`` (``-n``) steps; with ``keep_last``, the word of the last step
     that fits when the module or memory limit stops the derivation (said on stderr)."""
     try:
@@ -129,7 +147,8 @@ def derive_keeping(program: Program, steps: int | None, *, seed: int | None, lim
         print(f"sylva: note: {exc}\nsylva: note: deriving at most {exc.fits:,} steps "
               "(--keep-last)", file=sys.stderr)  # fmt: skip
         n = exc.fits
-    d = Derivation(program, seed=seed, limit=limit, query=_query(program, seed))
+    d = Derivation(program, seed=seed, limit=limit, query=_query(program, seed),
+                   **_environment(program, seed, environment))  # fmt: skip
     try:
         d.advance(n)
     except GrowthLimitError as exc:
@@ -154,7 +173,8 @@ def run(args) -> int:
         print(f"sylva: note: {exc}\nsylva: note: deriving at most {exc.fits:,} steps "
               "(--keep-last)", file=sys.stderr)  # fmt: skip
         steps = exc.fits
-    d = Derivation(program, seed=args.seed, limit=args.limit, query=_query(program, args.seed))
+    d = Derivation(program, seed=args.seed, limit=args.limit, query=_query(program, args.seed),
+                   **_environment(program, args.seed, args.environment))  # fmt: skip
     out = sys.stdout
 
     def show(dd: Derivation) -> None:

@@ -24,6 +24,10 @@ def register(sub) -> None:
     p.add_argument("-o", "--output", required=True, metavar="OUT", help="OUT.png or OUT.jpg")
     p.add_argument("--view", metavar="V", default=None,
                    help="cpfg: the view file (.v) to read (default: the one beside FILE)")
+    p.add_argument("--environment", metavar="ENV", default=None,
+                   help="an open L-system's environment for its ?E modules: light, "
+                        "obstacle, world, with options as in the .lsys directive, e.g. "
+                        "'obstacle(shape = box, sy = 2)' (default: the file's environment = …)")
     p.add_argument("--line-width", type=float, default=2.0,
                    help="in 2D, draw branches at least this many pixels wide (default 2)")
     p.set_defaults(func=run)
@@ -45,7 +49,7 @@ def run(args) -> int:
     limit = DEFAULT_MODULE_LIMIT if args.limit is None else args.limit
     check_steps(source, args.steps, limit=limit, option="-n")
     plant = grow(source, args.steps, seed=args.seed, detail=args.detail, mode=args.mode,
-                 limit=limit)
+                 limit=limit, environment=args.environment)
     t1 = time.perf_counter()
     w, h = args.size
     mode = camera_for(args, plant)

@@ -5,10 +5,11 @@
 'abaababa'
 """
 
+from ._rewrite import render_word, rewrite
 from .ast import Module, Pattern, Program, Rule
 from .build import define
 from .dialects import detect, dumps, load, load_all, loads, parse_expr, parse_rule, parse_word
-from .engine import DEFAULT_MODULE_LIMIT, Derivation, derive, iterate, render_word, rewrite
+from .engine import DEFAULT_MODULE_LIMIT, Derivation, derive, iterate
 from .lstring import Alphabet, ModuleString
 
 __all__ = [

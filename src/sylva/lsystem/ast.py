@@ -126,7 +126,10 @@ class Rule:
     turtle draws, at most :attr:`Program.interpretation_depth` times); cpfg's and L-Py's
     sections of those names.  ``group`` is the table (ABOP §1.4 table L-systems, L-Py's
     ``group``) of a production: 0, the default, is used in every step, another group only
-    in the steps :attr:`Program.group` chooses it.
+    in the steps :attr:`Program.group` chooses it.  ``lsystem`` is the sub-L-system
+    (cpfg's sub-L-systems, ABOP §… compound plants) whose modules a production rewrites: 0
+    the main one, ``n`` the modules between a call ``?(n)`` and its ``$``
+    (:mod:`sylva.lsystem._sublsystems`).
     """
 
     predecessor: Pattern
@@ -139,6 +142,7 @@ class Rule:
     span: Span | None = field(default=None, compare=False)
     phase: str = "production"
     group: int = 0
+    lsystem: int = 0
 
     @property
     def has_context(self) -> bool:

@@ -39,6 +39,8 @@ import numpy as np
 
 from .._jit import road
 from ..errors import GrowthLimitError, LSystemSemanticError, StepsError
+from . import _sublsystems as _sub
+from . import environment as _open
 from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
 from ._memory import _check_limit, block_step_bytes, fast_step_bytes, general_step_bytes
 from ._steps import _FLOOR_ITERATIONS, DEFAULT_MODULE_LIMIT, check_steps
@@ -57,7 +59,6 @@ __all__ = [
     "check_steps",
     "derive",
     "iterate",
-    "render_word",
 ]
 
 _MASK = (1 << 64) - 1
@@ -329,6 +330,7 @@ class _Compiled:
         self._constants = constants
         self._groups: dict[int, _RuleSet] = {}
         self.productions = self.group_rules(0)
+        self.sublsystems = any(r.lsystem for r in program.productions)  # cpfg's ?(n) … $
         self.render = _RuleSet(program.render_rules, alphabet, constants)
         self.decomposition = _RuleSet(program.decompositions, alphabet, constants)
         self.interpretation = _RuleSet(program.interpretations, alphabet, constants)
@@ -538,10 +540,12 @@ def _step_general(
     step: int,
     choices: list | None = None,
     keys: np.ndarray | None = None,
+    scope: np.ndarray | None = None,
 ) -> ModuleString:
     """The general road; when ``choices`` is a list, the rule chosen per module is appended.
 
-    ``keys`` (``uint64[n]``, lineage keys) replace the positions in the random draws."""
+    ``keys`` (``uint64[n]``, lineage keys) replace the positions in the random draws;
+    ``scope`` (``int64[n]``) is each module's sub-L-system, which a rule's must match."""
     n = len(word)
     ids = word.ids
     choice = np.full(n, -1, np.int64)
@@ -569,6 +573,8 @@ def _step_general(
                     )
                 else:
                     ok = np.ones(k, np.bool_)
+                if scope is not None:
+                    ok &= scope[undecided] == cr.rule.lsystem
                 lpos = rpos = None
                 if cr.left.size:
                     okl, lpos = _kernels.match_left(
@@ -705,10 +711,12 @@ def _step_context(word, rs, comp, key, limit, step) -> ModuleString:
     return ModuleString(word.alphabet, ids)
 
 
-def _step(word, rs, comp, key, limit, step):
+def _step(word, rs, comp, key, limit, step, scope=None):
     if not rs.rules:
         return word
-    if rs.fast and not word.has_params:
+    if scope is not None:
+        out = _step_general(word, rs, comp, key, limit, step, scope=scope)
+    elif rs.fast and not word.has_params:
         out = _step_fast(word, rs, key, limit, step)
     elif rs.ctx_fast and not word.has_params:
         out = _step_context(word, rs, comp, key, limit, step)
@@ -775,7 +783,7 @@ def _passes(word, rs, comp, seed, step, depth, phase, limit, track=False):
     return word, src  # pragma: no cover - the loop returns or raises
 
 
-def _traced_step(word, rs, comp, key, limit, step, keys=None):
+def _traced_step(word, rs, comp, key, limit, step, keys=None, scope=None):
     """A general-road step that also says where every new module came from.
 
     Returns the new word, the index of the old module each new module replaced
@@ -788,7 +796,7 @@ def _traced_step(word, rs, comp, key, limit, step, keys=None):
         return word, idx, np.full(len(word), -1, np.int64), keys
     rs.grow()
     got: list[np.ndarray] = []
-    new = _step_general(word, rs, comp, key, limit, step, choices=got, keys=keys)
+    new = _step_general(word, rs, comp, key, limit, step, choices=got, keys=keys, scope=scope)
     choice = got[0]
     lens = np.where(choice < 0, 1, rs.rule_len[np.maximum(choice, 0)])
     src = np.repeat(np.arange(len(word), dtype=np.int64), lens)
@@ -831,6 +839,11 @@ class Derivation:
         (``?P ?H ?U ?L``, at positions ``index``), called on the axiom and after every step
         (see :mod:`sylva.lsystem.environment`).  A program with query modules needs one:
         :func:`sylva.derive` and :func:`sylva.grow` pass the turtle's.
+    environment, locate : callable, optional
+        An open L-system's environment, ``environment(communication) -> float64[m, k]``,
+        sets the ``?E`` modules' parameters on the axiom and after every step (after the
+        queries); ``locate(word, index)`` gives it the turtle's state there
+        (:mod:`sylva.lsystem.environment`; :func:`sylva.grow` passes the program's).
 
     Attributes
     ----------
@@ -861,10 +874,16 @@ class Derivation:
         trace: bool = False,
         lineage: bool = False,
         query: Query | None = None,
+        environment: _open.Environment | None = None,
+        locate: _open.Locate | None = None,
     ) -> None:
         if query is None and has_queries(program):
             raise missing_query(program)
+        if environment is None and _open.has_communication(program):
+            raise _open.missing_environment(program)
         self.query = query
+        self.environment = environment
+        self.locate = locate
         self.program = program
         self.seed = _resolve_seed(seed, program)
         self.limit = int(limit)
@@ -936,6 +955,8 @@ class Derivation:
         self.word = self._axiom()
         if self.query is not None:
             self.word = apply_query(self.word, self.query, 0)
+        if self.environment is not None:
+            self.word = _open.apply_environment(self.word, self.environment, 0, self.locate)
         self.step = 0
         self._history.clear()
         self._origin_rule = self._origin_step = None
@@ -955,8 +976,10 @@ class Derivation:
             not self.trace
             and not self.lineage
             and self.query is None
+            and self.environment is None
             and self.program.statements is None
             and comp.group_fn is None
+            and not comp.sublsystems
             and not comp.decomposition.rules
             and rs.rules
             and rs.fast
@@ -1001,11 +1024,12 @@ class Derivation:
         key = step_key(self.seed, self.step)
         rs = comp.rules_for(self.step)
         decompose = comp.decomposition.rules
+        scope = _sub.scope(self.word) if comp.sublsystems else None
         saved = (self.word, self._origin_rule, self._origin_step, self._keys,
                  before if stm is not None else None)  # fmt: skip
         if self.trace or self.lineage:
             new, src, rule, keys = _traced_step(self.word, rs, comp, key, self.limit,
-                                                self.step, self._keys)  # fmt: skip
+                                                self.step, self._keys, scope)  # fmt: skip
             if self.trace:
                 made = rule >= 0
                 if made.any():  # the group's rule index in program.productions
@@ -1025,13 +1049,15 @@ class Derivation:
                     keys = decomposed_keys(keys, src)
             self._keys = keys
         else:
-            new = _step(self.word, rs, comp, key, self.limit, self.step)
+            new = _step(self.word, rs, comp, key, self.limit, self.step, scope)
             if decompose:
                 new, _ = _passes(new, comp.decomposition, comp, self.seed, self.step + 1,
                                  self.program.decomposition_depth, "decomposition",
                                  self.limit)  # fmt: skip
         if self.query is not None:  # the turtle's state into the query modules
             new = apply_query(new, self.query, self.step + 1)
+        if self.environment is not None:  # the environment answers the ?E modules
+            new = _open.apply_environment(new, self.environment, self.step + 1, self.locate)
         if stm is not None:
             stm.after(self._globals, self.step)
         self._history.append(saved)
@@ -1060,10 +1086,10 @@ class Derivation:
         word, _ = _passes(self.word, comp.interpretation, comp, self.seed, self.step,
                           self.program.interpretation_depth, "interpretation",
                           self.limit)  # fmt: skip
-        if not comp.render.rules:
-            return word
-        key = step_key(self.seed, self.step, render=True)
-        return _step(word, comp.render, comp, key, self.limit, self.step)
+        if comp.render.rules:
+            key = step_key(self.seed, self.step, render=True)
+            word = _step(word, comp.render, comp, key, self.limit, self.step)
+        return _sub.silence(word) if comp.sublsystems else word
 
     def render_word_sources(self) -> tuple[ModuleString, np.ndarray]:
         """The render word and, per render-word module, the index of the word module it
@@ -1074,7 +1100,7 @@ class Derivation:
                               self.limit, track=True)  # fmt: skip
         key = step_key(self.seed, self.step, render=True)
         word, src, _, _ = _traced_step(word, comp.render, comp, key, self.limit, self.step)
-        return word, first[src]
+        return (_sub.silence(word) if comp.sublsystems else word), first[src]
 
     def __iter__(self) -> Iterator[ModuleString]:
         """Yield the current word, then each following word, without end."""
@@ -1101,12 +1127,14 @@ def derive(
     limit: int = DEFAULT_MODULE_LIMIT,
     lineage: bool = False,
     query: Query | None = None,
+    environment: _open.Environment | None = None,
+    locate: _open.Locate | None = None,
 ) -> ModuleString:
     """The word after ``steps`` derivation steps (default: the program's own count, else 0).
 
-    ``lineage=True`` keys the random choices by ancestry and ``query`` fills the query
-    modules between steps (see :class:`Derivation`; :func:`sylva.derive` passes the
-    turtle's for a program with query modules).
+    ``lineage=True`` keys the random choices by ancestry, ``query`` fills the query
+    modules and ``environment`` the communication modules between steps (see
+    :class:`Derivation`; :func:`sylva.derive` passes the turtle's and the program's).
 
     >>> from sylva.lsystem.ast import Module, Pattern, Program, Rule
     >>> koch = Program(axiom=(Module("F"),), rules=(Rule(Pattern("F"),
@@ -1121,12 +1149,14 @@ def derive(
             raise
         # fast growth: the steps that fit are few, so keep their word as a step-by-step
         # derivation that met the limit would
-        d = Derivation(program, seed=seed, limit=limit, lineage=lineage, query=query)
+        d = Derivation(program, seed=seed, limit=limit, lineage=lineage, query=query,
+                       environment=environment, locate=locate)  # fmt: skip
         with contextlib.suppress(GrowthLimitError):
             d.advance(exc.fits)
         exc.word, exc.step = d.word, d.step
         raise
-    d = Derivation(program, seed=seed, limit=limit, lineage=lineage, query=query)
+    d = Derivation(program, seed=seed, limit=limit, lineage=lineage, query=query,
+                   environment=environment, locate=locate)  # fmt: skip
     return d.advance(n)
 
 
@@ -1137,54 +1167,16 @@ def iterate(
     seed: int | None = None,
     limit: int = DEFAULT_MODULE_LIMIT,
     query: Query | None = None,
+    environment: _open.Environment | None = None,
+    locate: _open.Locate | None = None,
 ) -> Iterator[ModuleString]:
     """Yield the words of steps ``0 … steps`` (step 0 is the axiom)."""
     n = check_steps(program, steps, limit=limit)
-    d = Derivation(program, seed=seed, limit=limit, query=query)
+    d = Derivation(program, seed=seed, limit=limit, query=query, environment=environment,
+                   locate=locate)  # fmt: skip
     yield d.word
     for _ in range(n):
         yield d.advance()
-
-
-def render_word(
-    program: Program,
-    word: ModuleString,
-    *,
-    seed: int | None = None,
-    step: int = 0,
-) -> ModuleString:
-    """Apply the render rules (``->>``) of ``program`` once to ``word``.
-
-    ``word`` should come from a derivation of the same program (it shares its alphabet);
-    a word read from text is re-coded first.
-    """
-    comp = _compiled(program)
-    if not comp.render.rules and not comp.interpretation.rules:
-        return word
-    if word.alphabet is not comp.alphabet:
-        word = ModuleString.from_modules(iter(word), comp.alphabet)
-        comp.render.grow()
-    seed = _resolve_seed(seed, program)
-    word, _ = _passes(word, comp.interpretation, comp, seed, step,
-                      program.interpretation_depth, "interpretation",
-                      DEFAULT_MODULE_LIMIT)  # fmt: skip
-    if not comp.render.rules:
-        return word
-    key = step_key(seed, step, render=True)
-    return _step(word, comp.render, comp, key, DEFAULT_MODULE_LIMIT, step)
-
-
-def rewrite(
-    program: Program, word: ModuleString, *, seed: int | None = None, step: int = 0
-) -> ModuleString:
-    """One derivation step of ``program`` applied to an arbitrary ``word``."""
-    comp = _compiled(program)
-    rs = comp.rules_for(step)
-    if word.alphabet is not comp.alphabet:
-        word = ModuleString.from_modules(iter(word), comp.alphabet)
-        rs.grow()
-    key = step_key(_resolve_seed(seed, program), step)
-    return _step(word, rs, comp, key, DEFAULT_MODULE_LIMIT, step)
 
 
 _ = (OPEN, CLOSE)

@@ -58,7 +58,7 @@ ID_DTYPE = np.uint16
 MAX_SYMBOLS = 65535
 
 # Characters that are syntax in a word and cannot be one-character module names.
-# "?" is quoted so that a module ? before P, H, U or L is not read back as a query module.
+# "?" is quoted so that a module ? before P, H, U, L or E is not read back as a query module.
 _SYNTAX = set('()",#?') | set(" \t\r\n")
 
 
@@ -129,7 +129,7 @@ def format_symbol(name: str) -> str:
 
 _NUM = r"[-+]?(?:\d+\.?\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?|True|False|inf|nan)"
 _TOKEN = re.compile(
-    r'\s*(?:"(?P<long>[^"\n]*)"|(?P<char>\?[PHUL]|[^\s()",#]))\s*(?P<args>\((?P<inner>[^()]*)\))?'
+    r'\s*(?:"(?P<long>[^"\n]*)"|(?P<char>\?[PHULE]|[^\s()",#]))\s*(?P<args>\((?P<inner>[^()]*)\))?'
 )
 _ARG = re.compile(r"\s*(" + _NUM + r")\s*(,|$)")
 

@@ -140,10 +140,13 @@ def load_program(text: str, *, dialect: str | None, filename: str | None,
 def new_derivation(program, *, seed: int | None, limits: Limits, trace: bool) -> Derivation:
     if seed is not None and not (0 <= int(seed) < 2**63):
         raise SylvaError("the seed must be an integer in [0, 2**63)")
-    from ..plant import query_for  # the turtle answers the query modules (?P ?H ?U ?L)
+    from ..plant import environment_for, query_for  # the turtle answers ?P ?H ?U ?L, the
+    # program's environment its ?E modules
 
-    query = query_for(program, seed if seed is not None else program.seed)
-    return Derivation(program, seed=seed, limit=limits.max_modules, trace=trace, query=query)
+    s = seed if seed is not None else program.seed
+    env, locate = environment_for(program, s)
+    return Derivation(program, seed=seed, limit=limits.max_modules, trace=trace,
+                      query=query_for(program, s), environment=env, locate=locate)
 
 
 def turtle_table(program) -> str:

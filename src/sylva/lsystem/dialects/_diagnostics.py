@@ -133,8 +133,9 @@ def char_symbols(
 
     Used by the one-character dialects (seed 000 and seed 004); ``comment`` is the
     dialect's comment character, named in the error for a character that cannot be a
-    symbol.  Brackets must balance.  ``?P`` ``?H`` ``?U`` ``?L`` written together are
-    query modules, which these dialects do not have: an error naming ``dialect``.
+    symbol.  Brackets must balance.  ``?P`` ``?H`` ``?U`` ``?L`` ``?E`` written together
+    are query and communication modules, which these dialects do not have: an error naming
+    ``dialect``.
     """
     out = []
     depth: list[int] = []
@@ -148,9 +149,12 @@ def char_symbols(
                 f"'\"' and '{comment}'",
                 col,
             )
-        if ch == "?" and text[i + 1 : i + 2] in ("P", "H", "U", "L"):
+        if ch == "?" and text[i + 1 : i + 2] in ("P", "H", "U", "L", "E"):
             raise where.error(
-                f"{text[i:i + 2]!r} is a query module of cpfg and .lsys, which the {dialect} "
+                f"{text[i:i + 2]!r} is a "
+                + ("communication module (open L-systems)" if text[i + 1] == "E"
+                   else "query module")
+                + f" of cpfg and .lsys, which the {dialect} "
                 "format does not have; expected one-character symbols (write "
                 f"'? {text[i + 1]}' for the two symbols, or use the .lsys or cpfg language)",
                 col,

@@ -41,7 +41,7 @@ __all__ = [
 ]
 
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
-# "?" is quoted so that a module ? before P, H, U or L is not read back as a query module.
+# "?" is quoted so that a module ? before P, H, U, L or E is not read back as a query module.
 _NOT_BARE = set('()"#<>:=[]?')
 _UNARY_PRECEDENCE = 9  # above every binary operator, ** included (seed 001 §3.4)
 _ATOM = 10
@@ -211,7 +211,8 @@ def format_program(program: Program) -> str:
         raise ValueError("statements between steps (cpfg's StartEach:/EndEach:) have no "
                          ".lsys form")  # fmt: skip
     settings = dict(program.settings)
-    unknown = set(settings) - set(NUMERIC_SETTINGS) - set(COLOUR_SETTINGS) - {"turtle"}
+    unknown = set(settings) - set(NUMERIC_SETTINGS) - set(COLOUR_SETTINGS)
+    unknown -= {"turtle", "environment"}
     if unknown:
         raise ValueError(f"settings without a .lsys form: {', '.join(sorted(unknown))}")
     if "turtle" in settings:
@@ -219,6 +220,8 @@ def format_program(program: Program) -> str:
         if turtle not in TURTLES:
             raise ValueError(f"unknown turtle {turtle!r}")
         lines.append(f"turtle = {turtle}")
+    if "environment" in settings:
+        lines.append(f"environment = {settings['environment']}")
     if program.steps is not None:
         lines.append(f"steps = {int(program.steps)}")
     if program.seed is not None:
@@ -254,12 +257,16 @@ def format_program(program: Program) -> str:
     lines.append("axiom = " + format_word(program.axiom))
     if program.rules:
         lines.append("")
-        section = ("production", 0)
+        section = ("production", 0, 0)
         for r in program.rules:
-            if (r.phase, r.group) != section:
-                if r.phase not in SECTIONS or (r.group and r.phase != "production"):
+            lsys = getattr(r, "lsystem", 0)
+            if (r.phase, r.group, lsys) != section:
+                if r.phase not in SECTIONS or ((r.group or lsys) and r.phase != "production"):
                     raise ValueError(f"a rule of phase {r.phase!r} in group {r.group}")
-                section = (r.phase, r.group)
-                lines.append(f"group {int(r.group)}:" if r.group else f"{r.phase}:")
+                if r.group and lsys:
+                    raise ValueError(f"a rule of group {r.group} in sub-L-system {lsys}")
+                section = (r.phase, r.group, lsys)
+                lines.append(f"group {int(r.group)}:" if r.group else
+                             f"lsystem {int(lsys)}:" if lsys else f"{r.phase}:")  # fmt: skip
             lines.append(format_rule(r))
     return "\n".join(lines) + "\n"

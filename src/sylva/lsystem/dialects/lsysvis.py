@@ -62,6 +62,11 @@ Extensions (so that every dialect converts to ``.lsys`` and back)
     ux, uy, uz])`` sets the heading (and up).  ``@`` is a module of its own; the letters
     after it name the function, as in cpfg, and an ``@`` followed by anything else is an
     error.
+``environment = light`` (or ``obstacle``, ``world``; options in parentheses)
+    The environment of an open L-system (Měch & Prusinkiewicz 1996): between steps it
+    sets the parameters of the communication modules ``?E(…)``
+    (:mod:`sylva.lsystem.environment`, :mod:`sylva.environments`), e.g. ``environment =
+    obstacle(shape = box, y = 2, sx = 3)``.
 ``decomposition:``, ``interpretation:``, ``production:``, ``group N:`` (section lines)
     The rules after ``decomposition:`` rewrite the word after every step (and the axiom),
     again and again until none applies, at most ``decomposition_depth = N`` times (default
@@ -72,6 +77,12 @@ Extensions (so that every dialect converts to ``.lsys`` and back)
     L-Py's groups); ``group = expression`` (of ``step``, the steps done before, from 0, and
     the global variables) picks each step's table, and the rules outside any group apply
     in every step.  ``production:`` returns to those.
+``lsystem N:`` (a section line; N >= 1) and the calls ``?(N)`` … ``$``
+    Sub-L-systems (cpfg's, for compound plants): the productions after ``lsystem N:``
+    rewrite only the modules between a call ``?(N)`` and its ``$`` (calls nest; ``?(N)``
+    belongs to the caller, ``$`` to the callee); the main productions only the others.
+    ``?`` and ``$`` draw nothing, so in a program with sub-L-systems ``$`` is not ABOP's
+    roll to vertical (write ``@v``).  Any other section line returns to the main L-system.
 
 Special variables go to :attr:`Program.settings` (only those the file sets; ``bg``, ``color``
 and ``color_delta`` as 3-tuples of floats, ``turtle`` as a string, the rest as floats), user
@@ -125,6 +136,7 @@ from ..ast import (
     Unary,
     Var,
 )
+from ..environment import EnvironmentSpecError, parse_environment
 from ..expr import FUNCTIONS, evaluate_constant, free_variables
 from ._diagnostics import Where, describe_expected, join_words
 
@@ -174,7 +186,7 @@ TURTLES: tuple[str, ...] = ("lsys", "abop", "classic", "engine")
 DEPTHS: tuple[str, ...] = ("decomposition_depth", "interpretation_depth")
 SPECIAL_VARIABLES: frozenset[str] = frozenset(
     (*NUMERIC_SETTINGS, *COLOUR_SETTINGS, *DEPTHS, "axiom", "ignore", "consider", "seed",
-     "steps", "turtle", "group")
+     "steps", "turtle", "group", "environment")
 )  # fmt: skip
 #: The section headers among the rules and the phase of the rules after them.
 SECTIONS: Mapping[str, str] = {
@@ -182,8 +194,11 @@ SECTIONS: Mapping[str, str] = {
     "decomposition": "decomposition",
     "interpretation": "interpretation",
     "group": "production",
+    "lsystem": "production",
 }
-_SECTION_LINE = re.compile(r"\s*(production|decomposition|interpretation|group)\b(?!\s*=)")
+_SECTION_LINE = re.compile(
+    r"\s*(production|decomposition|interpretation|group|lsystem)\b(?!\s*=)"
+)
 
 #: The functions that follow ``@`` in a word (cpfg's ``@O @v @M @R @Ts @Ti @Td``), for the
 #: turtles that read them; ``T`` is followed by one of its own letters.
@@ -759,6 +774,7 @@ class _Reader:
         self.at_words: list[tuple[list[_Item], Where]] = []  # checked once the turtle is known
         self.phase = "production"  # of the rules that follow: set by section headers
         self.group = 0
+        self.lsystem = 0  # of the productions that follow: set by 'lsystem N:'
         self.group_expr: Expr | None = None
         self.depths: dict[str, int] = {}
 
@@ -808,8 +824,9 @@ class _Reader:
                         ) from None
                     raise
                 rule = _build_rule(parts, where, self.constants)
-                if self.phase != "production" or self.group:
-                    rule = replace(rule, phase=self.phase, group=self.group)
+                if self.phase != "production" or self.group or self.lsystem:
+                    rule = replace(rule, phase=self.phase, group=self.group,
+                                   lsystem=self.lsystem)  # fmt: skip
                 self.rules.append(rule)
                 if any(it.symbol == "@" and not it.bracket for it in parts[-1]):
                     self.at_words.append((parts[-1], where))
@@ -817,17 +834,23 @@ class _Reader:
     def section(self, parts, where: Where) -> None:
         kw, number, _colon = parts
         name = str(kw)
-        if name == "group":
+        self.lsystem = 0
+        if name in ("group", "lsystem"):
+            what = "a group" if name == "group" else "a sub-L-system"
             if number is None:
                 raise where.error(
-                    "expected the group's number: 'group 1:'", where.end_column()
+                    f"expected the {name}'s number: '{name} 1:'", where.end_column()
                 )
             v = float(number)
-            if not v.is_integer() or v < 0:
+            low = 0 if name == "group" else 1
+            if not v.is_integer() or v < low:
                 raise where.semantic(
-                    f"a group is a whole number >= 0, got {number}", number.column
+                    f"{what} is a whole number >= {low}, got {number}", number.column
                 )
-            self.group = int(v)
+            if name == "group":
+                self.group = int(v)
+            else:
+                self.group, self.lsystem = 0, int(v)
         elif number is not None:
             raise where.error(
                 f"'{name}:' takes no number; expected ':' after {name!r}", number.column
@@ -890,6 +913,13 @@ class _Reader:
                 lambda: _known_hint(["step", *self.constants], "'step' or a global variable"),
             )
             self.group_expr = expr
+        elif name == "environment":
+            text = rest.split("#")[0].strip()
+            try:
+                parse_environment(text)
+            except EnvironmentSpecError as exc:
+                raise where.semantic(f"{exc}", value_col + exc.column) from None
+            self.settings["environment"] = text
         elif name == "turtle":
             t = _WORD_NAME.match(rest)
             if not t or t.group(1) not in TURTLES:
