@@ -110,9 +110,10 @@ def test_warmup_compiles_ahead_so_that_the_command_compiles_nothing(tmp_path):
     assert re.fullmatch(r"  \[1/1\] derivation (\d+) kernels compiled in [\d.]+ s - .*", lines[1])
     assert int(lines[1].split()[2]) >= 3
     assert lines[-1].startswith("sylva warmup: done in ")
-    # what it compiled is in the cache: the derivation kernels' index files
+    # what it compiled is in the cache: the derivation kernels' index files (the examples
+    # that grow in a world environment also compile the terrain's noise)
     index = [p.name for p in cache.rglob("*.nbi")]
-    assert index and all(n.startswith("_kernels.") for n in index)
+    assert any(n.startswith("_kernels.rewrite") for n in index)
     # and a command that uses them now loads them: no compile message
     run = _python("from sylva.cli import main; raise SystemExit(main(['derive', "
                   "'18-abop-1.31a-hogeweg', '-n', '4']))", **env)
