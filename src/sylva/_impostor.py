@@ -29,12 +29,12 @@ Examples
 from __future__ import annotations
 
 import dataclasses
-import io
 import os
 from dataclasses import dataclass
 
 import numpy as np
 
+from .geometry.exchange.gltf_lod import png_bytes
 from .geometry.lod import LodChain, LodError, LodLevel, wind_attribute
 from .geometry.mesh import Material, Mesh, Scene
 
@@ -151,14 +151,16 @@ def bake_impostor(scene: Scene, *, views: int = 2, size: int = 256, msaa: int = 
     V = np.concatenate(verts)
     nv = V.shape[0]
     I = (np.array([[0, 1, 2], [0, 2, 3]])[None] + 4 * np.arange(views)[:, None, None])
-    N = np.repeat(np.stack([Camera(mode="orthographic", yaw=y).basis()[2] for y in yaws]),
-                  4, axis=0)
+    bases = [Camera(mode="orthographic", yaw=y).basis() for y in yaws]
+    N = np.repeat(np.stack([bs[2] for bs in bases]), 4, axis=0)
+    # the tangent runs along u (the view's right); normal × tangent is up (w = +1)
+    T = np.repeat(np.stack([np.append(bs[0], 1.0) for bs in bases]), 4, axis=0)
     flex = np.clip((V[:, 1] - b[0, 1]) / height, 0.0, 1.0)
     mat = Material(MATERIAL, color=(1.0, 1.0, 1.0, 1.0), roughness=0.9, double_sided=True,
                    alpha_cutoff=0.5)
     mesh = Mesh(V, I.reshape(-1, 3), normals=N, uvs=np.concatenate(uvs), materials=[mat],
-                name="impostor", attributes={"WIND": wind_attribute(np.zeros(nv), 0.0, flex,
-                                                                     0.0)})  # fmt: skip
+                name="impostor", attributes={"TANGENT": T,
+                                             "WIND": wind_attribute(np.zeros(nv), 0.0, flex, 0.0)})
     return Impostor(Scene([mesh], name=scene.name), color, normal, yaws)
 
 
@@ -174,16 +176,6 @@ def add_impostor(chain: LodChain, *, views: int = 2, size: int = 256,
     chain.levels.append(LodLevel(imp.scene, float(coverage), "impostor", imp.images(),
                                  name=f"LOD{len(chain.levels)}"))
     return chain
-
-
-def png_bytes(image: np.ndarray, *, flip: bool = False) -> bytes:
-    """PNG bytes of a ``uint8`` image (``flip``: bottom row first, for v-down formats)."""
-    from PIL import Image
-
-    a = np.ascontiguousarray(image[::-1] if flip else image)
-    buf = io.BytesIO()
-    Image.fromarray(a).save(buf, format="PNG", optimize=False)
-    return buf.getvalue()
 
 
 def textured_scene(level: LodLevel, folder) -> Scene:

@@ -175,7 +175,9 @@ class _Document:
             attrs["COLOR_0"] = b.accessor(sel(gltf_color0(mesh, scales)), "VEC4", _FLOAT, _ARRAY)
         for key, arr in sorted((mesh.attributes or {}).items()):
             kind = _KINDS.get(arr.shape[1])
-            if kind is not None:  # custom attributes: an underscore, upper case
+            if key == "TANGENT" and arr.shape[1] == 4:  # glTF's own semantic
+                attrs["TANGENT"] = b.accessor(sel(arr), "VEC4", _FLOAT, _ARRAY)
+            elif kind is not None:  # custom attributes: an underscore, upper case
                 attrs["_" + key.upper().lstrip("_")] = b.accessor(sel(arr), kind, _FLOAT, _ARRAY)
         nverts = int(used.size)
         prims = []
