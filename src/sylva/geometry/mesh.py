@@ -43,6 +43,11 @@ class Material:
         Leaves and flat polygons are double-sided.
     alpha_cutoff : float or None
         Alpha-test threshold (billboards, textured leaves).
+    billboard : bool
+        Seed 002's billboard flag: each connected piece of the surface (a leaf) turns its
+        front toward the camera about its centre.  The renderer does this; formats without
+        such a flag write the surface as modelled and say it where they can (glTF material
+        ``extras.billboard``, USD ``sylva:billboard``; see :mod:`sylva.geometry.lod`).
     """
 
     name: str
@@ -52,6 +57,7 @@ class Material:
     texture: str | None = None
     double_sided: bool = False
     alpha_cutoff: float | None = None
+    billboard: bool = False
 
 
 def _face_normals(vertices: np.ndarray, indices: np.ndarray) -> np.ndarray:

@@ -113,6 +113,8 @@ def _look(stage, looks_base, mat, looks: dict, pxr, textures=None):
         if textures and mat.name in textures:
             _textured(stage, m, sh, textures[mat.name], mat, pxr)
         m.CreateSurfaceOutput().ConnectToSource(sh.ConnectableAPI(), "surface")
+        if getattr(mat, "billboard", False):  # USD has no billboard: say it (seed 002)
+            m.GetPrim().CreateAttribute("sylva:billboard", Sdf.ValueTypeNames.Bool).Set(True)
         looks[key] = m
     return key
 
