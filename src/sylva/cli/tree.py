@@ -66,6 +66,9 @@ def register(subparsers) -> None:
     p.add_argument("--no-leaves", action="store_true", help="leave the leaves out")
     p.add_argument("--season", choices=("spring", "summer", "autumn", "winter"), default=None,
                    help="show a deciduous tree in this season (default: the species' Season)")
+    from ._lod import add_lod
+
+    add_lod(p)
     p.set_defaults(func=run)
 
 
@@ -105,6 +108,12 @@ def run(args: argparse.Namespace) -> int:
         raise SylvaError("tree: expected an output file (-o OUT)")
     out = Path(args.out)
     ext = out.suffix.lower()
+    from ._lod import lod_levels
+
+    n_lod = lod_levels(args, out)
+    if n_lod is not None and (args.animate or args.wind):
+        raise SylvaError("--lod: write levels of detail of the still tree (leave out "
+                         "--animate and --wind; the levels carry wind as _WIND vertex data)")
     tree = Tree(args.species, seed=args.seed, season=args.season)
     age = tree.default_age if args.age is None else args.age
     if age <= 0:
@@ -113,6 +122,15 @@ def run(args: argparse.Namespace) -> int:
     if args.animate:
         return _animate(args, tree, age, out, ext, mesh_opts)
     tree.grow(age)
+    if n_lod is not None:
+        from ..tree.lod import tree_lods
+        from ._lod import describe, finish_chain, write_chain
+
+        chain = finish_chain(tree_lods(tree, levels=min(n_lod, 3), **mesh_opts), n_lod, args)
+        write_chain(chain, out)
+        print(f"{tree.name}, seed {args.seed}, age {age:g}: {describe(chain)}")
+        print(f"wrote {out}")
+        return 0
     tm = tree.mesh(**mesh_opts)
     mesh = tm.mesh
     if args.wind:

@@ -31,7 +31,7 @@ from ..mesh import Scene
 from ._common import PathOrFile, check_up, oriented_scene, safe_name, tint_scales
 from .gltf import _Document, glb_bytes
 
-__all__ = ["NODE_MODES", "lod_document", "write_lod_glb"]
+__all__ = ["NODE_MODES", "lod_document", "png_bytes", "write_lod_glb", "write_lod_gltf"]
 
 NODE_MODES = ("msft", "all")
 
@@ -107,3 +107,19 @@ def png_bytes(image: np.ndarray, *, flip: bool = False) -> bytes:
     buf = io.BytesIO()
     Image.fromarray(a).save(buf, format="PNG")
     return buf.getvalue()
+
+
+def write_lod_gltf(chain: LodChain, target: PathOrFile, *, up: str = "y",
+                   nodes: str = "msft") -> None:
+    """Write a LOD chain as JSON glTF (``.gltf``) with the buffer as a data URI."""
+    import base64
+    import json
+
+    from ._common import open_target
+
+    doc, blob = lod_document(chain, up=up, nodes=nodes)
+    if "buffers" in doc:
+        doc["buffers"][0]["uri"] = ("data:application/octet-stream;base64,"
+                                    + base64.b64encode(blob).decode("ascii"))
+    with open_target(target, binary=False) as fh:
+        json.dump(doc, fh, indent=1)
