@@ -395,8 +395,8 @@ def _plant_wind(geometry: Geometry, seg_of_vertex: np.ndarray) -> np.ndarray:
     pp = np.maximum(par, 0)
     cparent = np.where((par >= 0) & (g.seg_depth == g.seg_depth[pp]), par, -1)
     head, _ = _head(cparent)
-    s = seg_of_vertex
-    return wind_attribute(g.seg_depth[s], phase_of(head[s]), reach[s] / top, 0.0)
+    per_segment = wind_attribute(g.seg_depth, phase_of(head), reach / top, 0.0)
+    return per_segment[seg_of_vertex]
 
 
 def _mesh_levels(geometry: Geometry, detail, mode, taper):
@@ -445,17 +445,29 @@ def plant_scene(geometry: Geometry, *, detail=None, mode: str = "tube", taper=No
                 leaves: bool = True, polygons: bool = True) -> Scene:
     """:func:`~sylva.geometry.build.build_mesh`'s scene with ``WIND`` vertex data on the
     branches and leaves."""
-    from .build import build_mesh, leaf_template
+    from .build import build_blocks, build_leaves, build_polygons, leaf_template
 
-    scene = build_mesh(geometry, detail=detail, mode=mode, taper=taper, leaves=leaves,
-                       polygons=polygons)  # fmt: skip
-    for m in scene.meshes:
-        if m.name == "branches":
-            m.attributes = _mesh_levels(geometry, detail, mode, taper).attributes
-        elif m.name == "leaves":
-            tv, tuv, _ = leaf_template()
-            m.attributes = {"WIND": _leaf_wind(geometry, tv.shape[0], tuv[:, 1])}
-    return scene
+    g = geometry
+    meshes = []
+    if g.n_segments:
+        meshes.append(_mesh_levels(g, detail, mode, taper))
+    if leaves and g.n_leaves:
+        m = build_leaves(g)
+        tv, tuv, _ = leaf_template()
+        m.attributes = {"WIND": _leaf_wind(g, tv.shape[0], tuv[:, 1])}
+        meshes.append(m)
+    if polygons and g.n_polygons:
+        meshes.append(build_polygons(g))
+    if g.n_blocks:
+        meshes.append(build_blocks(g))
+    meshes = [m for m in meshes if m.n_triangles]
+    # as build_mesh: a material one-faced surfaces use is double-sided everywhere
+    two = {mat.name for m in meshes for mat in m.materials if mat.double_sided}
+    for m in meshes:
+        m.materials = [dataclasses.replace(mat, double_sided=True)
+                       if mat.name in two and not mat.double_sided else mat
+                       for mat in m.materials]  # fmt: skip
+    return Scene([_prune_materials(m) for m in meshes], name="plant")
 
 
 def _cards_of(geometry: Geometry, target: int) -> Mesh:
