@@ -269,3 +269,19 @@ def test_usd_core_sees_the_lod_variant_set(tree_chain, tmp_path):
     errors = UsdValidation.ValidationContext(reg.GetOrLoadAllValidators()).Validate(
         Usd.Stage.Open(str(path)))
     assert [(e.GetName(), e.GetMessage()[:200]) for e in errors] == []
+
+
+def test_cli_writes_lod_glb_and_tree_glb_carries_wind(tmp_path, tree):
+    from sylva.cli import main
+    from sylva.geometry.exchange.gltf import gltf_document
+
+    out = tmp_path / "herb.glb"
+    assert main(["export", "34-sylva-flowering-herb", "-o", str(out), "--lod", "3"]) == 0
+    data = out.read_bytes()
+    n = int.from_bytes(data[12:16], "little")
+    doc = json.loads(data[20:20 + n])
+    assert [nd["name"].rsplit("_", 1)[-1] for nd in doc["nodes"][:3]] == ["LOD0", "LOD1", "LOD2"]
+    # a plain tree export carries the wind data too, beside the skinned animation
+    tdoc, _ = gltf_document(tree.scene())
+    acc = tdoc["meshes"][0]["primitives"][0]["attributes"]["_WIND"]
+    assert tdoc["accessors"][acc]["type"] == "VEC4"
