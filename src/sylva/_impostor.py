@@ -38,7 +38,8 @@ from .geometry.exchange.gltf_lod import png_bytes
 from .geometry.lod import LodChain, LodError, LodLevel, wind_attribute
 from .geometry.mesh import Material, Mesh, Scene
 
-__all__ = ["Impostor", "add_impostor", "bake_impostor", "png_bytes", "textured_scene"]
+__all__ = ["Impostor", "add_impostor", "bake_impostor", "png_bytes", "textured_scene",
+           "world_impostor"]
 
 #: The impostor material's name (its images are keyed by it).
 MATERIAL = "impostor"
@@ -196,3 +197,24 @@ def textured_scene(level: LodLevel, folder) -> Scene:
             mats.append(mat)
         out.append(dataclasses.replace(m, materials=mats))
     return Scene(out, name=level.scene.name)
+
+
+def world_impostor(size: int = 128, views: int = 2):
+    """A callback for :func:`sylva.world.export.write_world_glb`'s ``impostor``: bakes a
+    plant model and saves its colour atlas in the tiles folder (embedded by the writer)."""
+    from ._atomic import atomic_write
+    from .geometry.exchange._common import safe_name
+
+    def make(key: str, mesh: Mesh, folder) -> Mesh | None:
+        if mesh.n_triangles == 0:
+            return None
+        imp = bake_impostor(Scene([mesh], name=key), views=views, size=size)
+        path = os.path.join(os.fspath(folder), f"impostor_{safe_name(key)}.png")
+        with atomic_write(path, "wb") as fh:
+            fh.write(png_bytes(imp.color))
+        (quads,) = imp.scene.meshes
+        mat = dataclasses.replace(quads.materials[0], name=f"impostor_{safe_name(key)}",
+                                  texture=path)
+        return dataclasses.replace(quads, materials=[mat], name=f"{key}#impostor")
+
+    return make

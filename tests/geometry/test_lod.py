@@ -193,7 +193,34 @@ def lod_files(tree_chain, herb_chain, tmp_path_factory):
     write_lod_glb(tree_chain, out["tree"])
     write_lod_glb(herb_chain, out["herb"])
     write_lod_glb(tree_chain, out["tree_all"], nodes="all")
+    out["world"] = folder / "world.glb"
+    _world_info.update(_world_with_impostors(out["world"], folder / "tiles"))
     return out
+
+
+_world_info: dict = {}
+
+
+def _world_with_impostors(path, tiles):
+    from sylva._impostor import world_impostor
+    from sylva.world import World, WorldConfig
+    from sylva.world.export import write_world_glb
+
+    tiles.mkdir()
+    with World(WorldConfig(seed=11, chunk_size=16), size=(16, 16)).generate(workers=1) as st:
+        plants = sum(len(g) for k, g in st.instances().items() if not k.startswith("grass#"))
+        info = write_world_glb(st, path, tiles=tiles, impostor=world_impostor(size=32), near=0.0)
+    return {**info, "plants": plants}
+
+
+def test_world_glb_draws_far_plants_as_impostors(lod_files):
+    info = _world_info
+    assert info["plants"] > 0 and info["impostor_instances"] == info["plants"]  # near=0: all
+    data = lod_files["world"].read_bytes()
+    n = int.from_bytes(data[12:16], "little")
+    doc = json.loads(data[20:20 + n])
+    quads = [m for m in doc["meshes"] if m["name"].endswith("#impostor")]
+    assert quads and any(im["name"].startswith("impostor_") for im in doc["images"])
 
 
 def test_khronos_validator_passes_lod_glbs(lod_files):
