@@ -275,7 +275,7 @@ def test_usd_core_sees_the_lod_variant_set(tree_chain, tmp_path):
     _need(_have_module("pxr"), "usd-core")
     from pxr import Usd, UsdGeom
 
-    from sylva.geometry.exchange.usd import write_usd_lod
+    from sylva.geometry.exchange.usd_lod import write_usd_lod
 
     path = tmp_path / "tree.usda"
     write_usd_lod(tree_chain, path)

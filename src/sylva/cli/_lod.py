@@ -51,7 +51,7 @@ def finish_chain(chain, n: int, args):
 
 def write_chain(chain, out, up: str | None = None) -> None:
     from ..geometry.exchange.gltf_lod import write_lod_glb, write_lod_gltf
-    from ..geometry.exchange.usd import write_usd_lod
+    from ..geometry.exchange.usd_lod import write_usd_lod
 
     ext = os.path.splitext(os.fspath(out))[1].lower()
     opts = {} if up is None else {"up": up}

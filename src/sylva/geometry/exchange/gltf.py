@@ -60,10 +60,9 @@ class _Builder:
         if pad:
             self.chunks.append(b"\0" * pad)
             self.size += pad
-        view = {"buffer": 0, "byteOffset": self.size, "byteLength": len(data)}
-        if target is not None:
-            view["target"] = target
-        self.views.append(view)
+        self.views.append(
+            {"buffer": 0, "byteOffset": self.size, "byteLength": len(data), "target": target}
+        )
         self.chunks.append(data)
         self.size += len(data)
         return len(self.views) - 1
@@ -104,54 +103,23 @@ def _material_json(mat, scales: dict[str, float]) -> dict:
         out["alphaCutoff"] = float(mat.alpha_cutoff)
     elif a < 1.0:
         out["alphaMode"] = "BLEND"
-    if getattr(mat, "billboard", False):
-        # glTF has no billboard flag: say it in extras (see sylva.geometry.lod)
+    if getattr(mat, "billboard", False):  # glTF has no billboard: say it (seed 002)
         out["extras"] = {"billboard": True}
     return out
 
 
-class _Document:
-    """A glTF document being built: meshes, nodes and materials over one buffer.
-
-    :func:`gltf_document` writes a scene with it; the LOD writer
-    (:mod:`.gltf_lod`) adds several scenes' meshes and its own nodes."""
-
-    def __init__(self, scales: dict[str, float]) -> None:
-        self.b = _Builder()
-        self.scales = scales
-        self.materials: list[dict] = []
-        self.mat_index: dict[str, int] = {}
-        self.meshes: list[dict] = []
-        self.nodes: list[dict] = []
-        self.images: list[dict] = []
-        self.textures: list[dict] = []
-        #: material name -> extra glTF material members (textures of baked images)
-        self.material_extra: dict[str, dict] = {}
-
-    def material(self, mat) -> int:
-        if mat.name not in self.mat_index:
-            self.mat_index[mat.name] = len(self.materials)
-            js = _material_json(mat, self.scales)
-            extra = self.material_extra.get(mat.name)
-            if extra:
-                pbr = extra.pop("pbrMetallicRoughness", {})
-                js["pbrMetallicRoughness"].update(pbr)
-                js.update(extra)
-            self.materials.append(js)
-        return self.mat_index[mat.name]
-
-    def image(self, png: bytes, name: str) -> int:
-        """A texture index for PNG bytes (stored in the buffer, sampled with mipmaps)."""
-        view = self.b.view(png, None)
-        self.images.append({"name": name, "bufferView": view, "mimeType": "image/png"})
-        self.textures.append({"sampler": 0, "source": len(self.images) - 1})
-        return len(self.textures) - 1
-
-    def mesh(self, mesh) -> int | None:
-        """The glTF mesh index of ``mesh`` (None when it has no triangles)."""
-        b, scales = self.b, self.scales
+def gltf_document(scene, *, up: str = "y") -> tuple[dict, bytes]:
+    """The glTF JSON document (without ``buffers[0].uri``) and its binary buffer."""
+    scene = oriented_scene(as_scene(scene), up)
+    scales = tint_scales(scene.meshes)
+    b = _Builder()
+    materials: list[dict] = []
+    mat_index: dict[str, int] = {}
+    meshes: list[dict] = []
+    nodes: list[dict] = []
+    for mesh in scene.meshes:
         if mesh.n_triangles == 0:
-            return None
+            continue
         # the sorted vertices in use, by a mask: np.unique sorts or hashes every index
         mask = np.zeros(mesh.n_vertices, dtype=bool)
         mask[mesh.indices.reshape(-1)] = True
@@ -173,12 +141,11 @@ class _Document:
             attrs["TEXCOORD_0"] = b.accessor(sel(mesh.uvs), "VEC2", _FLOAT, _ARRAY)
         if mesh.colors is not None:
             attrs["COLOR_0"] = b.accessor(sel(gltf_color0(mesh, scales)), "VEC4", _FLOAT, _ARRAY)
-        for key, arr in sorted((mesh.attributes or {}).items()):
-            kind = _KINDS.get(arr.shape[1])
-            if key == "TANGENT" and arr.shape[1] == 4:  # glTF's own semantic
-                attrs["TANGENT"] = b.accessor(sel(arr), "VEC4", _FLOAT, _ARRAY)
-            elif kind is not None:  # custom attributes: an underscore, upper case
-                attrs["_" + key.upper().lstrip("_")] = b.accessor(sel(arr), kind, _FLOAT, _ARRAY)
+        for key, arr in sorted((mesh.attributes or {}).items()):  # e.g. WIND (geometry.lod)
+            name = "TANGENT" if key == "TANGENT" else "_" + key.upper().lstrip("_")
+            kind = {1: "SCALAR", 2: "VEC2", 3: "VEC3", 4: "VEC4"}.get(arr.shape[1])
+            if name not in attrs and kind and (name != "TANGENT" or kind == "VEC4"):
+                attrs[name] = b.accessor(sel(arr), kind, _FLOAT, _ARRAY)
         nverts = int(used.size)
         prims = []
         for mid, tris in material_groups(mesh):
@@ -192,53 +159,36 @@ class _Document:
             mat = mesh.materials[mid] if mid < len(mesh.materials) else None
             prim = {"attributes": dict(attrs), "indices": ia, "mode": 4}
             if mat is not None:
-                prim["material"] = self.material(mat)
+                if mat.name not in mat_index:
+                    mat_index[mat.name] = len(materials)
+                    materials.append(_material_json(mat, scales))
+                prim["material"] = mat_index[mat.name]
             prims.append(prim)
-        self.meshes.append({"name": mesh.name, "primitives": prims})
-        return len(self.meshes) - 1
-
-    def finish(self, name: str, roots: list[int], extensions: list[str] = ()) -> tuple[dict, bytes]:
-        blob = self.b.blob()
-        doc: dict = {
-            "asset": {"version": "2.0", "generator": "sylva"},
-            "scene": 0,
-            "scenes": [{"name": name}],
-        }
-        if extensions:
-            doc["extensionsUsed"] = list(extensions)
-        if self.nodes:  # an empty scene has no node list at all: empty arrays are invalid
-            doc["scenes"][0]["nodes"] = list(roots)
-            doc["nodes"] = self.nodes
-        if self.meshes:
-            doc["meshes"] = self.meshes
-            doc["accessors"] = self.b.accessors
-            doc["bufferViews"] = self.b.views
-            doc["buffers"] = [{"byteLength": len(blob)}]
-        if self.materials:
-            doc["materials"] = self.materials
-        if self.textures:
-            doc["images"] = self.images
-            doc["textures"] = self.textures
-            doc["samplers"] = [{"magFilter": 9729, "minFilter": 9987}]
-        return doc, blob
+        meshes.append({"name": mesh.name, "primitives": prims})
+        nodes.append({"name": mesh.name, "mesh": len(meshes) - 1})
+    blob = b.blob()
+    doc: dict = {
+        "asset": {"version": "2.0", "generator": "sylva"},
+        "scene": 0,
+        "scenes": [{"name": scene.name}],
+    }
+    if nodes:  # an empty scene has no node list at all: empty arrays are invalid glTF
+        doc["scenes"][0]["nodes"] = list(range(len(nodes)))
+        doc["nodes"] = nodes
+    if meshes:
+        doc["meshes"] = meshes
+        doc["accessors"] = b.accessors
+        doc["bufferViews"] = b.views
+        doc["buffers"] = [{"byteLength": len(blob)}]
+    if materials:
+        doc["materials"] = materials
+    return doc, blob
 
 
-_KINDS = {1: "SCALAR", 2: "VEC2", 3: "VEC3", 4: "VEC4"}
-
-
-def gltf_document(scene, *, up: str = "y") -> tuple[dict, bytes]:
-    """The glTF JSON document (without ``buffers[0].uri``) and its binary buffer."""
-    scene = oriented_scene(as_scene(scene), up)
-    d = _Document(tint_scales(scene.meshes))
-    for mesh in scene.meshes:
-        k = d.mesh(mesh)
-        if k is not None:
-            d.nodes.append({"name": mesh.name, "mesh": k})
-    return d.finish(scene.name, list(range(len(d.nodes))))
-
-
-def glb_bytes(doc: dict, blob: bytes, target: PathOrFile) -> None:
-    """Write a glTF document and its buffer as a GLB to ``target``."""
+def write_glb(scene, target: PathOrFile, *, up: str = "y") -> None:
+    """Write binary glTF (``.glb``) to a path or a binary file object (``up``: the up axis,
+    ``"y"`` as glTF specifies, or ``"z"``)."""
+    doc, blob = gltf_document(scene, up=up)
     js = json.dumps(doc, separators=(",", ":")).encode("utf-8")
     js += b" " * ((-len(js)) % 4)
     total = 12 + 8 + len(js) + (8 + len(blob) if blob else 0)
@@ -250,13 +200,6 @@ def glb_bytes(doc: dict, blob: bytes, target: PathOrFile) -> None:
         if blob:
             fh.write(struct.pack("<II", len(blob), 0x004E4942))
             fh.write(blob)
-
-
-def write_glb(scene, target: PathOrFile, *, up: str = "y") -> None:
-    """Write binary glTF (``.glb``) to a path or a binary file object (``up``: the up axis,
-    ``"y"`` as glTF specifies, or ``"z"``)."""
-    doc, blob = gltf_document(scene, up=up)
-    glb_bytes(doc, blob, target)
 
 
 def write_gltf(scene, target: PathOrFile, *, up: str = "y") -> None:

@@ -89,177 +89,72 @@ def _write_stage(scene, path: str, up: str, pxr) -> None:
     UsdGeom.SetStageMetersPerUnit(stage, 1.0)
     root = UsdGeom.Xform.Define(stage, "/" + _ident(scene.name))
     stage.SetDefaultPrim(root.GetPrim())
-    looks: dict = {}
+    looks: dict[str, UsdShade.Material] = {}
     base = root.GetPath()
     for k, mesh in enumerate(scene.meshes):
-        _mesh_prim(stage, base, base, k, mesh, looks, pxr)
-    stage.GetRootLayer().Save()
-
-
-def _look(stage, looks_base, mat, looks: dict, pxr, textures=None):
-    """The ``UsdPreviewSurface`` material of ``mat`` (made once per name)."""
-    Gf, Sdf, Usd, UsdGeom, UsdShade, Vt = pxr
-    key = _ident(mat.name)
-    if key not in looks:
-        m = UsdShade.Material.Define(stage, looks_base.AppendChild("Looks").AppendChild(key))
-        sh = UsdShade.Shader.Define(stage, m.GetPath().AppendChild("Surface"))
-        sh.CreateIdAttr("UsdPreviewSurface")
-        sh.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).Set(
-            Gf.Vec3f(*map(float, mat.color[:3]))
-        )
-        sh.CreateInput("opacity", Sdf.ValueTypeNames.Float).Set(float(mat.color[3]))
-        sh.CreateInput("roughness", Sdf.ValueTypeNames.Float).Set(float(mat.roughness))
-        sh.CreateInput("metallic", Sdf.ValueTypeNames.Float).Set(float(mat.metallic))
-        if textures and mat.name in textures:
-            _textured(stage, m, sh, textures[mat.name], mat, pxr)
-        m.CreateSurfaceOutput().ConnectToSource(sh.ConnectableAPI(), "surface")
-        if getattr(mat, "billboard", False):  # USD has no billboard: say it (seed 002)
-            m.GetPrim().CreateAttribute("sylva:billboard", Sdf.ValueTypeNames.Bool).Set(True)
-        looks[key] = m
-    return key
-
-
-def _textured(stage, m, sh, files: dict, mat, pxr) -> None:
-    """Connect image files (``{"color": path, "normal": path}``, relative to the layer) to a
-    preview surface through ``UsdUVTexture`` readers of ``st``."""
-    Gf, Sdf, Usd, UsdGeom, UsdShade, Vt = pxr
-    reader = UsdShade.Shader.Define(stage, m.GetPath().AppendChild("st"))
-    reader.CreateIdAttr("UsdPrimvarReader_float2")
-    reader.CreateInput("varname", Sdf.ValueTypeNames.String).Set("st")
-    st = reader.CreateOutput("result", Sdf.ValueTypeNames.Float2)
-    for kind, path in files.items():
-        tex = UsdShade.Shader.Define(stage, m.GetPath().AppendChild(f"{kind}_texture"))
-        tex.CreateIdAttr("UsdUVTexture")
-        tex.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(path)
-        tex.CreateInput("st", Sdf.ValueTypeNames.Float2).ConnectToSource(st)
-        if kind == "color":
-            tex.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set("sRGB")
-            rgb = tex.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
-            a = tex.CreateOutput("a", Sdf.ValueTypeNames.Float)
-            sh.GetInput("diffuseColor").ConnectToSource(rgb)
-            sh.GetInput("opacity").ConnectToSource(a)
-            if mat.alpha_cutoff is not None:
-                sh.CreateInput("opacityThreshold", Sdf.ValueTypeNames.Float).Set(
-                    float(mat.alpha_cutoff))
-        else:
-            tex.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set("raw")
-            tex.CreateInput("scale", Sdf.ValueTypeNames.Float4).Set(Gf.Vec4f(2, 2, 2, 1))
-            tex.CreateInput("bias", Sdf.ValueTypeNames.Float4).Set(Gf.Vec4f(-1, -1, -1, 0))
-            rgb = tex.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
-            sh.CreateInput("normal", Sdf.ValueTypeNames.Normal3f).ConnectToSource(rgb)
-
-
-def _mesh_prim(stage, base, looks_base, k, mesh, looks, pxr, textures=None) -> None:
-    """Define ``mesh`` as a ``UsdGeom.Mesh`` under ``base``, bound to its looks."""
-    Gf, Sdf, Usd, UsdGeom, UsdShade, Vt = pxr
-    if mesh.n_triangles == 0:
-        return
-    gm = UsdGeom.Mesh.Define(stage, base.AppendChild(f"{_ident(mesh.name)}_{k}"))
-    gm.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
-    gm.CreateOrientationAttr(UsdGeom.Tokens.rightHanded)
-    gm.CreatePointsAttr(Vt.Vec3fArray.FromNumpy(mesh.vertices))
-    gm.CreateFaceVertexCountsAttr(
-        Vt.IntArray.FromNumpy(np.full(mesh.n_triangles, 3, np.int32))
-    )
-    gm.CreateFaceVertexIndicesAttr(
-        Vt.IntArray.FromNumpy(mesh.indices.reshape(-1).astype(np.int32))
-    )
-    gm.CreateNormalsAttr(Vt.Vec3fArray.FromNumpy(mesh.normals))
-    gm.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
-    lo, hi = mesh.bounds()
-    gm.CreateExtentAttr(
-        Vt.Vec3fArray([Gf.Vec3f(*map(float, lo)), Gf.Vec3f(*map(float, hi))])
-    )
-    pv = UsdGeom.PrimvarsAPI(gm)
-    if mesh.uvs is not None:
-        st = pv.CreatePrimvar(
-            "st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.vertex
-        )
-        st.Set(Vt.Vec2fArray.FromNumpy(mesh.uvs))
-    if mesh.colors is not None:
-        dc = gm.CreateDisplayColorPrimvar(UsdGeom.Tokens.vertex)
-        dc.Set(Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(shaded_colors(mesh)[:, :3])))
-    wind = (mesh.attributes or {}).get("WIND")
-    if wind is not None:  # the wind vertex data (sylva.geometry.lod) as a primvar
-        pw = pv.CreatePrimvar("wind", Sdf.ValueTypeNames.Float4Array, UsdGeom.Tokens.vertex)
-        pw.Set(Vt.Vec4fArray.FromNumpy(np.ascontiguousarray(wind[:, :4], np.float32)))
-    if any(m.double_sided for m in mesh.materials):
-        gm.CreateDoubleSidedAttr(True)
-    binding = UsdShade.MaterialBindingAPI.Apply(gm.GetPrim())
-    groups = material_groups(mesh)
-    mesh_looks = set()
-    for mid, tris in groups:
-        mat = material_of(mesh, mid)
-        key = _look(stage, looks_base, mat, looks, pxr, textures)
-        mesh_looks.add(key)
-        if len(groups) == 1:
+        if mesh.n_triangles == 0:
             continue
-        subset = binding.CreateMaterialBindSubset(
-            key, Vt.IntArray.FromNumpy(np.sort(tris).astype(np.int32)), UsdGeom.Tokens.face
+        gm = UsdGeom.Mesh.Define(stage, base.AppendChild(f"{_ident(mesh.name)}_{k}"))
+        gm.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+        gm.CreateOrientationAttr(UsdGeom.Tokens.rightHanded)
+        gm.CreatePointsAttr(Vt.Vec3fArray.FromNumpy(mesh.vertices))
+        gm.CreateFaceVertexCountsAttr(
+            Vt.IntArray.FromNumpy(np.full(mesh.n_triangles, 3, np.int32))
         )
-        UsdShade.MaterialBindingAPI.Apply(subset.GetPrim()).Bind(looks[key])
-    if len(groups) == 1:
-        binding.Bind(looks[next(iter(mesh_looks))])
-    elif groups:
-        binding.SetMaterialBindSubsetsFamilyType(UsdGeom.Tokens.partition)
-
-
-def write_usd_lod(chain, target, *, up: str = "y") -> None:
-    """Write a :class:`~sylva.geometry.lod.LodChain` as a USD stage with a variant set.
-
-    The root prim ``/NAME`` has the variant set ``lod`` with one variant per level
-    (``LOD0``, ``LOD1``, …; ``LOD0`` selected); each variant holds that level's meshes
-    (with the ``wind`` primvar, float4 per vertex, where the level has ``WIND`` data).
-    The materials live outside the variants, under ``/NAME/Looks``.  An impostor's atlas
-    is written beside the stage as ``STEM_MATERIAL_color.png`` / ``_normal.png`` and read
-    by ``UsdUVTexture`` shaders (only when ``target`` is a path)."""
-    if not available():
-        raise SylvaError("USD export needs the usd-core package: pip install usd-core")
-    from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdShade, Vt
-
-    up = check_up(up)
-    pxr = (Gf, Sdf, Usd, UsdGeom, UsdShade, Vt)
-    if not isinstance(target, (str, os.PathLike)):
-        raise SylvaError("USD LODs are written to a path (their images go beside it)")
-    from ..._atomic import atomic_write
-    from .gltf_lod import png_bytes
-
-    folder, stem = os.path.split(os.fspath(target))
-    stem = os.path.splitext(stem)[0]
-    textures: dict = {}
-    for lv in chain.levels:
-        for mat_name, img in lv.images.items():
-            files = {}
-            for kind in ("color", "normal"):
-                if kind in img:
-                    name = f"{safe_name(stem)}_{safe_name(mat_name)}_{kind}.png"
-                    with atomic_write(os.path.join(folder, name), "wb") as fh:
-                        fh.write(png_bytes(img[kind]))
-                    files[kind] = "./" + name
-            textures[mat_name] = files
-    with atomic_path(target) as tmp:
-        try:
-            stage = Usd.Stage.CreateNew(tmp)
-            UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z if up == "z" else UsdGeom.Tokens.y)
-            UsdGeom.SetStageMetersPerUnit(stage, 1.0)
-            root = UsdGeom.Xform.Define(stage, "/" + _ident(chain.name))
-            stage.SetDefaultPrim(root.GetPrim())
-            base = root.GetPath()
-            scenes = [oriented_scene(lv.scene, up) for lv in chain.levels]
-            looks: dict = {}
-            for sc in scenes:  # the materials, outside every variant
-                for mesh in sc.meshes:
-                    for mid, _ in material_groups(mesh):
-                        _look(stage, base, material_of(mesh, mid), looks, pxr, textures)
-            vset = root.GetPrim().GetVariantSets().AddVariantSet("lod")
-            for i, sc in enumerate(scenes):
-                vset.AddVariant(f"LOD{i}")
-                vset.SetVariantSelection(f"LOD{i}")
-                with vset.GetVariantEditContext():
-                    geom = UsdGeom.Xform.Define(stage, base.AppendChild("geom")).GetPath()
-                    for k, mesh in enumerate(sc.meshes):
-                        _mesh_prim(stage, geom, base, k, mesh, looks, pxr, textures)
-            vset.SetVariantSelection("LOD0")
-            stage.GetRootLayer().Save()
-        except Tf.ErrorException as exc:
-            raise os_error_from_text(str(exc), tmp, "usd-core") from None
+        gm.CreateFaceVertexIndicesAttr(
+            Vt.IntArray.FromNumpy(mesh.indices.reshape(-1).astype(np.int32))
+        )
+        gm.CreateNormalsAttr(Vt.Vec3fArray.FromNumpy(mesh.normals))
+        gm.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+        lo, hi = mesh.bounds()
+        gm.CreateExtentAttr(
+            Vt.Vec3fArray([Gf.Vec3f(*map(float, lo)), Gf.Vec3f(*map(float, hi))])
+        )
+        pv = UsdGeom.PrimvarsAPI(gm)
+        if mesh.uvs is not None:
+            st = pv.CreatePrimvar(
+                "st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.vertex
+            )
+            st.Set(Vt.Vec2fArray.FromNumpy(mesh.uvs))
+        if mesh.colors is not None:
+            dc = gm.CreateDisplayColorPrimvar(UsdGeom.Tokens.vertex)
+            dc.Set(Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(shaded_colors(mesh)[:, :3])))
+        wind = (mesh.attributes or {}).get("WIND")
+        if wind is not None:  # the wind vertex data of sylva.geometry.lod, as a primvar
+            pw = pv.CreatePrimvar("wind", Sdf.ValueTypeNames.Float4Array, UsdGeom.Tokens.vertex)
+            pw.Set(Vt.Vec4fArray.FromNumpy(np.ascontiguousarray(wind[:, :4], np.float32)))
+        if any(m.double_sided for m in mesh.materials):
+            gm.CreateDoubleSidedAttr(True)
+        binding = UsdShade.MaterialBindingAPI.Apply(gm.GetPrim())
+        groups = material_groups(mesh)
+        mesh_looks = set()
+        for mid, tris in groups:
+            mat = material_of(mesh, mid)
+            key = _ident(mat.name)
+            if key not in looks:
+                m = UsdShade.Material.Define(stage, base.AppendChild("Looks").AppendChild(key))
+                sh = UsdShade.Shader.Define(stage, m.GetPath().AppendChild("Surface"))
+                sh.CreateIdAttr("UsdPreviewSurface")
+                sh.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).Set(
+                    Gf.Vec3f(*map(float, mat.color[:3]))
+                )
+                sh.CreateInput("opacity", Sdf.ValueTypeNames.Float).Set(float(mat.color[3]))
+                sh.CreateInput("roughness", Sdf.ValueTypeNames.Float).Set(float(mat.roughness))
+                sh.CreateInput("metallic", Sdf.ValueTypeNames.Float).Set(float(mat.metallic))
+                m.CreateSurfaceOutput().ConnectToSource(sh.ConnectableAPI(), "surface")
+                if getattr(mat, "billboard", False):  # USD has no billboard: say it
+                    m.GetPrim().CreateAttribute("sylva:billboard",
+                                                Sdf.ValueTypeNames.Bool).Set(True)
+                looks[key] = m
+            mesh_looks.add(key)
+            if len(groups) == 1:
+                continue
+            subset = binding.CreateMaterialBindSubset(
+                key, Vt.IntArray.FromNumpy(np.sort(tris).astype(np.int32)), UsdGeom.Tokens.face
+            )
+            UsdShade.MaterialBindingAPI.Apply(subset.GetPrim()).Bind(looks[key])
+        if len(groups) == 1:
+            binding.Bind(looks[next(iter(mesh_looks))])
+        else:
+            binding.SetMaterialBindSubsetsFamilyType(UsdGeom.Tokens.partition)
+    stage.GetRootLayer().Save()
