@@ -50,7 +50,7 @@ def write_usd_lod(chain, target, *, up: str = "y") -> None:
                 if kind in img:
                     png = f"{safe_name(stem)}_{safe_name(mat_name)}_{kind}.png"
                     with atomic_write(os.path.join(folder, png), "wb") as fh:
-                        fh.write(png_bytes(img[kind]))
+                        fh.write(png_bytes(img[kind], flip=_st_flipped()))
                     files.setdefault(mat_name, {})[kind] = "./" + png
         scene = Scene(lv.scene.meshes, name=chain.name)
         with atomic_path(os.path.join(folder, layer)) as tmp:
@@ -85,6 +85,16 @@ def write_usd_lod(chain, target, *, up: str = "y") -> None:
             stage.GetRootLayer().Save()
         except Tf.ErrorException as exc:
             raise os_error_from_text(str(exc), tmp, "usd-core") from None
+
+
+def _st_flipped() -> bool:
+    """Whether :func:`~.usd.write_usd` writes ``st`` as ``(u, 1 - v)`` (the texture work's
+    convention: baked images have ``v`` running down).  The impostor's ``v`` runs up the
+    image (the renderer's convention), so its atlas is then written upside down, to land
+    the right way up under USD's ``t``."""
+    from . import usd
+
+    return hasattr(usd, "v_up")
 
 
 def _cutoff(scene, mat_name):
