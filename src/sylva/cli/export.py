@@ -58,6 +58,9 @@ def register(subparsers) -> None:
                         "(glTF/GLB, OBJ, USD, POV-Ray; default: colours only)")  # fmt: skip
     p.add_argument("--view", metavar="V", default=None,
                    help="cpfg: the view file (.v) to read (default: the one beside FILE)")
+    from ._lod import add_lod
+
+    add_lod(p)
     p.set_defaults(func=run)
 
 
@@ -67,6 +70,7 @@ def run(args: argparse.Namespace) -> int:
     from ..geometry.mesh import Scene
     from ..lsystem import render_word
     from ..turtle import interpret
+    from ._lod import lod_levels
     from .derive import load_program
 
     fmt = format_of(args.output)  # fail before deriving when OUT is unusable
@@ -74,6 +78,11 @@ def run(args: argparse.Namespace) -> int:
         from ..assets import textured_export
 
         textured_export(Scene(), fmt, args.textures)  # a bad size or format fails now
+    n_lod = lod_levels(args, args.output)
+    if n_lod is not None and args.textures is not None:
+        raise SylvaError("--lod with --textures: levels of detail are written with their "
+                         "colours and the impostor's own images, not with baked textures "
+                         "yet; leave out one of the two")
     if args.up is not None and fmt in ("svg", "pov"):
         raise SylvaError(f"--up: {fmt.upper()} files have a fixed frame; leave --up out")
     from ..lsystem import DEFAULT_MODULE_LIMIT
@@ -88,7 +97,18 @@ def run(args: argparse.Namespace) -> int:
     if program.turtle == "engine" and "angle_var" not in program.settings:
         extra["angle_var"] = 0.2  # seed 004's executor default (±0.2 × the header angle)
     geometry = interpret(word, program, seed=args.seed, **extra)
-    if fmt == "svg":
+    if n_lod is not None:
+        from ..geometry.lod import plant_lods
+        from ._lod import describe, finish_chain, write_chain
+
+        chain = plant_lods(geometry, detail=args.detail, mode=args.mode,
+                           taper=None if args.taper == "none" else args.taper,
+                           levels=min(n_lod, 3))  # fmt: skip
+        chain.name = program.name if getattr(program, "name", None) else "plant"
+        chain = finish_chain(chain, n_lod, args)
+        write_chain(chain, args.output, args.up)
+        what = describe(chain)
+    elif fmt == "svg":
         write(geometry, args.output, format=fmt)
         what = f"{geometry.n_segments} segments"
     else:

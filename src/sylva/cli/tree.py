@@ -77,6 +77,9 @@ def register(subparsers) -> None:
     p.add_argument("--leaf-fall", type=float, default=None, metavar="F",
                    help="autumn: the fraction of the leaves fallen, 0…1 (1: bare; default: "
                         "the species' LeafFall, 0)")
+    from ._lod import add_lod
+
+    add_lod(p)
     p.set_defaults(func=run)
 
 
@@ -116,6 +119,16 @@ def run(args: argparse.Namespace) -> int:
         raise SylvaError("tree: expected an output file (-o OUT)")
     out = Path(args.out)
     ext = out.suffix.lower()
+    from ._lod import lod_levels
+
+    n_lod = lod_levels(args, out)
+    if n_lod is not None and args.textures is not None:
+        raise SylvaError("--lod with --textures: levels of detail are written with their "
+                         "colours and the impostor's own images, not with baked textures "
+                         "yet; leave out one of the two")
+    if n_lod is not None and (args.animate or args.wind):
+        raise SylvaError("--lod: write levels of detail of the still tree (leave out "
+                         "--animate and --wind; the levels carry wind as _WIND vertex data)")
     if args.textures is not None:
         from ..assets import textured_export
         from ..geometry.mesh import Scene
@@ -130,6 +143,15 @@ def run(args: argparse.Namespace) -> int:
     if args.animate:
         return _animate(args, tree, age, out, ext, mesh_opts)
     tree.grow(age)
+    if n_lod is not None:
+        from ..tree.lod import tree_lods
+        from ._lod import describe, finish_chain, write_chain
+
+        chain = finish_chain(tree_lods(tree, levels=min(n_lod, 3), **mesh_opts), n_lod, args)
+        write_chain(chain, out)
+        print(f"{tree.name}, seed {args.seed}, age {age:g}: {describe(chain)}")
+        print(f"wrote {out}")
+        return 0
     tm = tree.mesh(**mesh_opts)
     mesh = tm.mesh
     if args.wind:

@@ -68,6 +68,9 @@ def register(subparsers) -> None:
                         "jungle, baobab, shrub, cactus), tree:SPECIES (a sylva.tree species) "
                         "or an L-system file")  # fmt: skip
     p.add_argument("--keep", metavar="DIR", help="keep the generated chunks in DIR")
+    p.add_argument("--impostors", type=float, default=None, metavar="DIST",
+                   help=".glb: plants farther than DIST blocks from the centre are drawn as "
+                        "impostors (crossed quads with a baked image of the plant)")
     p.add_argument("--quiet", action="store_true", help="no progress output")
     p.set_defaults(func=run)
 
@@ -118,6 +121,9 @@ def run(args) -> int:
 
     out = Path(args.out)
     ext = out.suffix.lower()
+    if getattr(args, "impostors", None) is not None and (ext != ".glb" or args.impostors < 0):
+        raise SylvaError("--impostors: expected a distance >= 0 in blocks and a .glb output, "
+                         f"got {args.impostors:g} and {ext or str(out)!r}")
     if ext not in (".png", ".glb", ".jpg", ".jpeg"):
         raise SylvaError(f"cannot write {str(out)!r}: expected a .png or .glb output")
     plants, species = _plants(args.plant)
@@ -149,10 +155,17 @@ def run(args) -> int:
         if ext == ".glb":
             from ..world.export import write_world_glb
 
+            far = {}
+            if args.impostors is not None:
+                from .._impostor import world_impostor
+
+                far = {"impostor": world_impostor(), "near": args.impostors}
             with tempfile.TemporaryDirectory(prefix="sylva-tiles-") as tiles:
-                info = write_world_glb(store, out, tiles=tiles, grass=not args.no_grass)
-            say(f"wrote {out}: {info['models']} plant models, {info['instances']} instances, "
-                f"{info['terrain_triangles']} terrain triangles")  # fmt: skip
+                info = write_world_glb(store, out, tiles=tiles, grass=not args.no_grass, **far)
+            far_txt = (f" ({info['impostor_instances']} far ones as impostors)"
+                       if args.impostors is not None else "")
+            say(f"wrote {out}: {info['models']} plant models, {info['instances']} instances"
+                f"{far_txt}, {info['terrain_triangles']} terrain triangles")  # fmt: skip
         else:
             render_store(store, out, view=args.view, size=args.image_size,
                          shadows=not args.no_shadows, grass=not args.no_grass)  # fmt: skip

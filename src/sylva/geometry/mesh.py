@@ -98,6 +98,11 @@ class Material:
         Leaves and flat polygons are double-sided.
     alpha_cutoff : float or None
         Alpha-test threshold (billboards, textured leaves).
+    billboard : bool
+        Seed 002's billboard flag: each connected piece of the surface (a leaf) turns its
+        front toward the camera about its centre.  The renderer does this; formats without
+        such a flag write the surface as modelled and say it where they can (glTF material
+        ``extras.billboard``, USD ``sylva:billboard``; see :mod:`sylva.geometry.lod`).
     images : MaterialImages or None
         Baked images (base colour, normal, roughness) that writers which carry images
         reference instead of :attr:`color` (see :func:`with_images`); not compared.
@@ -110,6 +115,7 @@ class Material:
     texture: str | None = None
     double_sided: bool = False
     alpha_cutoff: float | None = None
+    billboard: bool = False
     images: MaterialImages | None = field(default=None, compare=False, repr=False)
 
 
@@ -174,6 +180,9 @@ class Mesh:
         Index into :attr:`materials` per triangle (0 when absent).
     materials : list of Material
         The materials the indices refer to.
+    attributes : dict of str to float32[n, k], optional
+        Extra per-vertex data that exporters write as custom attributes (glTF
+        ``_NAME``), e.g. ``"WIND"``: the wind data of :mod:`sylva.geometry.lod`.
     """
 
     vertices: np.ndarray
@@ -184,6 +193,7 @@ class Mesh:
     material_ids: np.ndarray | None = None
     materials: list[Material] = field(default_factory=lambda: [Material("default")])
     name: str = "mesh"
+    attributes: dict[str, np.ndarray] | None = None
 
     def __post_init__(self) -> None:
         self.vertices = np.ascontiguousarray(self.vertices, dtype=np.float32).reshape(-1, 3)
@@ -201,6 +211,14 @@ class Mesh:
             self.colors = np.ascontiguousarray(c).reshape(-1, 4)
         if self.material_ids is not None:
             self.material_ids = np.ascontiguousarray(self.material_ids, dtype=np.int32).ravel()
+        if self.attributes:
+            n = self.vertices.shape[0]
+            self.attributes = {
+                str(k): np.ascontiguousarray(v, dtype=np.float32).reshape(n, -1)
+                for k, v in self.attributes.items()
+            }
+        else:
+            self.attributes = None
 
     @property
     def n_vertices(self) -> int:
@@ -234,6 +252,11 @@ class Mesh:
         base = 0
         any_uv = any(m.uvs is not None for m in meshes)
         any_col = any(m.colors is not None for m in meshes)
+        extra: dict[str, int] = {}
+        for m in meshes:
+            for k, v in (m.attributes or {}).items():
+                extra[k] = max(extra.get(k, 0), v.shape[1])
+        attrs: dict[str, list] = {k: [] for k in extra}
         for m in meshes:
             remap = np.empty(len(m.materials), np.int32)
             for k, mat in enumerate(m.materials):
@@ -251,6 +274,12 @@ class Mesh:
                     m.colors if m.colors is not None else np.ones((m.n_vertices, 4), np.float32)
                 )
             mids.append(remap[m.triangle_materials()])
+            for k, width in extra.items():
+                a = (m.attributes or {}).get(k)
+                z = np.zeros((m.n_vertices, width), np.float32)
+                if a is not None:
+                    z[:, : a.shape[1]] = a
+                attrs[k].append(z)
             base += m.n_vertices
         return Mesh(
             np.concatenate(verts),
@@ -261,6 +290,7 @@ class Mesh:
             material_ids=np.concatenate(mids),
             materials=materials,
             name=name,
+            attributes={k: np.concatenate(v) for k, v in attrs.items()} or None,
         )
 
 

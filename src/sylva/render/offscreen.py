@@ -545,6 +545,8 @@ def _variant(gpu: GpuScene, shade: dict, frame: _Frame) -> tuple[str, ...]:
         names.append("HAS_UV")
     if gpu.has_colors:
         names.append("HAS_COLORS")
+    if getattr(gpu, "has_billboards", False):
+        names.append("BILLBOARD")
     if frame.lit:
         names.append("LIT")
         if frame.sun is not None:

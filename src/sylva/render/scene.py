@@ -32,6 +32,7 @@ __all__ = [
     "Ground",
     "MaterialRange",
     "Sky",
+    "billboard_pivots",
     "material_shading",
 ]
 
@@ -197,6 +198,47 @@ class MaterialRange:
     count: int
 
 
+def billboard_pivots(mesh: Mesh, selected: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per vertex, the centre and plane normal of the billboard piece it belongs to.
+
+    The pieces are the connected components of the ``selected`` triangles (one per leaf).
+
+    Returns
+    -------
+    pivot : float32[n, 4]
+        The piece's centroid and 1 (0 for vertices of no selected triangle).
+    axis : float32[n, 3]
+        The piece's area-weighted mean normal.
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    n = mesh.n_vertices
+    tris = mesh.indices[selected].astype(np.int64)
+    pivot = np.zeros((n, 4), np.float32)
+    axis = np.zeros((n, 3), np.float32)
+    if tris.size == 0:
+        return pivot, axis
+    rows = np.concatenate([tris[:, 0], tris[:, 1]])
+    cols = np.concatenate([tris[:, 1], tris[:, 2]])
+    graph = coo_matrix((np.ones(rows.size, np.int8), (rows, cols)), shape=(n, n))
+    k, label = connected_components(graph, directed=False)
+    used = np.zeros(n, bool)
+    used[tris.ravel()] = True
+    v = mesh.vertices.astype(np.float64)
+    cnt = np.maximum(np.bincount(label[used], minlength=k), 1)
+    centre = np.stack([np.bincount(label[used], v[used, j], k) for j in range(3)], 1)
+    centre /= cnt[:, None]
+    fn = np.cross(v[tris[:, 1]] - v[tris[:, 0]], v[tris[:, 2]] - v[tris[:, 0]])
+    lt = label[tris[:, 0]]
+    nsum = np.stack([np.bincount(lt, fn[:, j], k) for j in range(3)], 1)
+    nsum /= np.maximum(np.linalg.norm(nsum, axis=1, keepdims=True), 1e-30)
+    pivot[used, :3] = centre[label[used]]
+    pivot[used, 3] = 1.0
+    axis[used] = nsum[label[used]]
+    return pivot, axis
+
+
 class GpuScene:
     """A scene uploaded to a context.
 
@@ -227,6 +269,7 @@ class GpuScene:
         self.n_triangles = mesh.n_triangles
         self.has_uv = mesh.uvs is not None
         self.has_colors = mesh.colors is not None
+        self.has_billboards = False
         self.bounds = np.asarray(mesh.bounds(), np.float64)
         self._shadow_cache: dict = {}
         self._buffers: list = []
@@ -258,6 +301,12 @@ class GpuScene:
             content.append((self._buffer(mesh.uvs), "2f", "in_uv"))
         if self.has_colors:
             content.append((self._buffer(mesh.colors), "4f", "in_color"))
+        bill = np.array([bool(getattr(m, "billboard", False)) for m in mesh.materials])
+        if bill.any() and bill[mids].any():
+            self.has_billboards = True
+            pivot, axis = billboard_pivots(mesh, bill[mids])
+            content.append((self._buffer(pivot), "4f", "in_pivot"))
+            content.append((self._buffer(axis), "3f", "in_axis"))
         self._content = content
         self._ibo = self._buffer(indices)
         self.depth_vao = ctx.vertex_array(

@@ -157,7 +157,7 @@ def growth_animation(tree, start: float, end: float, seconds: float = 6.0, fps: 
         f"leaves{g}" for g in range(groups)]
     mesh = Mesh(tm.mesh.vertices, tm.mesh.indices, normals=tm.mesh.normals, uvs=tm.mesh.uvs,
                 colors=tm.mesh.colors, material_ids=tm.mesh.material_ids,
-                materials=tm.mesh.materials, name=tm.mesh.name)
+                materials=tm.mesh.materials, name=tm.mesh.name, attributes=tm.mesh.attributes)
     return SkinnedAnimation(mesh, np.maximum(vj, 0), bind, times, trans, rot, scale, [], None,
                             names, name)
 

@@ -82,7 +82,8 @@ class MaterialSpec:
     def to_material(self) -> Material:
         """The :class:`sylva.geometry.mesh.Material` that exporters and the renderer read."""
         return Material(self.name, tuple(float(c) for c in self.color), self.roughness, 0.0,
-                        self.texture, self.double_sided, self.alpha_test)
+                        self.texture, self.double_sided, self.alpha_test,
+                        billboard=bool(self.billboard))
 
 
 _FIELDS = {

@@ -301,5 +301,9 @@ def build_tree_mesh(geo: TreeGeometry, materials: MaterialDatabase | None = None
     )
     if not mat_names:
         mesh.materials = [db.get("bark").to_material()]
-    return TreeMesh(mesh, geo, np.concatenate(joint), np.concatenate(leaf_of),
-                    np.concatenate(flut).astype(np.float32), nb)
+    tm = TreeMesh(mesh, geo, np.concatenate(joint), np.concatenate(leaf_of),
+                  np.concatenate(flut).astype(np.float32), nb)
+    from .lod import with_wind  # the WIND vertex data (sylva.geometry.lod's layout)
+
+    with_wind(tm)
+    return tm

@@ -230,4 +230,5 @@ class Wind:
         v, n = self.deform(tm, t)
         m = tm.mesh
         return Mesh(v, m.indices, normals=n, uvs=m.uvs, colors=m.colors,
-                    material_ids=m.material_ids, materials=m.materials, name=m.name)
+                    material_ids=m.material_ids, materials=m.materials, name=m.name,
+                    attributes=m.attributes)

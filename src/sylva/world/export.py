@@ -17,6 +17,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from ..geometry.exchange.gltf_instanced import InstancedMesh, write_glb_instanced
 from .atlas import make_atlas, tile_materials
 from .plants import PlantLibrary
@@ -26,7 +28,8 @@ __all__ = ["write_world_glb"]
 
 
 def write_world_glb(store: ChunkStore, target, *, tiles, library: PlantLibrary | None = None,
-                    tile_size: int = 32, grass: bool = True) -> dict:  # fmt: skip
+                    tile_size: int = 32, grass: bool = True, impostor=None,
+                    near: float | None = None) -> dict:  # fmt: skip
     """Write the terrain and every plant of ``store`` as one ``.glb``.
 
     The terrain is one static mesh with one material per block texture; each plant model
@@ -44,11 +47,18 @@ def write_world_glb(store: ChunkStore, target, *, tiles, library: PlantLibrary |
         Pixels per texture tile.
     grass : bool
         Include grass tufts.
+    impostor : callable, optional
+        ``impostor(key, mesh, folder) -> Mesh or None``: the impostor of a plant model
+        (crossed quads whose material's ``texture`` is an image file in ``folder``), made
+        above this package (it renders: :func:`sylva._impostor.world_impostor`).
+    near : float, optional
+        With ``impostor``: plants (not grass) farther than this from the centre of the
+        world (in x, z, block units) are drawn as their model's impostor.
 
     Returns
     -------
     dict
-        ``models``, ``instances``, ``terrain_triangles``.
+        ``models``, ``instances``, ``terrain_triangles``, ``impostor_instances``.
     """
     cfg = store.config
     atlas = make_atlas(tile_size, cfg.seed)
@@ -60,13 +70,26 @@ def write_world_glb(store: ChunkStore, target, *, tiles, library: PlantLibrary |
     lib.materials = materials
     terrain = store.terrain_mesh(materials)
     inst = []
-    n = 0
+    n = n_far = 0
+    b = terrain.bounds()
+    centre = 0.5 * (b[0] + b[1])
     for key, group in store.instances().items():
         if not grass and key.startswith("grass#"):
             continue
         mesh = lib.model(key)
         rot = group.rotation() if key.startswith("grass#") else None
-        inst.append(InstancedMesh(mesh, group.translation, rot, name=key))
         n += len(group)
+        t = np.asarray(group.translation)
+        if impostor is not None and near is not None and not key.startswith("grass#"):
+            far = np.hypot(t[:, 0] - centre[0], t[:, 2] - centre[2]) > float(near)
+            quads = impostor(key, mesh, folder) if far.any() else None
+            if quads is not None:
+                n_far += int(far.sum())
+                inst.append(InstancedMesh(quads, t[far], None, name=f"{key}#impostor"))
+                t = t[~far]
+                if not len(t):
+                    continue
+        inst.append(InstancedMesh(mesh, t, rot, name=key))  # rot: grass only, never split
     write_glb_instanced([terrain], inst, target, name="world")
-    return {"models": len(inst), "instances": n, "terrain_triangles": terrain.n_triangles}
+    return {"models": len(inst), "instances": n, "terrain_triangles": terrain.n_triangles,
+            "impostor_instances": n_far}

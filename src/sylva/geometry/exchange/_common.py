@@ -187,7 +187,8 @@ def oriented(mesh: Mesh, up: str) -> Mesh:
         return mesh
     return Mesh(to_up(mesh.vertices, up), mesh.indices, normals=to_up(mesh.normals, up),
                 uvs=mesh.uvs, colors=mesh.colors, material_ids=mesh.material_ids,
-                materials=mesh.materials, name=mesh.name)  # fmt: skip
+                materials=mesh.materials, name=mesh.name,
+                attributes=mesh.attributes)  # fmt: skip
 
 
 def oriented_scene(scene: Scene, up: str) -> Scene:

@@ -110,6 +110,8 @@ def _material_json(mat, scales: dict[str, float]) -> dict:
         out["alphaCutoff"] = float(mat.alpha_cutoff)
     elif a < 1.0:
         out["alphaMode"] = "BLEND"
+    if getattr(mat, "billboard", False):  # glTF has no billboard: say it (seed 002)
+        out["extras"] = {"billboard": True}
     return out
 
 
@@ -154,6 +156,11 @@ def gltf_document(scene, *, up: str = "y", images: list | None = None,
             attrs["TANGENT"] = b.accessor(sel(tangents(mesh)), "VEC4", _FLOAT, _ARRAY)
         if mesh.colors is not None:
             attrs["COLOR_0"] = b.accessor(sel(gltf_color0(mesh, scales)), "VEC4", _FLOAT, _ARRAY)
+        for key, arr in sorted((mesh.attributes or {}).items()):  # e.g. WIND (geometry.lod)
+            name = "TANGENT" if key == "TANGENT" else "_" + key.upper().lstrip("_")
+            kind = {1: "SCALAR", 2: "VEC2", 3: "VEC3", 4: "VEC4"}.get(arr.shape[1])
+            if name not in attrs and kind and (name != "TANGENT" or kind == "VEC4"):
+                attrs[name] = b.accessor(sel(arr), kind, _FLOAT, _ARRAY)
         nverts = int(used.size)
         prims = []
         for mid, tris in material_groups(mesh):

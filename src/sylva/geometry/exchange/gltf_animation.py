@@ -169,6 +169,9 @@ def animated_gltf_document(anim: SkinnedAnimation) -> tuple[dict, bytes]:
         attrs["TEXCOORD_0"] = b.add(mesh.uvs.astype(np.float32), "VEC2", _FLOAT, _ARRAY)
     if mesh.colors is not None:
         attrs["COLOR_0"] = b.add(gltf_color0(mesh, scales), "VEC4", _FLOAT, _ARRAY)
+    wind = (mesh.attributes or {}).get("WIND")
+    if wind is not None and wind.shape[1] == 4:  # sylva.geometry.lod's wind vertex data
+        attrs["_WIND"] = b.add(np.ascontiguousarray(wind, np.float32), "VEC4", _FLOAT, _ARRAY)
     jt, wt = _joint_table(anim.vertex_joint, n_pad)
     attrs["JOINTS_0"] = b.add(jt, "VEC4", _USHORT, _ARRAY)
     attrs["WEIGHTS_0"] = b.add(wt, "VEC4", _FLOAT, _ARRAY)

@@ -134,6 +134,10 @@ def _write_stage(scene, path: str, up: str, pxr, images: dict | None = None) -> 
         if mesh.colors is not None:
             dc = gm.CreateDisplayColorPrimvar(UsdGeom.Tokens.vertex)
             dc.Set(Vt.Vec3fArray.FromNumpy(np.ascontiguousarray(shaded_colors(mesh)[:, :3])))
+        wind = (mesh.attributes or {}).get("WIND")
+        if wind is not None:  # the wind vertex data of sylva.geometry.lod, as a primvar
+            pw = pv.CreatePrimvar("wind", Sdf.ValueTypeNames.Float4Array, UsdGeom.Tokens.vertex)
+            pw.Set(Vt.Vec4fArray.FromNumpy(np.ascontiguousarray(wind[:, :4], np.float32)))
         if any(m.double_sided for m in mesh.materials):
             gm.CreateDoubleSidedAttr(True)
         binding = UsdShade.MaterialBindingAPI.Apply(gm.GetPrim())
@@ -155,6 +159,9 @@ def _write_stage(scene, path: str, up: str, pxr, images: dict | None = None) -> 
                 if images and mat.name in images:
                     usd_textures(stage, m, sh, images[mat.name], mat, pxr)
                 m.CreateSurfaceOutput().ConnectToSource(sh.ConnectableAPI(), "surface")
+                if getattr(mat, "billboard", False):  # USD has no billboard: say it
+                    m.GetPrim().CreateAttribute("sylva:billboard",
+                                                Sdf.ValueTypeNames.Bool).Set(True)
                 looks[key] = m
             mesh_looks.add(key)
             if len(groups) == 1:
