@@ -85,7 +85,6 @@ __all__ = [
     "limited",
     "load_chunk",
     "make_atlas",
-    "open",
     "open_world",
     "place",
     "quads_to_mesh",
