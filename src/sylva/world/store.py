@@ -201,7 +201,10 @@ class WorldStore:
     def create(cls, path, world, *, block_columns: int) -> WorldStore:
         """Make an empty store for ``world`` (a :class:`~sylva.world.World`)."""
         import zarr
+        from zarr.codecs import BloscCodec
 
+        # Blosc-zstd level 1: 6x faster than Zarr's default zstd for 10 % more bytes
+        fast = BloscCodec(cname="zstd", clevel=1, shuffle="noshuffle")
         path = Path(path)
         if path.exists() and any(path.iterdir()):
             raise SylvaError(f"{str(path)!r} exists and is not empty: remove it, or resume "
@@ -213,10 +216,12 @@ class WorldStore:
         nx, nz = (c1[0] - c0[0]) * s, (c1[1] - c0[1]) * s
         root = zarr.open_group(str(path), mode="w", zarr_format=3)
         root.create_array("voxels", shape=(nx, cfg.height, nz), chunks=(s, cfg.height, s),
-                          dtype="uint8", fill_value=0, dimension_names=("x", "y", "z"))
+                          dtype="uint8", fill_value=0, dimension_names=("x", "y", "z"),
+                          compressors=fast)  # fmt: skip
         for name, (dtype, fill) in _FIELDS.items():
             root.create_array(name, shape=(nx, nz), chunks=(s, s), dtype=dtype,
-                              fill_value=fill, dimension_names=("x", "z"))  # fmt: skip
+                              fill_value=fill, dimension_names=("x", "z"),
+                              compressors=fast)  # fmt: skip
         for sub in ("plants", "skin", "done"):
             make_folder(path / sub)
         manifest = {
