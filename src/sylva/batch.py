@@ -38,6 +38,8 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from ._atomic import atomic_path, make_folder
 from .errors import SylvaError
 
@@ -164,7 +166,7 @@ def _item_task(job) -> list[dict]:
     from .plant import grow, resolve
     from .render import Camera
 
-    item, formats, size, base, out = job
+    item, formats, size, base, out, labels = job
     t0 = time.perf_counter()
     program = resolve(_source(item, Path(base)))
     if item.params:
@@ -188,6 +190,8 @@ def _item_task(job) -> list[dict]:
         with atomic_path(path) as tmp:
             image.save(tmp, format="PNG")
         files.append(("render", "png", (yaw, pitch), path))
+        if labels:
+            files += _labels(plant, cam, size, folder, j, (yaw, pitch))
     dt = time.perf_counter() - t0
     stats = plant.stats
     return [{
@@ -201,9 +205,32 @@ def _item_task(job) -> list[dict]:
     } for kind, fmt, cam, p in files]  # fmt: skip
 
 
+def _labels(plant, cam, size, folder: Path, j: int, view) -> list:
+    """The instance mask (16-bit PNG of organ ids) and COCO JSON of camera ``j``."""
+    from PIL import Image
+
+    from ._atomic import atomic_write
+    from ._labels import coco, instance_mask
+
+    mask, cats = instance_mask(plant, cam, size)
+    mpath = folder / f"camera{j}.mask.png"
+    with atomic_path(mpath) as tmp:
+        Image.fromarray(mask.astype(np.uint16)).save(tmp, format="PNG")
+    doc = coco([(f"camera{j}.png", mask, cats)])
+    cpath = folder / f"camera{j}.coco.json"
+    with atomic_write(cpath, "w") as fh:
+        fh.write(json.dumps(doc))
+    return [("mask", "png", view, mpath), ("labels", "coco", view, cpath)]
+
+
 def run_batch(plan: Plan, out, *, scheduler: str | None = None, workers: int | None = None,
-              progress=False) -> dict:  # fmt: skip
+              progress=False, labels: bool = False) -> dict:  # fmt: skip
     """Run every item of ``plan`` as a Dask task; write ``out/manifest.parquet``.
+
+    With ``labels``, every render also gets its per-organ instance mask
+    (``cameraJ.mask.png``, 16-bit organ ids, 0 the background) and a COCO annotation file
+    (``cameraJ.coco.json``: categories branch, leaf, flower; RLE masks), see
+    :mod:`sylva._labels`.
 
     Returns
     -------
@@ -217,7 +244,8 @@ def run_batch(plan: Plan, out, *, scheduler: str | None = None, workers: int | N
 
     out = Path(out)
     make_folder(out)
-    jobs = [(it, plan.formats, plan.size, str(plan.base), str(out)) for it in plan.items]
+    jobs = [(it, plan.formats, plan.size, str(plan.base), str(out), labels)
+            for it in plan.items]
     rows: list[dict] = []
     with connect(scheduler, workers=workers, tasks=len(jobs)) as run:
         for r in run.map(_item_task, jobs, progress=progress, unit="item"):

@@ -34,8 +34,8 @@ def register(subparsers) -> None:
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", default=None,
                    help="run on an existing Dask cluster (default $SYLVA_SCHEDULER)")
     p.add_argument("--labels", action="store_true",
-                   help="also write depth images, instance masks and COCO annotations "
-                        "(not available yet)")  # fmt: skip
+                   help="also write, for every render, a per-organ instance mask (16-bit "
+                        "PNG) and COCO annotations (no depth images yet)")  # fmt: skip
     p.add_argument("--quiet", action="store_true", help="no progress output")
     p.set_defaults(func=run)
 
@@ -43,9 +43,6 @@ def register(subparsers) -> None:
 def run(args) -> int:
     from ..batch import parse_plan, run_batch
 
-    if args.labels:
-        raise SylvaError("--labels: depth, instance masks and COCO output are not "
-                         "implemented yet; expected a batch without --labels")  # fmt: skip
     path = Path(args.plan)
     try:
         text = path.read_text(encoding="utf-8")
@@ -53,7 +50,7 @@ def run(args) -> int:
         raise SylvaError(f"cannot read the plan {str(path)!r}: {exc.strerror}") from None
     plan = parse_plan(text, str(path), base=path.parent)
     info = run_batch(plan, args.out, scheduler=args.scheduler, workers=args.workers,
-                     progress=not args.quiet)  # fmt: skip
+                     progress=not args.quiet, labels=args.labels)  # fmt: skip
     if not args.quiet:
         print(f"wrote {info['files']} files for {info['items']} items; manifest "
               f"{info['manifest']}", file=sys.stderr)  # fmt: skip
