@@ -9,9 +9,10 @@ batch) goes through :func:`connect` and :meth:`Runner.map`, so there is one road
   and, for a world store, the output folder on a shared file system);
 * otherwise a :class:`~distributed.LocalCluster` of worker *processes* sized to the
   machine (``workers=``, default: the cores) is started for the call and closed after it;
-* a job too small to pay for starting processes (one task, or ``workers=1``) runs in this
-  process on Dask's synchronous scheduler: still Dask, no process start-up (a cluster's
-  start costs a second or two, more than a 64 × 64 world takes).
+* a job too small to pay for starting processes (``workers=1``, one task, or fewer than
+  :data:`MIN_TASKS` tasks when ``workers`` is not given) runs in this process on Dask's
+  synchronous scheduler: still Dask, no process start-up (starting a cluster costs two
+  seconds or more, what a 256 × 256 world takes on one core).
 
 :meth:`Runner.map` keeps a bounded window of tasks in flight (so the client's memory does
 not grow with the job), yields results as they complete, and draws a progress bar with the
@@ -33,7 +34,6 @@ import contextlib
 import logging
 import os
 import sys
-import time
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
@@ -43,6 +43,9 @@ __all__ = ["Runner", "connect", "scheduler_address"]
 
 #: The environment variable naming an existing scheduler (``tcp://HOST:PORT``).
 ENV = "SYLVA_SCHEDULER"
+
+#: Fewer tasks than this run in this process unless ``workers`` asks for a cluster.
+MIN_TASKS = 8
 
 
 def scheduler_address(scheduler: str | None = None) -> str | None:
@@ -66,15 +69,16 @@ class Runner:
         The Dask dashboard's address, when the cluster serves one.
     """
 
-    def __init__(self, client=None, kind: str = "synchronous") -> None:
+    def __init__(self, client=None, kind: str = "synchronous",
+                 dashboard: str | None = None) -> None:  # fmt: skip
         self.client = client
         self.kind = kind
-        self.dashboard = None
-        if client is not None:
-            with contextlib.suppress(Exception):
-                link = client.dashboard_link
-                if link and _dashboard_served(client):
-                    self.dashboard = link
+        self.dashboard = dashboard
+
+    @property
+    def address(self) -> str | None:
+        """The scheduler's address (None on the synchronous scheduler)."""
+        return None if self.client is None else self.client.scheduler.address
 
     @property
     def workers(self) -> int:
@@ -117,7 +121,7 @@ class Runner:
         items = list(items)
         w = weight or (lambda _: 1)
         total = sum(w(i) for i in items) if total is None else total
-        bar = _Progress(progress, total, unit, self.dashboard)
+        bar = _Progress(progress, total, unit, self)
         try:
             if self.client is None:
                 yield from self._map_sync(fn, items, w, bar)
@@ -159,18 +163,10 @@ class Runner:
             yield result
 
 
-def _dashboard_served(client) -> bool:
-    import importlib.util
-
-    return importlib.util.find_spec("bokeh") is not None or "tcp://127.0.0.1" not in str(
-        client.scheduler.address
-    )
-
-
 class _Progress:
     """tqdm on stderr with the rate and the time left, or a callback, or nothing."""
 
-    def __init__(self, progress, total: int, unit: str, dashboard: str | None) -> None:
+    def __init__(self, progress, total: int, unit: str, runner: Runner) -> None:
         self.callback = progress if callable(progress) else None
         self.done = 0
         self.total = total
@@ -178,8 +174,13 @@ class _Progress:
         if progress is True:
             from tqdm import tqdm
 
-            if dashboard:
-                print(f"dask dashboard: {dashboard}", file=sys.stderr)
+            where = {"synchronous": "this process (Dask's synchronous scheduler)",
+                     "local": f"a local Dask cluster of {runner.workers} worker processes",
+                     "scheduler": f"the Dask cluster at {runner.address} "
+                                  f"({runner.workers} workers)"}[runner.kind]  # fmt: skip
+            print(f"running {total} {unit}s on {where}", file=sys.stderr)
+            if runner.dashboard:
+                print(f"dask dashboard: {runner.dashboard}", file=sys.stderr)
             self.bar = tqdm(total=total, unit=unit, file=sys.stderr, dynamic_ncols=True,
                             smoothing=0.1, mininterval=0.5)  # fmt: skip
 
@@ -209,7 +210,8 @@ def connect(scheduler: str | None = None, *, workers: int | None = None,
         Worker processes of the local cluster (default: the cores, at most ``tasks``);
         1 runs the tasks in this process on the synchronous scheduler.
     tasks : int, optional
-        How many tasks the job has: one task never starts a cluster.
+        How many tasks the job has: one task never starts a cluster, nor fewer than
+        :data:`MIN_TASKS` when ``workers`` is not given.
     memory_limit : str
         Memory per local worker (Dask pauses, then restarts, a worker beyond it).
     dashboard : bool
@@ -231,13 +233,15 @@ def connect(scheduler: str | None = None, *, workers: int | None = None,
         except (OSError, TimeoutError) as exc:
             raise SylvaError(f"cannot reach the Dask scheduler at {address}: {exc}") from None
         try:
-            yield Runner(client, "scheduler")
+            yield Runner(client, "scheduler", _link(client))
         finally:
             client.close()
         return
     n = workers or os.cpu_count() or 1
     if tasks is not None:
         n = min(n, max(tasks, 1))
+        if workers is None and tasks < MIN_TASKS:
+            n = 1
     if n <= 1:
         yield Runner(None, "synchronous")
         return
@@ -253,11 +257,20 @@ def connect(scheduler: str | None = None, *, workers: int | None = None,
                                silence_logs=logging.ERROR)  # fmt: skip
         client = Client(cluster, set_as_default=False)
     try:
-        yield Runner(client, "local")
+        yield Runner(client, "local", _link(client) if served else None)
     finally:
         with _quiet():
             client.close()
             cluster.close()
+
+
+def _link(client) -> str | None:
+    """The dashboard's address, when the scheduler serves one."""
+    try:
+        return client.dashboard_link if "dashboard" in client.scheduler_info()["services"] \
+            else None
+    except (KeyError, AttributeError, OSError):
+        return None
 
 
 @contextlib.contextmanager
@@ -268,10 +281,3 @@ def _quiet():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         yield
-
-
-def timed(fn: Callable, *args, **kwargs) -> tuple[Any, float]:
-    """``(fn(*args, **kwargs), seconds)``: a task's own time, for overhead figures."""
-    t0 = time.perf_counter()
-    out = fn(*args, **kwargs)
-    return out, time.perf_counter() - t0

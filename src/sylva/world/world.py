@@ -150,7 +150,7 @@ class World:
 
         owned = directory is None
         if owned:
-            directory = Path(tempfile.mkdtemp(prefix="sylva-world-")) / "world.zarr"
+            directory = Path(tempfile.mkdtemp(prefix="sylva-world-", suffix=".zarr"))
         path = Path(directory)
         if resume and (path / "manifest.json").exists():
             store = WorldStore(path)
