@@ -152,7 +152,7 @@ def _versions() -> dict:
             "pyarrow": pyarrow.__version__}  # fmt: skip
 
 
-def _stage(key: str, shrub_count: int) -> int:
+def _stage(key: str) -> int:
     """Growth stage of a model: shrub cache entry ``i`` → ``i mod 3``; −1 otherwise."""
     name, sep, rest = key.partition("#")
     if sep and name in SHRUBS and rest.isdigit():
@@ -331,6 +331,7 @@ class WorldStore:
         bi = ch.biome[np.clip(col[:, 0] - x0, 0, ch.size - 1), np.clip(col[:, 1] - z0, 0,
                                                                        ch.size - 1)]
         keys = [str(k) for k in p.keys]
+        stage_of = {k: _stage(k) for k in set(keys)}
         return pa.table({
             "model": pa.array(keys, pa.string()),
             "x": pa.array(p.position[:, 0], pa.float32()),
@@ -339,8 +340,7 @@ class WorldStore:
             "yaw": pa.array(p.yaw, pa.float32()),
             "scale": pa.array(np.ones(n, np.float32)),
             "biome": pa.array(bi.astype(np.uint8)),
-            "stage": pa.array(np.array([_stage(k, self.config.shrub_count) for k in keys],
-                                       np.int8)),
+            "stage": pa.array(np.array([stage_of[k] for k in keys], np.int8)),
             "column_x": pa.array(col[:, 0].astype(np.int32)),
             "column_z": pa.array(col[:, 1].astype(np.int32)),
             "cx": pa.array(np.full(n, ch.cx, np.int32)),
@@ -349,8 +349,9 @@ class WorldStore:
 
     def finish(self) -> None:
         """Close the manifest: chunk counts and models, ``complete: true``."""
-        if self.missing():
-            raise SylvaError(f"{str(self.path)!r}: {len(self.missing())} blocks are missing")
+        missing = self.missing()
+        if missing:
+            raise SylvaError(f"{str(self.path)!r}: {len(missing)} blocks are missing")
         done = self.done()
         rows = sorted((r for rec in done.values() for r in rec["chunks"]),
                       key=lambda r: (r[1], r[0]))  # fmt: skip
@@ -572,7 +573,6 @@ class Region:
 
     def plants(self):
         """The plant instances standing in the region: a ``pyarrow.Table``."""
-        import pyarrow as pa
         import pyarrow.compute as pc
 
         x0, z0, x1, z1 = self.bounds
@@ -582,7 +582,7 @@ class Region:
         cx, cz = t.column("column_x"), t.column("column_z")
         inside = pc.and_(pc.and_(pc.greater_equal(cx, x0), pc.less(cx, x1)),
                          pc.and_(pc.greater_equal(cz, z0), pc.less(cz, z1)))  # fmt: skip
-        return t.filter(inside).combine_chunks() if t.num_rows else pa.table(t)
+        return t.filter(inside).combine_chunks()
 
     def quads(self) -> np.ndarray:
         """The skin quads of the chunks the region overlaps, int32[q, 7] (whole chunks)."""
