@@ -39,7 +39,7 @@ from typing import Any
 
 from .errors import SylvaError
 
-__all__ = ["Runner", "connect", "scheduler_address"]
+__all__ = ["Runner", "connect", "scheduler_address", "using"]
 
 #: The environment variable naming an existing scheduler (``tcp://HOST:PORT``).
 ENV = "SYLVA_SCHEDULER"
@@ -262,6 +262,18 @@ def connect(scheduler: str | None = None, *, workers: int | None = None,
         with _quiet():
             client.close()
             cluster.close()
+
+
+@contextlib.contextmanager
+def using(runner: Runner | None, scheduler: str | None = None, *,
+          workers: int | None = None, tasks: int | None = None) -> Iterator[Runner]:  # fmt: skip
+    """``runner`` when one is given (a job of several steps on one cluster), else
+    :func:`connect` for this step alone."""
+    if runner is not None:
+        yield runner
+        return
+    with connect(scheduler, workers=workers, tasks=tasks) as run:
+        yield run
 
 
 def _link(client) -> str | None:

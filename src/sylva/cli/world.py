@@ -153,44 +153,54 @@ def run(args) -> int:
     world = World(cfg, size=args.size)
     say = (lambda *a: None) if args.quiet else (lambda *a: print(*a, file=sys.stderr))
 
+    from ..cluster import connect
+
     t0 = time.perf_counter()
     target = out if kind == "store" else (Path(args.keep) if args.keep else None)
-    store = world.generate(target, workers=args.workers, scheduler=args.scheduler,
-                           progress=not args.quiet, resume=args.resume)  # fmt: skip
-    try:
-        say(f"generated {len(store)} chunks in {time.perf_counter() - t0:.1f} s: "
-            f"{store.n_quads} quads, {store.n_plants} plants and grass tufts")  # fmt: skip
-        if args.biomes:
-            from PIL import Image
-
-            bpath = out.with_name(out.stem + ".biomes.png")
-            image = Image.fromarray(store.biome_map())  # row 0: lowest z, as --view top
-            save_buffered(bpath, lambda fh: image.save(fh, format="PNG"))
-            say(f"wrote {bpath}")
-        if kind == "store":
-            from ..world.store import write_models
-
-            n = write_models(store, scheduler=args.scheduler, workers=args.workers)
-            say(f"wrote {out}: {len(store)} chunks, {store.n_plants} plant instances, "
-                f"{n} plant models")  # fmt: skip
-        elif kind == "3dtiles":
-            from ..world.tiles import write_tileset
-
-            info = write_tileset(store, out, scheduler=args.scheduler, workers=args.workers,
-                                 grass=not args.no_grass, progress=not args.quiet)  # fmt: skip
-            say(f"wrote {out}/tileset.json: {info['tiles']} tiles in {info['levels']} levels")
-        elif kind == "glb":
-            from ..world.export import write_world_glb
-
-            with tempfile.TemporaryDirectory(prefix="sylva-tiles-") as tiles:
-                info = write_world_glb(store, out, tiles=tiles, grass=not args.no_grass)
-            say(f"wrote {out}: {info['models']} plant models, {info['instances']} instances, "
-                f"{info['terrain_triangles']} terrain triangles")  # fmt: skip
-        else:
-            render_store(store, out, view=args.view, size=args.image_size,
-                         shadows=not args.no_shadows, grass=not args.no_grass)  # fmt: skip
-            say(f"wrote {out}")
-    finally:
-        if isinstance(store, WorldStore):
-            store.close()
+    n_tasks = len(world.blocks())
+    # one cluster for the whole command: the chunks, then the models or the tiles
+    with connect(args.scheduler, workers=args.workers, tasks=n_tasks) as run:
+        store = world.generate(target, progress=not args.quiet, resume=args.resume,
+                               runner=run)  # fmt: skip
+        try:
+            _write(args, out, kind, store, run, say, t0)
+        finally:
+            if isinstance(store, WorldStore):
+                store.close()
     return 0
+
+
+def _write(args, out: Path, kind: str, store, run, say, t0: float) -> None:
+    """Everything made from the store: the biome map, then the models, tiles, GLB or PNG."""
+    say(f"generated {len(store)} chunks in {time.perf_counter() - t0:.1f} s: "
+        f"{store.n_quads} quads, {store.n_plants} plants and grass tufts")  # fmt: skip
+    if args.biomes:
+        from PIL import Image
+
+        bpath = out.with_name(out.stem + ".biomes.png")
+        image = Image.fromarray(store.biome_map())  # row 0: lowest z, as --view top
+        save_buffered(bpath, lambda fh: image.save(fh, format="PNG"))
+        say(f"wrote {bpath}")
+    if kind == "store":
+        from ..world.store import write_models
+
+        n = write_models(store, runner=run)
+        say(f"wrote {out}: {len(store)} chunks, {store.n_plants} plant instances, "
+            f"{n} plant models")  # fmt: skip
+    elif kind == "3dtiles":
+        from ..world.tiles import write_tileset
+
+        info = write_tileset(store, out, grass=not args.no_grass, progress=not args.quiet,
+                             runner=run)  # fmt: skip
+        say(f"wrote {out}/tileset.json: {info['tiles']} tiles in {info['levels']} levels")
+    elif kind == "glb":
+        from ..world.export import write_world_glb
+
+        with tempfile.TemporaryDirectory(prefix="sylva-tiles-") as tiles:
+            info = write_world_glb(store, out, tiles=tiles, grass=not args.no_grass)
+        say(f"wrote {out}: {info['models']} plant models, {info['instances']} instances, "
+            f"{info['terrain_triangles']} terrain triangles")  # fmt: skip
+    else:
+        render_store(store, out, view=args.view, size=args.image_size,
+                     shadows=not args.no_shadows, grass=not args.no_grass)  # fmt: skip
+        say(f"wrote {out}")

@@ -666,20 +666,20 @@ def _model_task(job) -> list[str]:
 
 
 def write_models(store: WorldStore, *, scheduler: str | None = None,
-                 workers: int | None = None, batch: int = 8) -> int:  # fmt: skip
+                 workers: int | None = None, batch: int = 8, runner=None) -> int:  # fmt: skip
     """Write every plant model ``store`` uses as ``models/KEY.glb`` (Dask tasks).
 
     The block textures go to ``textures/`` once, embedded in each model; the manifest's
     ``model_files`` maps model keys to files.  Returns the number of models.
     """
-    from ..cluster import connect
+    from ..cluster import using
     from .atlas import make_atlas
 
     keys = list(store.manifest.get("models", []))
     make_folder(store.path / "models")
     make_atlas(32, store.config.seed).save_tiles(store.path / "textures")
     jobs = [(str(store.path), keys[i : i + batch]) for i in range(0, len(keys), batch)]
-    with connect(scheduler, workers=workers, tasks=len(jobs)) as run:
+    with using(runner, scheduler, workers=workers, tasks=len(jobs)) as run:
         for _ in run.map(_model_task, jobs, progress=False):
             pass
     store.manifest["model_files"] = {k: f"models/{model_file(k)}" for k in keys}

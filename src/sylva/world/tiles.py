@@ -160,7 +160,7 @@ def _box(t: dict, height: float) -> list[float]:
 
 def write_tileset(store: WorldStore, out, *, leaf_columns: int | None = None,
                   scheduler: str | None = None, workers: int | None = None,
-                  grass: bool = True, progress=False) -> dict:  # fmt: skip
+                  grass: bool = True, progress=False, runner=None) -> dict:  # fmt: skip
     """Write ``store`` as a 3D Tiles 1.1 tileset in the folder ``out``.
 
     Parameters
@@ -175,13 +175,15 @@ def write_tileset(store: WorldStore, out, *, leaf_columns: int | None = None,
     grass : bool
         Include grass tufts in the leaves.
     progress : bool or callable
+    runner : sylva.cluster.Runner, optional
+        Run on this runner instead of connecting for this call.
 
     Returns
     -------
     dict
         ``levels``, ``tiles`` (with content), ``triangles``, ``instances``.
     """
-    from ..cluster import connect
+    from ..cluster import using
     from .atlas import make_atlas
 
     out = Path(out)
@@ -193,7 +195,7 @@ def write_tileset(store: WorldStore, out, *, leaf_columns: int | None = None,
     make_atlas(32, store.config.seed).save_tiles(out / "textures")
     jobs = [(str(store.path), str(out), t, levels, grass) for t in tiles]
     results = {}
-    with connect(scheduler, workers=workers, tasks=len(jobs)) as run:
+    with using(runner, scheduler, workers=workers, tasks=len(jobs)) as run:
         for r in run.map(_tile_task, jobs, progress=progress, unit="tile"):
             results[(r["level"], r["i"], r["j"])] = r
     height = float(store.config.height + PLANT_HEADROOM)

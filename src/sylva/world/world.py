@@ -118,8 +118,8 @@ class World:
 
     def generate(self, directory=None, *, workers: int | None = None,
                  scheduler: str | None = None, progress=None,
-                 block_columns: int = BLOCK_COLUMNS,
-                 resume: bool = False) -> WorldStore:  # fmt: skip
+                 block_columns: int = BLOCK_COLUMNS, resume: bool = False,
+                 runner=None) -> WorldStore:  # fmt: skip
         """Generate every chunk into a world store at ``directory``.
 
         Parameters
@@ -141,12 +141,14 @@ class World:
             Side of the blocks of chunks each task generates (see :meth:`blocks`).
         resume : bool
             Continue the store at ``directory``: generate only the blocks not yet written.
+        runner : sylva.cluster.Runner, optional
+            Run on this (already connected) runner instead of connecting for this call.
 
         Returns
         -------
         WorldStore
         """
-        from ..cluster import connect
+        from ..cluster import using
 
         owned = directory is None
         if owned:
@@ -167,7 +169,7 @@ class World:
             report = progress
             progress = lambda d, t: report(d + done, total)  # noqa: E731
         try:
-            with connect(scheduler, workers=workers, tasks=len(jobs)) as run:
+            with using(runner, scheduler, workers=workers, tasks=len(jobs)) as run:
                 for _ in run.map(_block_task, jobs, progress=bool(progress) and progress,
                                  weight=lambda j: j[2][2] * j[2][3], unit="chunk"):  # fmt: skip
                     pass
