@@ -15,7 +15,7 @@ ALLOWED = {
     "turtle": {"lsystem", "geometry"},
     "render": {"geometry", "texture"},
     "tree": {"lsystem", "turtle", "geometry", "texture"},
-    "world": {"tree", "turtle", "geometry", "texture", "lsystem"},
+    "world": {"tree", "turtle", "geometry", "texture", "lsystem", "cluster"},
 }
 FREE = {"errors", "data", "_version", "_atomic", "_jit"}
 

@@ -35,7 +35,7 @@ def test_png_render(tmp_path):
 
 def test_bad_output(tmp_path, capsys):
     assert main(["world", "--size", "8x8", "-o", str(tmp_path / "w.obj"), "--quiet"]) == 2
-    assert "expected a .png or .glb" in capsys.readouterr().err
+    assert "expected a .png, .glb or .zarr" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         main(["world", "--size", "0x8", "-o", "x.png"])
 
@@ -56,3 +56,28 @@ def test_other_sylva_plants(tmp_path):
     assert b"lsys_10_abop_1_24a_plant#" in data
     assert main(["world", "--size", "8x8", "-o", str(out), "--plant", "mars=oak",
                  "--quiet"]) == 2
+
+
+def test_zarr_store_with_models(tmp_path, capsys):
+    import json
+
+    from sylva.world import open_world
+
+    out = tmp_path / "w.zarr"
+    rc = main(["world", "--seed", "3", "--size", "32x24", "--chunk", "16", "-o", str(out),
+               "--workers", "1", "--quiet"])
+    assert rc == 0
+    store = open_world(out)
+    assert store.complete and store.size == (32, 24)
+    files = store.manifest["model_files"]
+    assert sorted(files) == sorted(set(store.plants().column("model").to_pylist()))
+    for f in files.values():
+        assert (out / f).read_bytes()[:4] == b"glTF"
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["config"]["seed"] == 3
+    # an existing store is not overwritten; --resume on a complete one has nothing to do
+    assert main(["world", "--seed", "3", "--size", "32x24", "--chunk", "16", "-o", str(out),
+                 "--workers", "1", "--quiet"]) == 2
+    assert "--resume" in capsys.readouterr().err
+    assert main(["world", "--seed", "3", "--size", "32x24", "--chunk", "16", "-o", str(out),
+                 "--workers", "1", "--quiet", "--resume"]) == 0

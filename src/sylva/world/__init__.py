@@ -4,9 +4,10 @@ The pipeline::
 
     cfg = WorldConfig(seed=7, chunk_size=32)
     world = World(cfg, size=(512, 512))
-    with world.generate() as store:          # chunks in parallel, streamed to disk
+    with world.generate("world.zarr") as store:   # Dask tasks -> Zarr + Parquet store
         scene = store.scene()                # terrain skin + plants, for sylva.render
         plants = store.instances()           # model key -> instance transforms (glTF)
+    region = sylva.world.open("world.zarr")[0:64, 0:64]   # read a piece back
 
 * :mod:`~sylva.world.terrain` — heights, humidity, temperature and biomes from octave
   noise; voxel columns, water, optional caves.
@@ -16,8 +17,11 @@ The pipeline::
 * :mod:`~sylva.world.plants`, :mod:`~sylva.world.vegetation` — species, plant cache and
   placement.
 * :mod:`~sylva.world.atlas` — the block texture atlas from procedural textures.
-* :mod:`~sylva.world.chunks`, :mod:`~sylva.world.world` — chunks, parallel generation and
-  streaming.
+* :mod:`~sylva.world.chunks`, :mod:`~sylva.world.world` — chunks and their generation as
+  Dask tasks (:mod:`sylva.cluster`).
+* :mod:`~sylva.world.store` — the world store (Zarr arrays, Parquet plant tables, GLB
+  models); :func:`open` reads it in pieces.
+* :mod:`~sylva.world.tiles` — OGC 3D Tiles output for engines.
 
 Examples
 --------
@@ -34,9 +38,14 @@ from .executor import PlantBlocks, derive, grow, scale_derivations, step
 from .hashing import hash01, hash1d, hash2d, hash3d, limited
 from .meshing import quads_to_mesh, skin_quads
 from .plants import SPECIES, PlantLibrary, Species, blocks_mesh
+from .store import Instances, Region, WorldStore, biome_image, expand_instances, open_world
 from .terrain import ColumnFields, WorldConfig, WorldConfigError, columns, voxels
 from .vegetation import BIOME_PLANTS, Placement, place
-from .world import ChunkStore, Instances, World, biome_image, expand_instances
+from .world import World
+
+#: The store of a generated world (the name before the Zarr store).
+ChunkStore = WorldStore
+open = open_world  # noqa: A001  (sylva.world.open(path)[x0:x1, z0:z1])
 
 __all__ = [
     "BIOME_PLANTS",
@@ -55,10 +64,12 @@ __all__ = [
     "Placement",
     "PlantBlocks",
     "PlantLibrary",
+    "Region",
     "Species",
     "World",
     "WorldConfig",
     "WorldConfigError",
+    "WorldStore",
     "biome_image",
     "blocks_mesh",
     "candidates",
@@ -74,6 +85,7 @@ __all__ = [
     "limited",
     "load_chunk",
     "make_atlas",
+    "open_world",
     "place",
     "quads_to_mesh",
     "scale_derivations",

@@ -22,7 +22,7 @@ import numpy as np
 from ..geometry.exchange.gltf_instanced import InstancedMesh, write_glb_instanced
 from .atlas import make_atlas, tile_materials
 from .plants import PlantLibrary
-from .world import ChunkStore
+from .store import WorldStore as ChunkStore
 
 __all__ = ["write_world_glb"]
 

@@ -1,12 +1,14 @@
-"""A finite world: chunks generated in parallel and streamed to disk, then assembled.
+"""A finite world: chunks generated as Dask tasks, written to a world store.
 
 :class:`World` covers ``size`` columns from ``origin`` with chunks of
-``config.chunk_size``.  :meth:`World.generate` runs :func:`~sylva.world.chunks.generate_chunk`
-over the chunks in worker processes (all cores by default); each worker writes its chunk to
-an ``.npz`` file and returns only a summary, and at most two chunks per worker are in
-flight, so memory stays bounded however large the world.  The :class:`ChunkStore` it
-returns reads the chunks back one at a time: the terrain mesh, the plant instances per
-model, the biome map.
+``config.chunk_size``.  :meth:`World.generate` runs blocks of chunks
+(:func:`~sylva.world.chunks.generate_chunks`) as tasks through :mod:`sylva.cluster` — a
+local cluster of worker processes, an existing cluster, or this process for a small
+world — and each task writes its chunks into a :class:`~sylva.world.store.WorldStore`
+(Zarr arrays and Parquet tables) and returns only a summary; a bounded number of tasks is
+in flight, so memory stays bounded however large the world.  Every chunk is a pure
+function of the world seed and its coordinates, so the store is the same whichever
+worker made which chunk, and a task a dead worker lost is simply run again.
 
 Examples
 --------
@@ -22,31 +24,20 @@ Examples
 
 from __future__ import annotations
 
-import json
 import math
-import multiprocessing
-import os
-import shutil
 import tempfile
-from collections.abc import Iterator
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
 
-from .._atomic import atomic_write
 from ..errors import SylvaError
-from ..geometry.mesh import Material, Mesh, Scene
-from .biomes import BIOME_COLORS, Biome
-from .chunks import Chunk, generate_chunk, generate_chunks, load_chunk
-from .meshing import quads_to_mesh
+from .chunks import Chunk, generate_chunk, generate_chunks
 from .plants import PlantLibrary
+from .store import Instances, WorldStore, biome_image, expand_instances
 from .terrain import WorldConfig, columns
 
 __all__ = [
     "BLOCK_COLUMNS",
-    "ChunkStore",
     "Instances",
     "World",
     "biome_image",
@@ -54,66 +45,16 @@ __all__ = [
     "expand_instances",
 ]
 
-
-@dataclass
-class Instances:
-    """Copies of one plant model: ``translation`` float32[k, 3], ``yaw`` float32[k]."""
-
-    key: str
-    translation: np.ndarray
-    yaw: np.ndarray
-
-    def __len__(self) -> int:
-        return int(self.translation.shape[0])
-
-    def rotation(self) -> np.ndarray:
-        """Unit quaternions ``(x, y, z, w)`` about +Y: float32[k, 4]."""
-        q = np.zeros((len(self), 4), np.float32)
-        q[:, 1] = np.sin(self.yaw / 2.0)
-        q[:, 3] = np.cos(self.yaw / 2.0)
-        return q
-
-
-def expand_instances(mesh: Mesh, inst: Instances) -> Mesh:
-    """One mesh with a transformed copy of ``mesh`` per instance (for rasterisers that do
-    not instance)."""
-    k = len(inst)
-    c, s = np.cos(inst.yaw)[:, None], np.sin(inst.yaw)[:, None]
-    v = mesh.vertices.astype(np.float64)[None]
-    x = c * v[..., 0] + s * v[..., 2]
-    z = -s * v[..., 0] + c * v[..., 2]
-    verts = np.stack([x, np.broadcast_to(v[..., 1], x.shape), z], -1)
-    verts = verts + inst.translation[:, None, :]
-    n = mesh.normals.astype(np.float64)[None]
-    nx = c * n[..., 0] + s * n[..., 2]
-    nz = -s * n[..., 0] + c * n[..., 2]
-    normals = np.stack([nx, np.broadcast_to(n[..., 1], nx.shape), nz], -1)
-    idx = mesh.indices.astype(np.int64)[None] + (np.arange(k) * mesh.n_vertices)[:, None, None]
-    return Mesh(verts.reshape(-1, 3), idx.reshape(-1, 3), normals=normals.reshape(-1, 3),
-                uvs=None if mesh.uvs is None else np.tile(mesh.uvs, (k, 1)),
-                material_ids=np.tile(mesh.triangle_materials(), k),
-                materials=list(mesh.materials), name=f"{mesh.name}_x{k}")  # fmt: skip
-
-
-def _worker(cfg_dict: dict, block: tuple[int, int, int, int], bounds, directory: str,
-            atomic: bool = True) -> list:
-    cfg = WorldConfig(**cfg_dict)
-    out = []
-    for chunk in generate_chunks(cfg, *block, bounds=bounds):
-        path = Path(directory) / f"chunk_{chunk.cx}_{chunk.cz}.npz"
-        chunk.save(path, atomic=atomic)
-        out.append((chunk.cx, chunk.cz, int(chunk.quads.shape[0]), len(chunk.plants), str(path)))
-    return out
-
-
-#: Columns per side of the blocks of chunks a worker generates at once (noise calls have a
+#: Columns per side of the blocks of chunks a task generates at once (noise calls have a
 #: fixed cost, so bigger blocks are faster; memory per block stays small).
 BLOCK_COLUMNS = 128
 
 
-def _cfg_dict(cfg: WorldConfig) -> dict:
-    d = asdict(cfg)
-    return d
+def _block_task(job) -> dict:
+    """One Dask task: generate a block of chunks and write it into the store."""
+    path, cfg, block, bounds = job
+    chunks = generate_chunks(cfg, *block, bounds=bounds, keep_voxels=True)
+    return WorldStore(path).write_block(block, chunks)
 
 
 class World:
@@ -176,189 +117,75 @@ class World:
                               keep_voxels=keep_voxels)  # fmt: skip
 
     def generate(self, directory=None, *, workers: int | None = None,
-                 progress=None, block_columns: int = BLOCK_COLUMNS) -> ChunkStore:  # fmt: skip
-        """Generate every chunk and store it in ``directory``.
+                 scheduler: str | None = None, progress=None,
+                 block_columns: int = BLOCK_COLUMNS, resume: bool = False,
+                 runner=None) -> WorldStore:  # fmt: skip
+        """Generate every chunk into a world store at ``directory``.
 
         Parameters
         ----------
         directory : path, optional
-            Where the chunk files go (created); default: a temporary folder that
-            :meth:`ChunkStore.close` removes.
+            The store's folder (see :mod:`sylva.world.store`); default: a temporary folder
+            that :meth:`WorldStore.close` removes.
         workers : int, optional
-            Worker processes (default: all cores; 1 runs in this process).  Workers are
-            *spawned*, so a script that calls this with several workers needs the usual
+            Worker processes of the local Dask cluster (default: all cores); 1, or a world
+            of one block, runs in this process on Dask's synchronous scheduler.  Workers
+            are processes, so a script that calls this needs the usual
             ``if __name__ == "__main__":`` guard.
-        progress : callable, optional
-            Called with ``(chunks done, total)`` after each block of chunks.
+        scheduler : str, optional
+            ``tcp://HOST:PORT`` of a running Dask scheduler (default
+            ``$SYLVA_SCHEDULER``); its workers need ``directory`` on a shared file system.
+        progress : bool or callable, optional
+            True: a progress bar on stderr; a callable gets ``(chunks done, total)``.
         block_columns : int
             Side of the blocks of chunks each task generates (see :meth:`blocks`).
+        resume : bool
+            Continue the store at ``directory``: generate only the blocks not yet written.
+        runner : sylva.cluster.Runner, optional
+            Run on this (already connected) runner instead of connecting for this call.
 
         Returns
         -------
-        ChunkStore
+        WorldStore
         """
+        from ..cluster import using
+
         owned = directory is None
-        folder = Path(tempfile.mkdtemp(prefix="sylva-world-")) if owned else Path(directory)
-        folder.mkdir(parents=True, exist_ok=True)
-        blocks = self.blocks(block_columns)
-        total = len(self.chunk_coords())
-        bounds = self.bounds if self.closed else None
-        workers = max(1, min(workers or os.cpu_count() or 1, len(blocks)))
-        summaries: list = []
-        cfg = _cfg_dict(self.config)
-
-        def record(result):
-            summaries.extend(result)
-            if progress:
-                progress(len(summaries), total)
-
-        if workers <= 1:
-            for block in blocks:
-                record(_worker(cfg, block, bounds, str(folder), not owned))
+        if owned:
+            directory = Path(tempfile.mkdtemp(prefix="sylva-world-", suffix=".zarr"))
+        path = Path(directory)
+        if resume and (path / "manifest.json").exists():
+            store = WorldStore(path)
+            store.check_matches(self, block_columns)
         else:
-            ctx = multiprocessing.get_context("spawn")
-            with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-                pending: set = set()
-                it = iter(blocks)
-                while True:
-                    while len(pending) < 2 * workers:
-                        nxt = next(it, None)
-                        if nxt is None:
-                            break
-                        pending.add(pool.submit(_worker, cfg, nxt, bounds, str(folder),
-                                                not owned))
-                    if not pending:
-                        break
-                    finished, pending = wait(pending, return_when=FIRST_COMPLETED)
-                    for fut in finished:
-                        record(fut.result())
-        summaries.sort(key=lambda t: (t[1], t[0]))
-        index = {
-            "config": cfg,
-            "size": list(self.size), "origin": list(self.origin),
-            "chunks": [{"cx": s[0], "cz": s[1], "quads": s[2], "plants": s[3],
-                        "file": Path(s[4]).name} for s in summaries],
-        }  # fmt: skip
-        with atomic_write(folder / "world.json", "w") as fh:  # the index last: chunks first
-            fh.write(json.dumps(index, indent=1))
-        return ChunkStore(folder, owned=owned, config=self.config)
+            store = WorldStore.create(path, self, block_columns=block_columns)
+        store.owned = owned
+        todo = store.missing(block_columns)
+        total = sum(b[2] * b[3] for b in self.blocks(block_columns))
+        done = total - sum(b[2] * b[3] for b in todo)
+        bounds = self.bounds if self.closed else None
+        jobs = [(str(path), self.config, b, bounds) for b in todo]
+        if callable(progress) and not isinstance(progress, bool):
+            report = progress
+            progress = lambda d, t: report(d + done, total)  # noqa: E731
+        try:
+            with using(runner, scheduler, workers=workers, tasks=len(jobs)) as run:
+                for _ in run.map(_block_task, jobs, progress=bool(progress) and progress,
+                                 weight=lambda j: j[2][2] * j[2][3], unit="chunk"):  # fmt: skip
+                    pass
+        except BaseException:
+            if owned:
+                store.close()
+            raise
+        store.finish()
+        final = WorldStore(path, owned=owned)
+        return final
 
     def biome_map(self) -> np.ndarray:
         """The biome of every column: uint8[z, x] of :class:`~sylva.world.biomes.Biome`."""
         x0, z0 = self.origin
         f = columns(self.config, x0, z0, self.size[0], self.size[1])
         return np.ascontiguousarray(f.biome.T)
-
-
-def biome_image(biomes: np.ndarray) -> np.ndarray:
-    """Colour a biome array with :data:`~sylva.world.biomes.BIOME_COLORS`: uint8[..., 3]."""
-    lut = np.array([BIOME_COLORS[b] for b in Biome], np.uint8)
-    return lut[np.asarray(biomes, np.int64)]
-
-
-class ChunkStore:
-    """Chunks on disk, read back one at a time.
-
-    Parameters
-    ----------
-    directory : path
-        A folder written by :meth:`World.generate` (with its ``world.json``).
-    owned : bool
-        Remove the folder on :meth:`close`.
-    """
-
-    def __init__(self, directory, *, owned: bool = False,
-                 config: WorldConfig | None = None) -> None:  # fmt: skip
-        self.directory = Path(directory)
-        meta = json.loads((self.directory / "world.json").read_text(encoding="utf-8"))
-        self.meta = meta
-        self.config = config or WorldConfig(**meta["config"])
-        self.size = tuple(meta["size"])
-        self.origin = tuple(meta["origin"])
-        self.owned = owned
-
-    def __len__(self) -> int:
-        return len(self.meta["chunks"])
-
-    def __iter__(self) -> Iterator[Chunk]:
-        for c in self.meta["chunks"]:
-            yield load_chunk(self.directory / c["file"])
-
-    def __enter__(self) -> ChunkStore:
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
-
-    def close(self) -> None:
-        """Remove the folder when this store owns it."""
-        if self.owned and self.directory.exists():
-            shutil.rmtree(self.directory, ignore_errors=True)
-
-    # ------------------------------------------------------------------ summaries
-    @property
-    def n_quads(self) -> int:
-        return sum(c["quads"] for c in self.meta["chunks"])
-
-    @property
-    def n_plants(self) -> int:
-        return sum(c["plants"] for c in self.meta["chunks"])
-
-    def biome_map(self) -> np.ndarray:
-        """The world's biomes as an sRGB image, uint8[z, x, 3] (row 0 at the lowest z)."""
-        w, d = self.size
-        ox, oz = self.origin
-        img = np.zeros((d, w), np.uint8)
-        for ch in self:
-            x0, z0 = ch.origin
-            xs = slice(max(x0, ox), min(x0 + ch.size, ox + w))
-            zs = slice(max(z0, oz), min(z0 + ch.size, oz + d))
-            if xs.start >= xs.stop or zs.start >= zs.stop:
-                continue
-            part = ch.biome[xs.start - x0 : xs.stop - x0, zs.start - z0 : zs.stop - z0]
-            img[zs.start - oz : zs.stop - oz, xs.start - ox : xs.stop - ox] = part.T
-        return biome_image(img)
-
-    # ------------------------------------------------------------------ geometry
-    def terrain_mesh(self, materials: list[Material] | None = None) -> Mesh:
-        """All chunks' skins in one mesh (world coordinates)."""
-        quads = [ch.quads for ch in self]
-        q = np.concatenate(quads) if quads else np.zeros((0, 7), np.int32)
-        return quads_to_mesh(q, materials=materials, name="terrain")
-
-    def instances(self) -> dict[str, Instances]:
-        """Plant instances grouped by model key (sorted keys)."""
-        keys, pos, yaw = [], [], []
-        for ch in self:
-            keys.append(ch.plants.keys)
-            pos.append(ch.plants.position)
-            yaw.append(ch.plants.yaw)
-        if not keys or sum(len(k) for k in keys) == 0:
-            return {}
-        k = np.concatenate(keys)
-        p = np.concatenate(pos)
-        y = np.concatenate(yaw)
-        out = {}
-        for key in sorted(set(k.tolist())):
-            sel = k == key
-            out[key] = Instances(key, p[sel], y[sel])
-        return out
-
-    def scene(self, library: PlantLibrary | None = None,
-              materials: list[Material] | None = None, *, plants: bool = True,
-              grass: bool = True) -> Scene:  # fmt: skip
-        """Terrain plus every plant expanded into meshes (one mesh per model)."""
-        c = self.config
-        lib = library or PlantLibrary.for_config(c)
-        if materials is not None:
-            lib.materials = materials
-        scene = Scene([self.terrain_mesh(materials or lib.materials)], name="world")
-        if plants:
-            for key, inst in self.instances().items():
-                if not grass and key.startswith("grass#"):
-                    continue
-                scene.add(expand_instances(lib.model(key), inst))
-        return scene
 
 
 def chunk_count(size, chunk_size: int) -> int:
