@@ -45,7 +45,7 @@ from ._common import (
 )
 from ._textures import GltfTextures, needs_tangents, stem_of, tangents
 
-__all__ = ["gltf_document", "write_glb", "write_gltf"]
+__all__ = ["gltf_document", "write_glb", "write_glb_container", "write_gltf"]
 
 _FLOAT = 5126
 _UINT = 5125
@@ -207,6 +207,12 @@ def write_glb(scene, target: PathOrFile, *, up: str = "y") -> None:
     """Write binary glTF (``.glb``) to a path or a binary file object (``up``: the up axis,
     ``"y"`` as glTF specifies, or ``"z"``)."""
     doc, blob = gltf_document(scene, up=up, stem=stem_of(target_path(target)))
+    write_glb_container(doc, blob, target)
+
+
+def write_glb_container(doc: dict, blob: bytes, target: PathOrFile) -> None:
+    """The GLB container of a glTF document and its binary buffer, to a path or a binary
+    file object."""
     js = json.dumps(doc, separators=(",", ":")).encode("utf-8")
     js += b" " * ((-len(js)) % 4)
     total = 12 + 8 + len(js) + (8 + len(blob) if blob else 0)

@@ -27,14 +27,13 @@ warnings.
 from __future__ import annotations
 
 import json
-import struct
 
 import numpy as np
 
 from ..lod import LodChain
 from ..mesh import Mesh, Scene
 from ._common import PathOrFile, check_up, open_target, safe_name
-from .gltf import gltf_document
+from .gltf import gltf_document, write_glb_container
 
 __all__ = ["NODE_MODES", "lod_document", "png_bytes", "write_lod_glb", "write_lod_gltf"]
 
@@ -186,16 +185,7 @@ def lod_document(chain: LodChain, *, up: str = "y", nodes: str = "msft") -> tupl
 
 
 def _glb(doc: dict, blob: bytes, target: PathOrFile) -> None:
-    js = json.dumps(doc, separators=(",", ":")).encode("utf-8")
-    js += b" " * ((-len(js)) % 4)
-    total = 12 + 8 + len(js) + (8 + len(blob) if blob else 0)
-    with open_target(target, binary=True) as fh:
-        fh.write(struct.pack("<III", 0x46546C67, 2, total))
-        fh.write(struct.pack("<II", len(js), 0x4E4F534A))
-        fh.write(js)
-        if blob:
-            fh.write(struct.pack("<II", len(blob), 0x004E4942))
-            fh.write(blob)
+    write_glb_container(doc, blob, target)
 
 
 def write_lod_glb(chain: LodChain, target: PathOrFile, *, up: str = "y",
