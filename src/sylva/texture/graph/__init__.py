@@ -199,7 +199,7 @@ def _check(output):
                 if req:
                     raise GraphError(f"a {n.type} node needs its input {name!r} (a {typ}: "
                                      f"{'a node' if typ == COLOUR else 'a node or a number'})",
-                                     **(n.where.get("type") or {}))
+                                     **(n.where.get("_node") or n.where.get("type") or {}))
                 continue
             got = v.spec.output if isinstance(v, Node) else SCALAR
             if got != typ:

@@ -613,5 +613,7 @@ def for_node(node) -> FormulaCode:
     if not isinstance(src, str):
         raise GraphError("formula source must be text", **(node.where.get("source") or {}))
     w = node.where.get("source") or {}
-    return compile_formula(src, _Where(src, w.get("filename", "<formula>"), w.get("line", 1),
-                                       w.get("column", 1), w.get("block", True)))
+    return compile_formula(src, _Where(src, w.get("filename", "<formula>"),
+                                       w.get("text_line", w.get("line", 1)),
+                                       w.get("text_column", w.get("column", 1)),
+                                       w.get("block", True)))

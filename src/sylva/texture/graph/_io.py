@@ -48,15 +48,15 @@ def _locate_toml(text, filename):
             for q in ("'''", '"""'):
                 if rest.startswith(q):
                     if rest[3:].strip() == "":
-                        w = dict(filename=filename, line=n + 1, column=1, block=True)
+                        w = dict(w, text_line=n + 1, text_column=1, block=True)
                     else:
-                        w = dict(filename=filename, line=n, column=vcol + 3, block=False)
+                        w = dict(w, text_column=vcol + 3, block=False)
                     if rest.count(q) < 2:
                         in_block = q
                     break
             else:
                 if rest[:1] in "\"'":
-                    w = dict(w, block=False, column=vcol + 1)
+                    w = dict(w, block=False, text_column=vcol + 1)
             pos[table + (key,)] = w
     return pos
 
@@ -86,7 +86,8 @@ def _locate_json(text, filename):
                 if km.start() == 0:
                     continue
                 pos.setdefault(("nodes", name, km.group(1)),
-                               dict(where(at + km.end()), block=False))
+                               dict(where(at + km.end()), block=False,
+                                    text_column=where(at + km.end())["column"] + 1))
     g = re.search(r'"graph"\s*:\s*\{', text)
     if g:
         pos[("graph",)] = where(g.start())
@@ -158,6 +159,7 @@ def loads(text, *, fmt="toml", filename=None):
         typ = body.get("type")
         where = {k: nodepos(name, k) for k in body}
         where.setdefault("type", nodepos(name))
+        where["_node"] = nodepos(name)
         if typ is None:
             raise GraphError(f"node {name!r} needs a type (one of: "
                              f"{', '.join(sorted(NODE_TYPES))})", **nodepos(name))
