@@ -34,7 +34,8 @@ def render_graph(graph, shape=None) -> np.ndarray:
     store = "color = sylva_texture(q);" if colour else \
         "color = vec4(sylva_texture(q), 0.0, 0.0, 1.0);"
     frag = ("#version 330\n" + src + "\nout vec4 color;\nvoid main() {\n"
-            f"    vec3 q = vec3(floor(gl_FragCoord.x), floor(gl_FragCoord.y), 0.0) / {float(w)!r};\n"
+            "    vec3 q = vec3(floor(gl_FragCoord.x), floor(gl_FragCoord.y), 0.0) / "
+            f"{float(w)!r};\n"
             f"    {store}\n}}\n")
     ctx = get_context()
     prog = ctx.program(vertex_shader=_VERTEX, fragment_shader=frag)
