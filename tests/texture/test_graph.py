@@ -292,3 +292,18 @@ def test_bad_toml_json_parameter_and_property():
     assert "octaves" in e.message and e.line == 2
     e = _bad('[nodes.a]\ntype = "layer"\nbase = 1.0\ntop = 2.0\n')
     assert "must be a node name" in e.message and e.line == 3
+
+
+def test_threaded_run_equals_the_serial_one():
+    import numba
+
+    g = tg.Graph(tg.improved(scale=9.0, octaves=2, seed=5))
+    shape = (260, 300)  # enough work for the threaded path
+    want = noise_grid(shape, kind="improved", scale=9.0, octaves=2, seed=5)
+    assert np.array_equal(g.evaluate(shape), want)
+    before = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        assert np.array_equal(g.evaluate(shape), want)
+    finally:
+        numba.set_num_threads(before)
