@@ -307,3 +307,13 @@ def test_threaded_run_equals_the_serial_one():
         assert np.array_equal(g.evaluate(shape), want)
     finally:
         numba.set_num_threads(before)
+
+
+def test_every_node_type_is_in_the_reference():
+    from pathlib import Path
+
+    page = (Path(__file__).parents[2] / "docs" / "reference" / "texture-graph.rst").read_text()
+    for name in tg.NODE_TYPES:
+        assert f"``{name}``" in page, name
+    for mode in tg.BLEND_MODES:
+        assert mode in page

@@ -49,6 +49,9 @@ from ._nodes import (
 __all__ = ["BLEND_MODES", "NODE_TYPES", "Graph", "GraphError", "Node", "NodeSpec",
            "from_recipe", "load", "loads", "node"]
 
+GraphError.__module__ = __name__  # shown as sylva.texture.graph.GraphError
+Node.__module__ = __name__
+
 _PROPS = {"tileable": False, "time": None, "size": None, "colormap": None, "vmin": None,
           "vmax": None, "colorize": False, "cycles": None, "inside": "#000000", "log": False,
           "normal_map": None, "description": None}
