@@ -32,6 +32,7 @@ import numpy as np
 
 from ..._atomic import atomic_write
 from .. import _gridkernels as _gk
+from .. import _gridplan as _gp
 from .. import _kernels as _k
 from .. import colormap as _cm
 from .. import fractals as _fr
@@ -219,7 +220,7 @@ class _Emit:
         g = self.graph
         prm = {k: node.param(k) for k in node.spec.params}
         try:
-            return _nz._grid_plan(
+            return _gp.grid_plan(
                 self.shape, kind, fractal, prm["scale"], prm["octaves"], prm["persistence"],
                 prm["lacunarity"], prm["gain"], prm["seed"], prm["interpolation"], g.tileable,
                 g.time, prm["offset"], warp, prm["normalize"], prm.get("output", "f1"),
