@@ -242,7 +242,8 @@ def _maker(typ):
         return Node(typ, inputs, params)
 
     make.__name__ = typ.replace("-", "_")
-    make.__doc__ = f"A ``{typ}`` node: {spec.formula}"
+    formula = spec.formula.replace("|", "\\|").replace("*", "\\*")
+    make.__doc__ = f"A ``{typ}`` node ({spec.category}): {formula}."
     return make
 
 
