@@ -79,7 +79,7 @@ def test_modifiers_combiners_selector_transformers_against_their_formulas():
         tg.terrace(a, points=[-1.0, 0.0, 1.0], invert=True),
         tg.translate(a, by=[0.25, -0.125]), tg.rotate(a, angle=30.0, center=[0.5, 0.25]),
         tg.scale(a, by=[2.0, 0.5]), tg.warp(a, dx=b, dy=x, amount=0.3), tg.constant(value=0.7),
-        tg.y(), tg.x(closed=True),
+        tg.y(), tg.x(closed=True), (abs(a) + 1.0) / 0.0,
     ]
     got = dict(zip(range(len(nodes)), many(nodes)))
     A, B, C = got[0], got[1], got[2]
@@ -97,6 +97,7 @@ def test_modifiers_combiners_selector_transformers_against_their_formulas():
         16: np.minimum(A, B), 17: np.maximum(A, B), 18: np.abs(A) ** (B + 1.5),
         19: A + C * (B - A), 28: np.full(SHAPE, 0.7), 29: Y,
         30: np.linspace(0, 1, W)[None, :] + np.zeros(SHAPE),
+        31: np.full(SHAPE, np.inf),  # division by zero: inf as in NumPy, not an exception
     }
     s = np.clip(A + 0.5, 0, 1)
     ref[11] = s * s * (3 - 2 * s)

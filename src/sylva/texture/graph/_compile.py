@@ -480,7 +480,7 @@ class _Emit:
         args = ", ".join(f"a{k}" for k in range(len(self.args)))
         ind = " " * 16
         lines = [_HEADER, *self.funcs, "",
-                 "@njit(cache=True, nogil=True)",
+                 "@njit(cache=True, nogil=True, error_model='numpy')",
                  f"def kernel(c0, c1, out, X, Y, Z, P{', ' if args else ''}{args}):",
                  "    nz = out.shape[1]", "    ny = out.shape[2]", "    nx = out.shape[3]",
                  "    nrows = ny * nz",

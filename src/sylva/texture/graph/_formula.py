@@ -69,6 +69,7 @@ _NL: /(\r?\n[ \t]*)+/
 %ignore COMMENT
 """
 
+MAX_ITER = 10_000_000
 SECTIONS = ("default", "init", "loop", "bailout", "final", "inside")
 _FUNCS = {"real": 1, "imag": 1, "conj": 1, "abs": 1, "cabs": 1, "sqr": 1, "sqrt": 1, "exp": 1,
           "log": 1, "sin": 1, "cos": 1, "atan2": 1, "floor": 1, "min": 2, "max": 2,
@@ -235,7 +236,8 @@ class FormulaCode:
     name: str
 
     def source(self, fname):
-        return "\n".join(["", "", "@njit(cache=True)", f"def {fname}(pr, pi, Q):",
+        return "\n".join(["", "", "@njit(cache=True, error_model='numpy')",
+                          f"def {fname}(pr, pi, Q):",
                           *("    " + s for s in self.body)])
 
     def values(self, node):
@@ -258,6 +260,11 @@ class FormulaCode:
                 kind = "a complex number [re, im]" if t == C else "a number"
                 raise GraphError(f"formula parameter {name!r} must be {kind}, got {v!r}",
                                  **w) from None
+        mi = q[self.params["maxiter"][2]]
+        if not 1 <= mi <= MAX_ITER or mi != int(mi):
+            w = node.where.get("params") or node.where.get("type") or {}
+            raise GraphError(f"formula parameter maxiter must be a whole number from 1 to "
+                             f"{MAX_ITER}, got {mi!r}", **w)
         if given:
             w = node.where.get("params") or node.where.get("type") or {}
             raise GraphError(f"the formula has no parameter(s) {', '.join(sorted(given))}; "
