@@ -318,3 +318,13 @@ def test_every_node_type_is_in_the_reference():
         assert f"``{name}``" in page, name
     for mode in tg.BLEND_MODES:
         assert mode in page
+
+
+def test_parameter_types_are_checked_where_they_are_written():
+    e = _bad('[nodes.a]\ntype = "marble"\nstripes = "x"\n')
+    assert "'stripes' of a marble node must be a number" in e.message
+    assert (e.line, e.column) == (3, 11)
+    e = _bad('[nodes.a]\ntype = "terrace"\nsource = 0.0\ninvert = 1\n')
+    assert "true or false" in e.message and e.line == 4
+    e = _bad('[nodes.a]\ntype = "translate"\nsource = "b"\n[nodes.b]\ntype = "wood"\n')
+    assert "cannot sit under a transformer" in e.message and e.line == 5

@@ -264,7 +264,7 @@ class FormulaCode:
         if not 1 <= mi <= MAX_ITER or mi != int(mi):
             w = node.where.get("params") or node.where.get("type") or {}
             raise GraphError(f"formula parameter maxiter must be a whole number from 1 to "
-                             f"{MAX_ITER}, got {mi!r}", **w)
+                             f"{MAX_ITER}, got {float(mi):g}", **w)
         if given:
             w = node.where.get("params") or node.where.get("type") or {}
             raise GraphError(f"the formula has no parameter(s) {', '.join(sorted(given))}; "

@@ -232,6 +232,15 @@ class Node:
                 raise GraphError(f"a {type} node has no parameter {k!r}; expected one of: "
                                  f"{', '.join(sorted(spec.params)) or 'none'}",
                                  **self.where.get(k, {}))
+        for k, v in ps.items():
+            d = spec.params[k]
+            if isinstance(d, bool) and not isinstance(v, bool):
+                raise GraphError(f"parameter {k!r} of a {type} node must be true or false, got "
+                                 f"{v!r}", **self.where.get(k, {}))
+            seq = isinstance(v, list | tuple) and v and all(_is_num(x) for x in v)
+            if _is_num(d) and not (_is_num(v) or seq):  # (a noise scale may be per axis)
+                raise GraphError(f"parameter {k!r} of a {type} node must be a number, got "
+                                 f"{v!r}", **self.where.get(k, {}))
         self.params = ps
 
     # ---- parameters with their defaults
