@@ -122,3 +122,18 @@ def test_single_line_formula_position():
     with pytest.raises(GraphError) as e:
         tg.loads(text, filename="g.toml").evaluate((4, 4))
     assert (e.value.line, e.value.column) == (3, 15)  # the "!" after "f {"
+
+
+def test_a_formula_without_a_loop_is_a_custom_node_of_its_inputs():
+    src = """shade {
+final:
+  #index = sin(#in1 * 3) + #in2 * real(#pixel)
+}"""
+    a = tg.improved(scale=4.0, seed=1)
+    g = tg.Graph(tg.formula(a, 0.5, source=src, center=[0.0, 0.0], width=2.0))
+    got = g.evaluate((6, 10), dtype=np.float64)
+    A = tg.Graph(a).evaluate((6, 10), dtype=np.float64)
+    re = (np.arange(10) - 4.5) * 0.2
+    assert np.allclose(got, np.sin(A * 3) + 0.5 * re[None, :], atol=1e-12)
+    e = _err("f {\nloop:\n  z = z\n}\n")
+    assert "needs a bailout" in e.message and e.line == 5

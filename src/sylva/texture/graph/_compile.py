@@ -389,7 +389,9 @@ class _Emit:
             pi = self.var(f"{self.p(c.imag)} + ({self.p((self.ny - 1) / 2.0)} - {ctx[1]} * "
                           f"{self.p(self.nx)}) * {self.p(px)}")
         self.work += 16
-        return self.var(f"{fname}({pr}, {pi}, {par})")
+        ins = ", ".join(self.inp(node, k, ctx, 0.0) if k in node.inputs else "0.0"
+                        for k in ("in1", "in2", "in3"))
+        return self.var(f"{fname}({pr}, {pi}, {par}, {ins})")
 
     # ---- transformers
     def transform(self, node, ctx):

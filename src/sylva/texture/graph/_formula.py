@@ -59,7 +59,7 @@ SECTION.2: /(init|loop|bailout|final|inside|default)[ \t]*:/
 CMP: "<=" | ">=" | "==" | "!=" | "<" | ">"
 ADDOP: "+" | "-"
 MULOP: "*" | "/"
-SPECIAL: /#[A-Za-z]+/
+SPECIAL: /#[A-Za-z][A-Za-z0-9]*/
 PARAM: /@[A-Za-z_][A-Za-z0-9_]*/
 NAME: /[A-Za-z_][A-Za-z0-9_]*/
 NUMBER: /(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?/
@@ -237,7 +237,7 @@ class FormulaCode:
 
     def source(self, fname):
         return "\n".join(["", "", "@njit(cache=True, error_model='numpy')",
-                          f"def {fname}(pr, pi, Q):",
+                          f"def {fname}(pr, pi, Q, in1, in2, in3):",
                           *("    " + s for s in self.body)])
 
     def values(self, node):
@@ -323,7 +323,10 @@ class _Compiler:
                 return R, "float(n)"
             if s == "#index":
                 return R, "index"
-            raise self.err(f"unknown {s}; expected #pixel, #numiter or #index", t.children[0])
+            if s in ("#in1", "#in2", "#in3"):
+                return R, s[1:]
+            raise self.err(f"unknown {s}; expected #pixel, #numiter, #index or #in1..#in3 "
+                           "(the node's inputs)", t.children[0])
         if d == "param":
             name = str(t.children[0])[1:]
             if name not in self.params:
@@ -557,10 +560,11 @@ def compile_formula(text, where: _Where) -> FormulaCode:
         slot += 2 if typ == C else 1
     if "maxiter" not in comp.params:
         comp.params["maxiter"] = (R, 100.0, slot)
-    if "bailout" not in sections:
-        raise where.error("a formula needs a bailout: section (the condition to go on)", 1, 1)
-    bail = sections["bailout"][1]
-    if len(bail) != 1 or bail[0].data != "exprstmt":
+    if "bailout" not in sections and "loop" in sections:
+        raise comp.err("a formula with a loop: needs a bailout: section (the condition to go "
+                       "on)", sections["loop"][0])
+    bail = sections.get("bailout", (None, []))[1]
+    if "bailout" in sections and (len(bail) != 1 or bail[0].data != "exprstmt"):
         raise comp.err("bailout: holds one condition", sections["bailout"][0])
     comp.emit("u_z_r = 0.0")
     comp.emit("u_z_i = 0.0")
@@ -571,6 +575,11 @@ def compile_formula(text, where: _Where) -> FormulaCode:
     decl = len(comp.lines)
     comp.stmts(sections.get("init", (None, []))[1], "init")
     comp.emit(f"maxiter = int({comp.expr(Tree('param', [Token('PARAM', '@maxiter')]))[1]})")
+    if not bail:  # a custom node: no iteration, final: computes #index
+        comp.emit("index = 0.0")
+        comp.stmts(sections.get("final", (None, []))[1], "final")
+        comp.emit("return index")
+        return _finish(comp, decl, tree)
     comp.emit("while True:")
     comp.ind += 1
     b = comp.cond(bail[0].children[0])
@@ -588,6 +597,10 @@ def compile_formula(text, where: _Where) -> FormulaCode:
     comp.emit("index = float(n)")
     comp.stmts(sections.get("final", (None, []))[1], "final")
     comp.emit("return index")
+    return _finish(comp, decl, tree)
+
+
+def _finish(comp, decl, tree) -> FormulaCode:
     # every variable starts at 0 (numba needs one type per name through every branch)
     init = []
     for name, typ in comp.vars.items():

@@ -107,8 +107,10 @@ _spec("worley-fn", "generator", params={**_NOISE, **_WORLEY, "output": "f4"},
       formula="noise_grid(kind='worley', output='fN') for any N")
 
 _PLANE = {"center": [0.0, 0.0], "width": 3.0}
-_spec("formula", "fractal", params={**_PLANE, "source": None, "file": None, "params": {}},
-      formula="escape-time formula (see the formula language)")
+_spec("formula", "fractal", ("in1?", "in2?", "in3?"),
+      params={**_PLANE, "source": None, "file": None, "params": {}},
+      formula="escape-time formula, or a custom node of #pixel and the inputs #in1..#in3 "
+              "(see the formula language)")
 for _n, _c, _w in (("mandelbrot", [-0.5, 0.0], 3.0), ("julia", [0.0, 0.0], 3.2),
                    ("burning-ship", [-0.45, -0.5], 3.2), ("barnsley-j1", [0.0, 0.0], 4.0)):
     _spec(_n, "fractal", params={"center": _c, "width": _w, "params": {}},
