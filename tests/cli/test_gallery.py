@@ -19,6 +19,7 @@ def test_gallery_renders_every_example(tmp_path):
         assert ex.name in page
     textures = sorted(tmp_path.glob("texture-*.png"))
     assert len(textures) >= 10 and all(t.name in page for t in textures)
+    assert "<summary>graph</summary>" in page and "[nodes.out]" in page  # graph beside image
 
 
 def test_render_command_frames_a_2d_plant(tmp_path):

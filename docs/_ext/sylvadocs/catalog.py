@@ -419,6 +419,7 @@ API_MODULES = {
     "sylva.geometry.exchange": "mesh export (glTF, OBJ, PLY, STL, OpenSCAD, POV-Ray, SVG, USD)",
     "sylva.render": "offscreen rendering, cameras, lights, animations",
     "sylva.texture": "procedural textures",
+    "sylva.texture.graph": "texture graphs: nodes, files, the fused kernel, GLSL",
     "sylva.tree": "trees that grow in time (Weber-Penn species, wind)",
     "sylva.world": "voxel worlds",
     "sylva.studio": "the browser workbench",
@@ -439,6 +440,7 @@ API_CLASSES = {
     "sylva.tree": ("Tree", "Wind"),
     "sylva.world": ("World", "WorldConfig"),
     "sylva.studio": ("Limits",),
+    "sylva.texture.graph": ("Graph", "Node"),
 }
 
 

@@ -105,20 +105,24 @@ def _textures(out: Path, size: int = 256) -> list[dict]:
     """Some procedural textures (presets of :mod:`sylva.texture`) as PNGs."""
     from PIL import Image
 
-    from ..texture import PRESETS, render
+    from ..texture import PRESETS
+    from ..texture.graph import from_recipe
+    from ..texture.graph.library import marble_graph
 
     made = []
-    for name in GALLERY_TEXTURES:
-        if name not in PRESETS:
-            continue
+    graphs = [(name, f"texture preset {name}", from_recipe(dict(PRESETS[name],
+                                                                 size=[size, size])))
+              for name in GALLERY_TEXTURES if name in PRESETS]
+    graphs.append(("marble-graph", "marble as a graph of primitive nodes",
+                   marble_graph(scale=3.0, stripes=3.0, turbulence=2.5, seed=11)))
+    for name, title, g in graphs:
         t = time.perf_counter()
-        recipe = dict(PRESETS[name])
-        recipe["size"] = [size, size]
-        image = Image.fromarray(render(recipe))
+        g.size = [size, size]
+        image = Image.fromarray(g.image())  # the preset's image, from its graph
         save_buffered(out / f"texture-{name}.png",
                       lambda fh, image=image: image.save(fh, format="PNG"))
-        made.append(dict(file=f"texture-{name}.png", title=f"texture preset {name}",
-                         seconds=time.perf_counter() - t))
+        made.append(dict(file=f"texture-{name}.png", title=title,
+                         seconds=time.perf_counter() - t, graph=g.dumps()))
     return made
 
 
@@ -134,10 +138,12 @@ loading="lazy"><figcaption><b>{html.escape(r['name'])}</b><br>{html.escape(r['ti
 </figcaption></figure>"""
         )
     for a in anims:
+        graph = (f"<details><summary>graph</summary><pre>{html.escape(a['graph'])}</pre>"
+                 "</details>" if a.get("graph") else "")
         cards.append(
             f"""<figure><img src="{html.escape(a['file'])}" alt="{html.escape(a['title'])}">
 <figcaption><b>{html.escape(a['title'])}</b><br><small>{a['seconds']:.1f} s</small>
-</figcaption></figure>"""
+{graph}</figcaption></figure>"""
         )
     return """<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>sylva gallery</title>

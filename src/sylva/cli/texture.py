@@ -74,6 +74,12 @@ def register(subparsers) -> None:
     p.add_argument("--fps", type=float, default=None, help="animation frame rate (default 24)")
     p.add_argument("--preset", metavar="FILE", help="load a TOML preset file")
     p.add_argument("--save-preset", metavar="FILE", help="write the parameter set as TOML")
+    p.add_argument("--graph", metavar="FILE",
+                   help="render a texture graph file (.toml or .json; see the texture-graph "
+                        "reference); uses --size, --tileable, --frames/--fps/--speed (time), "
+                        "--colormap/--colors")
+    p.add_argument("--save-graph", metavar="FILE",
+                   help="write the texture (KIND or --preset) as a graph file (.toml, .json)")
     p.add_argument("--list", action="store_true", help="list texture kinds, presets and maps")
     p.add_argument("--lsystem", metavar="SOURCE",
                    help="draw a sylva L-system (a file in any dialect, or an example name, e.g. "
@@ -148,6 +154,8 @@ def run(args: argparse.Namespace) -> int:
         return 0
     if args.lsystem:
         return _run_lsystem(args)
+    if args.graph:
+        return _run_graph(args)
     if args.preset:
         recipe = presets.load_preset(args.preset)
         if args.kind and args.kind != recipe["kind"]:
@@ -176,8 +184,13 @@ def run(args: argparse.Namespace) -> int:
     if args.save_preset:
         presets.save_preset(recipe, args.save_preset)
         print(f"wrote preset {args.save_preset}")
+    if args.save_graph:
+        from ..texture.graph import from_recipe
+
+        from_recipe(recipe).save(args.save_graph)
+        print(f"wrote graph {args.save_graph}")
     if not args.out:
-        if args.save_preset:
+        if args.save_preset or args.save_graph:
             return 0
         raise SylvaError("give an output file with -o OUT.png")
     out = Path(args.out)
@@ -218,4 +231,58 @@ def _run_lsystem(args: argparse.Namespace) -> int:
     out = Path(args.out)
     _save_image(out, [img], 24.0)
     print(f"wrote {out} ({w}x{h}, L-system {args.lsystem})")
+    return 0
+
+
+def _run_graph(args: argparse.Namespace) -> int:
+    from ..texture import graph as tg
+    from ..texture.presets import parse_size
+
+    if args.kind or args.preset:
+        raise SylvaError("--graph renders its own graph: give it without a KIND or --preset")
+    allowed = ("size", "speed", "colormap")
+    ignored = [flag for dest, flag, *_ in _OPTIONS if dest not in allowed
+               and getattr(args, dest) is not None]
+    if args.save_preset:
+        ignored.append("--save-preset")
+    if ignored:
+        raise SylvaError(f"--graph takes --size, --tileable, --frames, --fps, --speed, "
+                         f"--colormap and --colors; not {', '.join(ignored)}")
+    g = tg.load(args.graph)
+    if args.size:
+        g.size = list(parse_size(args.size))
+    if args.tileable:
+        g.tileable = True
+    if args.colors is not None or args.colormap is not None:
+        if args.colors is not None and args.colormap is not None:
+            raise SylvaError("give --colors or --colormap, not both")
+        if g.output.spec.output == "colour":
+            raise SylvaError("--colors/--colormap: this graph's output is already a colour")
+        g.colormap = (_custom_colors(args.colors, "value") if args.colors is not None
+                      else args.colormap)
+    if args.save_graph:
+        g.save(args.save_graph)
+        print(f"wrote graph {args.save_graph}")
+    if not args.out:
+        if args.save_graph:
+            return 0
+        raise SylvaError("give an output file with -o OUT.png")
+    out = Path(args.out)
+    nframes = int(args.frames or 1)
+    fps = float(args.fps or 24.0)
+    if nframes < 1 or fps <= 0:
+        raise SylvaError("--frames must be at least 1 and --fps positive")
+    if nframes > 1 or out.suffix.lower() in (".gif", ".mp4"):
+        speed = 0.05 if args.speed is None else float(args.speed)
+        t0 = float(g.time or 0.0)
+        frames = []
+        for k in range(nframes):
+            g.time = t0 + k * speed
+            frames.append(g.image())
+    else:
+        frames = [g.image()]
+    _save_image(out, frames, fps)
+    w, h = g.size or (512, 512)
+    print(f"wrote {out} ({w}x{h}, {len(frames)} frame{'s' if len(frames) != 1 else ''}, "
+          f"graph {args.graph})")
     return 0

@@ -49,6 +49,7 @@ from . import _gridkernels as _gk
 from . import _kernels as _k
 from . import _sampling as _s
 from . import _worleyfn as _wf
+from ._gridplan import grid_plan
 from ._worleyfn import MAX_ORDER, worley_order, worley_range
 
 __all__ = [
@@ -962,70 +963,14 @@ def noise_grid(
     >>> img.shape, img.dtype.name
     ((64, 128), 'float32')
     """
-    shape = tuple(int(s) for s in shape)
-    if not 2 <= len(shape) <= 4 or min(shape) < 1:
-        raise NoiseError(f"shape must have 2 to 4 positive sizes, got {shape}")
-    if math.prod(shape) > 1 << 31:
-        raise NoiseError(f"grid {shape} is too large")
-    ndim = len(shape) + (time is not None)
-    if ndim > 4:
-        raise NoiseError("a 4D grid cannot take time as well (noise goes up to 4D)")
-    mode = _lookup(FRACTALS, fractal, "fractal")
-    norder = worley_order(output) if str(kind).lower() == "worley" else None
-    setup = _setup(kind, seed, interpolation, "f3" if norder else output, metric, jitter,
-                   density=density)
-    octaves, persistence, lacunarity = _octave_params(octaves, persistence, lacunarity)
-    if np.ndim(scale) == 0:
-        scales = None
-        if not np.isfinite(scale) or scale <= 0:
-            raise NoiseError(f"scale must be a positive number, got {scale!r}")
-    else:
-        scales = [float(v) for v in scale]
-        if len(scales) != len(shape) or not all(np.isfinite(v) and v > 0 for v in scales):
-            raise NoiseError(f"scale needs {len(shape)} positive numbers (x, y, ...), got {scale}")
-    flags = _axis_flags(tileable, len(shape))[::-1]  # x, y, z, w order
-    sizes = list(shape[::-1])
-    off = list(offset) + [0.0] * (4 - len(offset))
-    dt = _dtype(dtype)
-    width = sizes[0]
-    torus = setup.kind == _k.SIMPLEX and any(flags)
-    if torus and (len(shape) != 2 or not all(flags)):
-        raise NoiseError(
-            "tileable simplex supports 2D images (both axes, optionally with time); for"
-            " tileable volumes use a lattice noise (value, perlin, improved or worley)"
-        )
-    if torus and warp:
-        raise NoiseError("domain warping of tileable simplex is not supported")
-
-    # per-axis base cell counts and coordinates (in base-octave lattice cells)
-    cells = [scale * n / width for n in sizes] if scales is None else scales
-    if any(flags):
-        cells = [max(1, round(c)) if f else c for c, f in zip(cells, flags)]
-    axes = []
-    for a, n in enumerate(sizes):
-        step = cells[a] / n
-        axes.append(np.arange(n, dtype=np.float64) * step + off[a])
-    if time is not None:
-        axes.append(np.array([float(time) + off[len(sizes)]]))
-    while len(axes) < 4:
-        axes.append(np.zeros(1))
-    allflags = flags + [False] * (4 - len(flags))
-
-    amps = persistence ** np.arange(octaves, dtype=np.float64)
-    freqs = np.empty((octaves, 4))
-    pers = np.zeros((octaves, 4))
-    for o in range(octaves):
-        for a in range(4):
-            f = lacunarity**o
-            if allflags[a]:
-                whole = max(1, round(cells[a] * f))
-                pers[o, a] = whole
-                f = whole / cells[a]
-            freqs[o, a] = f
-    offs = _octave_offsets(octaves)
-    norm = 1.0 / amps.sum() if normalize else 1.0
+    plan = grid_plan(shape, kind, fractal, scale, octaves, persistence, lacunarity, gain,
+                      seed, interpolation, tileable, time, offset, warp, normalize, output,
+                      metric, jitter, dtype, density)
+    (shape, ndim, mode, norder, setup, dt, torus, sizes, axes, freqs, amps, offs, pers, norm,
+     gain) = (plan.shape, plan.ndim, plan.mode, plan.norder, plan.setup, plan.dt, plan.torus,
+              plan.sizes, plan.axes, plan.freqs, plan.amps, plan.offs, plan.pers, plan.norm,
+              plan.gain)
     t = setup.tables
-    gain = float(gain)
 
     if norder:
         if warp:

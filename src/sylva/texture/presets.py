@@ -250,6 +250,19 @@ def _pick(r, keys):
     return {k: r[k] for k in keys if k in r}
 
 
+def _noise_range(kind, kw, ndim) -> tuple[float, float]:
+    """The value range a noise recipe's colour map spans."""
+    frac = kw.get("fractal", "fbm")
+    out = str(kw.get("output", "f1")).lower()
+    if kind == "worley" and frac != "ridged" and (out in _SPREAD or noise.worley_order(out)):
+        # distances beyond F1 (and F1 + F2) reach past 1: spread the map over their range
+        return noise.worley_range(out, metric=kw.get("metric", "euclidean"), ndim=ndim,
+                                  jitter=kw.get("jitter", 1.0), density=kw.get("density"))
+    if kind == "worley" or frac != "fbm":
+        return (0.0, 1.0)
+    return (-1.0, 1.0) if kind in ("value", "simplex") else (-0.75, 0.75)
+
+
 def _field(r: dict, time: float | None) -> tuple[np.ndarray, tuple[float, float] | None]:
     """The scalar field of a recipe and its value range (None: use the data range)."""
     kind = r["kind"]
@@ -262,18 +275,7 @@ def _field(r: dict, time: float | None) -> tuple[np.ndarray, tuple[float, float]
         kw.setdefault("octaves", 6 if kind != "worley" else 1)
         g = noise.noise_grid(shape, kind=kind, seed=seed, tileable=tile, time=time,
                              dtype=np.float64, **kw)
-        frac = kw.get("fractal", "fbm")
-        out = str(kw.get("output", "f1")).lower()
-        if kind == "worley" and frac != "ridged" and (out in _SPREAD or noise.worley_order(out)):
-            # distances beyond F1 (and F1 + F2) reach past 1: spread the map over their range
-            rng = noise.worley_range(out, metric=kw.get("metric", "euclidean"),
-                                     ndim=len(shape) + (time is not None),
-                                     jitter=kw.get("jitter", 1.0), density=kw.get("density"))
-        elif kind == "worley" or frac != "fbm":
-            rng = (0.0, 1.0)
-        else:
-            rng = (-1.0, 1.0) if kind in ("value", "simplex") else (-0.75, 0.75)
-        return g, rng
+        return g, _noise_range(kind, kw, len(shape) + (time is not None))
     if kind in _PATTERNS:
         fn = getattr(patterns, kind)
         kw = _pick(r, _KEYS[kind])

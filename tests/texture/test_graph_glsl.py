@@ -1,0 +1,75 @@
+"""GLSL from the graph: the shader the GPU (llvmpipe here) runs gives the CPU kernel's
+values on a grid within float32 tolerance, for every node kind GLSL covers."""
+
+import numpy as np
+import pytest
+
+from sylva.render.texgraph import render_graph
+from sylva.texture import graph as tg
+from sylva.texture.graph import GraphError
+from sylva.texture.graph._compile import evaluate as _evaluate
+
+SHAPE = (20, 28)
+
+
+def _graphs():
+    a = tg.improved(scale=5.0, octaves=4, seed=3)
+    b = tg.fbm(kind="simplex", scale=3.0, octaves=3, seed=1)
+    c = tg.value(scale=6.0, octaves=2, seed=4, interpolation="cubic")
+    r = tg.ridged(scale=4.0, octaves=3, seed=2)
+    sel = tg.select(a, b, c, lower=-0.1, upper=0.3, falloff=0.1)
+    mods = tg.terrace(tg.curve(tg.rotate(sel, angle=30.0),
+                               points=[[-1, -1], [-0.3, 0.2], [0.3, -0.2], [1, 1]]),
+                      points=[-1, 0, 0.5, 1])
+    mix = tg.blend(tg.clamp(abs(a) * 2.0, lower=0, upper=1), tg.scale_bias(c, scale=0.5,
+                                                                           bias=0.5),
+                   tg.smoothstep(tg.x() * 1.5)) + tg.exponent(r, exponent=1.5)
+    warp = tg.warp(tg.translate(a, by=[0.1, 0.2]), dx=b, dy=c, amount=0.1) * tg.sin(tg.y())
+    colour = tg.layer(tg.gradient(mods, colors="terrain", vmin=-1, vmax=1),
+                      tg.gradient(r, colors="fire"), mode="overlay", opacity=0.5)
+    screen = tg.layer(tg.rgb(tg.x(), c * 0.5 + 0.5, 0.3), tg.color(value="#3366cc", alpha=0.7),
+                      mode="soft-light")
+    return [
+        ("improved", tg.Graph(a), 5e-5),
+        ("simplex", tg.Graph(b), 5e-5),
+        ("value", tg.Graph(c), 5e-5),
+        ("ridged", tg.Graph(r), 5e-5),
+        ("tileable 3D (time)", tg.Graph(a, tileable=True, time=0.3), 5e-5),
+        ("modifiers", tg.Graph(mods), 1e-4),
+        ("combiners", tg.Graph(mix), 1e-4),
+        ("transformers", tg.Graph(warp), 1e-4),
+        ("colour layers", tg.Graph(colour), 1e-3),
+        ("soft light", tg.Graph(screen), 1e-4),
+    ]
+
+
+GRAPHS = _graphs()
+
+
+@pytest.fixture(scope="module")
+def cpu():
+    """The CPU values of every graph, by few kernels (one per kind of output and tiling)."""
+    out = {}
+    groups = {}
+    for name, g, _ in GRAPHS:
+        groups.setdefault((g.output.spec.output, g.tileable, g.time), []).append((name, g))
+    for items in groups.values():
+        vals = _evaluate(items[0][1], SHAPE, np.float64, outputs=[g.output for _, g in items])
+        out.update({name: v for (name, _), v in zip(items, vals)})
+    return out
+
+
+@pytest.mark.parametrize("name,graph,tol", GRAPHS, ids=[g[0] for g in GRAPHS])
+def test_glsl_equals_cpu_within_float32_tolerance(cpu, name, graph, tol):
+    cpu = cpu[name]
+    gpu = render_graph(graph, SHAPE)
+    assert gpu.shape == cpu.shape
+    assert np.abs(cpu).max() > 0.05  # not a blank image
+    assert np.abs(gpu - cpu).max() < tol, name
+
+
+def test_nodes_without_glsl_are_errors():
+    with pytest.raises(GraphError, match="no GLSL for worley"):
+        tg.Graph(tg.worley(scale=3.0)).glsl()
+    with pytest.raises(GraphError, match="no GLSL for marble"):
+        tg.Graph(tg.marble()).glsl()
