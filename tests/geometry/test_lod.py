@@ -193,6 +193,11 @@ def lod_files(tree_chain, herb_chain, tmp_path_factory):
     write_lod_glb(tree_chain, out["tree"])
     write_lod_glb(herb_chain, out["herb"])
     write_lod_glb(tree_chain, out["tree_all"], nodes="all")
+    from sylva.cli import main
+
+    out["bush_textured"] = folder / "bush_textured.glb"  # --lod with --textures
+    assert main(["export", "24-seed000-bush-leaves", "-n", "2", "--lod", "3", "--textures",
+                 "32", "-o", str(out["bush_textured"])]) == 0  # fmt: skip
     out["world"] = folder / "world.glb"
     _world_info.update(_world_with_impostors(out["world"], folder / "tiles"))
     return out
@@ -211,6 +216,27 @@ def _world_with_impostors(path, tiles):
         plants = sum(len(g) for k, g in st.instances().items() if not k.startswith("grass#"))
         info = write_world_glb(st, path, tiles=tiles, impostor=world_impostor(size=32), near=0.0)
     return {**info, "plants": plants}
+
+
+def test_every_level_of_a_textured_lod_glb_references_its_baked_images(lod_files, tmp_path,
+                                                                       capsys):
+    data = lod_files["bush_textured"].read_bytes()
+    n = int.from_bytes(data[12:16], "little")
+    doc = json.loads(data[20:20 + n])
+    by_name = {nd["name"]: nd for nd in doc["nodes"]}
+    for level in ("LOD0", "LOD1", "LOD2"):
+        node = next(nd for name, nd in by_name.items() if name.endswith("_" + level))
+        mats = [doc["materials"][p["material"]] for p in doc["meshes"][node["mesh"]]["primitives"]]
+        textured = [m for m in mats if "baseColorTexture" in m.get("pbrMetallicRoughness", {})]
+        # the bark and the leaves of every level carry their baked images
+        assert len(textured) == len(mats) == 2, level
+    from sylva.cli import main
+
+    code = main(["export", "34-sylva-flowering-herb", "--lod", "3", "--textures", "32",
+                 "-o", str(tmp_path / "h.gltf")])  # fmt: skip
+    err = capsys.readouterr().err
+    assert code == 2 and "--lod with --textures" in err and ".glb" in err
+    assert not (tmp_path / "h.gltf").exists()
 
 
 def test_world_glb_draws_far_plants_as_impostors(lod_files):

@@ -49,6 +49,29 @@ def finish_chain(chain, n: int, args):
         raise SylvaError(f"--impostor-size: {exc}") from None
 
 
+def check_textures(args, out, n: int | None) -> None:
+    """``--lod`` with ``--textures``: baked images travel in a GLB's levels only."""
+    if n is None or getattr(args, "textures", None) is None:
+        return
+    ext = os.path.splitext(os.fspath(out))[1].lower()
+    if ext != ".glb":
+        raise SylvaError(f"--lod with --textures: baked levels of detail are written to "
+                         f".glb (it embeds the images), not {ext or os.fspath(out)!r}; "
+                         "leave out one of the two for .gltf or .usd*")
+
+
+def bake_chain(chain, size):
+    """Every mesh level of ``chain`` with its materials baked (the impostor keeps its own
+    atlas): each level is baked from its own meshes, so a level's leaf cards get the
+    outline of their own blades."""
+    from ..assets import bake_scene
+
+    for level in chain.levels:
+        if level.kind == "mesh":
+            level.scene = bake_scene(level.scene, size)
+    return chain
+
+
 def write_chain(chain, out, up: str | None = None) -> None:
     from ..geometry.exchange.gltf_lod import write_lod_glb, write_lod_gltf
     from ..geometry.exchange.usd_lod import write_usd_lod

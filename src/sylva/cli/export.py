@@ -79,10 +79,9 @@ def run(args: argparse.Namespace) -> int:
 
         textured_export(Scene(), fmt, args.textures)  # a bad size or format fails now
     n_lod = lod_levels(args, args.output)
-    if n_lod is not None and args.textures is not None:
-        raise SylvaError("--lod with --textures: levels of detail are written with their "
-                         "colours and the impostor's own images, not with baked textures "
-                         "yet; leave out one of the two")
+    from ._lod import check_textures
+
+    check_textures(args, args.output, n_lod)
     if args.up is not None and fmt in ("svg", "pov"):
         raise SylvaError(f"--up: {fmt.upper()} files have a fixed frame; leave --up out")
     from ..lsystem import DEFAULT_MODULE_LIMIT
@@ -106,6 +105,10 @@ def run(args: argparse.Namespace) -> int:
                            levels=min(n_lod, 3))  # fmt: skip
         chain.name = program.name if getattr(program, "name", None) else "plant"
         chain = finish_chain(chain, n_lod, args)
+        if args.textures is not None:
+            from ._lod import bake_chain
+
+            chain = bake_chain(chain, args.textures)
         write_chain(chain, args.output, args.up)
         what = describe(chain)
     elif fmt == "svg":

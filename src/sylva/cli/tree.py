@@ -122,10 +122,9 @@ def run(args: argparse.Namespace) -> int:
     from ._lod import lod_levels
 
     n_lod = lod_levels(args, out)
-    if n_lod is not None and args.textures is not None:
-        raise SylvaError("--lod with --textures: levels of detail are written with their "
-                         "colours and the impostor's own images, not with baked textures "
-                         "yet; leave out one of the two")
+    from ._lod import check_textures
+
+    check_textures(args, out, n_lod)
     if n_lod is not None and (args.animate or args.wind):
         raise SylvaError("--lod: write levels of detail of the still tree (leave out "
                          "--animate and --wind; the levels carry wind as _WIND vertex data)")
@@ -148,6 +147,10 @@ def run(args: argparse.Namespace) -> int:
         from ._lod import describe, finish_chain, write_chain
 
         chain = finish_chain(tree_lods(tree, levels=min(n_lod, 3), **mesh_opts), n_lod, args)
+        if args.textures is not None:
+            from ._lod import bake_chain
+
+            chain = bake_chain(chain, args.textures)
         write_chain(chain, out)
         print(f"{tree.name}, seed {args.seed}, age {age:g}: {describe(chain)}")
         print(f"wrote {out}")
