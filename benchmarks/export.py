@@ -1,6 +1,7 @@
 """Writing a GLB with levels of detail of the 1 M-segment benchmark plant, against trimesh.
 
-Run: ``python benchmarks/export.py [--segments 1000000] [--detail 8] [--impostor]``
+Run: ``python benchmarks/export.py [--segments 1000000] [--detail 8] [--impostor]
+[--textures 512]``
 
 The plant is the one of ``benchmarks/mesh.py`` (every X splits into three pitched, rolled
 branches; about a million segments).  In one run, after a small warm-up that compiles the
@@ -10,6 +11,9 @@ kernels:
   data), LOD1 and LOD2 meshed again from the turtle records;
 * ``impostor`` (with ``--impostor``): baking the colour + normal atlas of LOD0 offscreen
   (:func:`sylva._impostor.add_impostor`; llvmpipe on a machine without a GPU);
+* ``textures`` (with ``--textures SIZE``): baking every mesh level's materials to images
+  (:func:`sylva.assets.bake_scene`, what ``sylva export --lod 3 --textures SIZE`` does), so
+  that the GLB is textured;
 * ``sylva glb``: :func:`~sylva.geometry.exchange.gltf_lod.write_lod_glb` of all the levels
   (``MSFT_lod``), and :func:`~sylva.geometry.exchange.gltf.write_glb` of LOD0 alone;
 * ``trimesh glb``: ``trimesh.Trimesh(LOD0's vertices, faces, vertex_normals)``'s
@@ -44,6 +48,8 @@ def main(argv=None) -> int:
     ap.add_argument("--segments", type=int, default=1_000_000)
     ap.add_argument("--detail", type=int, default=8)
     ap.add_argument("--impostor", action="store_true", help="bake an impostor level too")
+    ap.add_argument("--textures", type=int, default=None, metavar="SIZE",
+                    help="bake the materials of every level to SIZE x SIZE images first")
     args = ap.parse_args(argv)
     import trimesh
 
@@ -70,6 +76,12 @@ def main(argv=None) -> int:
         t0 = time.perf_counter()
         add_impostor(chain, size=256)
         print(f"impostor: {time.perf_counter() - t0:.2f} s (256 px views, 2 views)")
+    if args.textures:
+        from sylva.cli._lod import bake_chain
+
+        t0 = time.perf_counter()
+        bake_chain(chain, args.textures)
+        print(f"textures: {time.perf_counter() - t0:.2f} s ({args.textures} px, every level)")
     lod0 = chain.levels[0].scene.merged()
     with tempfile.TemporaryDirectory() as tmp:
         paths = {k: os.path.join(tmp, f"{k}.glb") for k in ("lods", "lod0", "trimesh")}
