@@ -46,6 +46,7 @@ import numpy as np
 
 from ..errors import SylvaError
 from . import _gridkernels as _gk
+from . import _gridkernels32 as _gk32
 from . import _kernels as _k
 from . import _sampling as _s
 from . import _worleyfn as _wf
@@ -1098,6 +1099,9 @@ def noise_grid(
             return out.astype(dt, copy=False).reshape(shape)
 
         full = tuple(len(a) for a in axes[:4])  # nx, ny, nz, nw
+        if dt == np.float32 and (o32 := _gk32.grid32(setup, ndim, axes, freqs, amps, offs, pers,
+                                                    mode, norm, gain, torus, full)) is not None:
+            return o32.reshape(shape)
         if setup.kind in (_k.VALUE, _k.PERLIN, _k.IMPROVED) and ndim in (2, 3):
             tabs = [
                 _gk.axis_tables(
