@@ -154,6 +154,41 @@ def _lat_hash(kind, ndim, base, cnt, a0, a1, perm, vals, y0, y1, z0, z1, hb, vb)
 
 
 @njit(**_OPTS)
+def _row_tables(kind, perm, vals, y0, y1, th, tv):
+    """The 2D corner hashes of one row and octave for every ``a = perm[x]`` (0..255): a
+    row of 2D noise then needs one lookup per corner instead of two."""
+    for a in range(256):
+        h0 = uint64(perm[uint64(a) + y0])
+        h1 = uint64(perm[uint64(a) + y1])
+        if kind == k.IMPROVED:
+            th[0, a] = perm[h0]
+            th[1, a] = perm[h1]
+        else:
+            tv[0, a] = vals[h0]
+            tv[1, a] = vals[h1]
+
+
+@njit(**_OPTS)
+def _lat_hash2(kind, base, cnt, a0, a1, th, tv, hb, vb):
+    """:func:`_lat_hash` of a 2D row through its :func:`_row_tables`."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        i = b0 + uint64(q)
+        a = uint64(a0[i])
+        b = uint64(a1[i])
+        if kind == k.IMPROVED:
+            hb[0, q] = th[0, a]
+            hb[1, q] = th[0, b]
+            hb[2, q] = th[1, a]
+            hb[3, q] = th[1, b]
+        else:
+            vb[0, q] = tv[0, a]
+            vb[1, q] = tv[0, b]
+            vb[2, q] = tv[1, a]
+            vb[3, q] = tv[1, b]
+
+
+@njit(**_OPTS)
 def _lat_eval(kind, ndim, base, cnt, fx, cu, y, v, z, w, hb, vb, nb):
     """SIMD pass: blend the corners of samples ``base..base + cnt`` into ``nb``."""
     b0 = uint64(base)
@@ -232,6 +267,8 @@ def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, norm, ga
         hb = np.empty((8, BLOCK), np.int32)
         vb = np.empty((8, BLOCK), np.float32)
         nb = np.empty(BLOCK, np.float32)
+        th = np.empty((2, 256), np.int32)
+        tv = np.empty((2, 256), np.float32)
         for r in range(c * ROWS, min(nrows, (c + 1) * ROWS)):
             j = r % ny
             m = r // ny
@@ -243,11 +280,30 @@ def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, norm, ga
                 y1 = uint64(yi1[o, j])
                 z0 = uint64(zi0[o, m]) if ndim == 3 else uint64(0)
                 z1 = uint64(zi1[o, m]) if ndim == 3 else uint64(0)
+                rowtab = ndim == 2 and nx > 128
+                if rowtab:
+                    _row_tables(kind, perm, vals, y0, y1, th, tv)
                 for base in range(0, nx, BLOCK):
                     cnt = min(BLOCK, nx - base)
-                    _lat_hash(
-                        kind, ndim, base, cnt, px0[o], px1[o], perm, vals, y0, y1, z0, z1, hb, vb
-                    )
+                    if rowtab:
+                        _lat_hash2(kind, base, cnt, px0[o], px1[o], th, tv, hb, vb)
+                    else:
+                        _lat_hash(
+                            kind,
+                            ndim,
+                            base,
+                            cnt,
+                            px0[o],
+                            px1[o],
+                            perm,
+                            vals,
+                            y0,
+                            y1,
+                            z0,
+                            z1,
+                            hb,
+                            vb,
+                        )
                     _lat_eval(
                         kind,
                         ndim,
