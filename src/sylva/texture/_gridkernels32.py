@@ -361,16 +361,17 @@ def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bi, bj, bc):
 
 
 @njit(**_OPTS)
-def _s2_hash(cnt, bi, bj, bc, perm, perm12, g0, g1, g2):
-    """Scalar pass: the corners' gradient indices (table lookups)."""
+def _s2_hash(cnt, bi, bj, bc, tab, g0, g1, g2):
+    """Scalar pass: the corners' gradient indices, ``perm12[i + perm[j]]`` as one lookup
+    in ``tab[j, i]`` (:func:`simplex_table`)."""
     one = uint64(1)
     for q in range(cnt):
         ii = uint64(bi[q])
         jj = uint64(bj[q])
         i1 = uint64(bc[q])
-        g0[q] = perm12[ii + uint64(perm[jj])]
-        g1[q] = perm12[ii + i1 + uint64(perm[jj + one - i1])]
-        g2[q] = perm12[ii + one + uint64(perm[jj + one])]
+        g0[q] = tab[jj, ii]
+        g1[q] = tab[jj + one - i1, ii + i1]
+        g2[q] = tab[jj + one, ii + one]
 
 
 @njit(**_OPTS)
@@ -444,19 +445,17 @@ def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc):
 
 
 @njit(**_OPTS)
-def _s3_hash(cnt, bi, bj, bk, bc, perm, perm12, g0, g1, g2, g3):
+def _s3_hash(cnt, bi, bj, bk, bc, perm, tab, g0, g1, g2, g3):
     one = uint64(1)
     for q in range(cnt):
         i1, j1, k1, i2, j2, k2 = _corners3(bc[q])
         ii = uint64(bi[q])
         jj = uint64(bj[q])
         kk = uint64(bk[q])
-        g0[q] = perm12[ii + uint64(perm[jj + uint64(perm[kk])])]
-        h1 = uint64(perm[jj + uint64(j1) + uint64(perm[kk + uint64(k1)])])
-        g1[q] = perm12[ii + uint64(i1) + h1]
-        h2 = uint64(perm[jj + uint64(j2) + uint64(perm[kk + uint64(k2)])])
-        g2[q] = perm12[ii + uint64(i2) + h2]
-        g3[q] = perm12[ii + one + uint64(perm[jj + one + uint64(perm[kk + one])])]
+        g0[q] = tab[jj + uint64(perm[kk]), ii]
+        g1[q] = tab[jj + uint64(j1) + uint64(perm[kk + uint64(k1)]), ii + uint64(i1)]
+        g2[q] = tab[jj + uint64(j2) + uint64(perm[kk + uint64(k2)]), ii + uint64(i2)]
+        g3[q] = tab[jj + one + uint64(perm[kk + one]), ii + one]
 
 
 @njit(**_OPTS)
@@ -495,7 +494,7 @@ def _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb):
 
 
 @njit(cache=True, parallel=True, error_model="numpy")  # no fast-math: yin, zin as in float64
-def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, perm12, norm, gain):
+def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, tab, norm, gain):
     """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D or 3D simplex noise (Gustavson's
     corners, hashes and gradients), every octave in one pass per row.  ``xs, ys, zs``,
     ``freqs``, ``offs`` as for :func:`._gridkernels.simplex_grid` (float64; ``xs32``:
@@ -536,14 +535,30 @@ def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, p
                     cnt = min(BLOCK, nx - base)
                     if ndim == 2:
                         _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bi, bj, bc)
-                        _s2_hash(cnt, bi, bj, bc, perm, perm12, g0, g1, g2)
+                        _s2_hash(cnt, bi, bj, bc, tab, g0, g1, g2)
                         _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb)
                     else:
                         _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc)
-                        _s3_hash(cnt, bi, bj, bk, bc, perm, perm12, g0, g1, g2, g3)
+                        _s3_hash(cnt, bi, bj, bk, bc, perm, tab, g0, g1, g2, g3)
                         _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb)
                     _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
             _finish(mode, row, norm)
+
+
+def simplex_table(seed, perm, perm12):
+    """``tab[m, i] = perm12[i + perm[m]]`` (int8, m in 0..511, i in 0..256): simplex's two
+    chained lookups as one (cached per seed)."""
+    tab = _TABS.get(seed)
+    if tab is None:
+        m = np.arange(512)
+        tab = perm12[np.arange(257)[None, :] + perm[m][:, None]].astype(np.int8)
+        if len(_TABS) > 16:
+            _TABS.clear()
+        _TABS[seed] = tab
+    return tab
+
+
+_TABS: dict = {}
 
 
 def lattice_tables32(axis_tab, perm, is_x):
@@ -616,7 +631,7 @@ def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, 
             a32,
             offs,
             t.perm,
-            t.perm12,
+            simplex_table(t.seed, t.perm, t.perm12),
             f32(norm),
             f32(gain),
         )
