@@ -1,17 +1,42 @@
-"""Noise throughput of sylva.texture against FastNoise Lite (pyfastnoiselite), same run.
+"""Noise throughput of sylva.texture against FastNoise Lite and FastNoise2, same run.
 
 Run:  .venv/bin/python benchmarks/noise.py [--repeat 11] [--size 1024]
+      SYLVA_FASTNOISE2_LIB=/tmp/fn2/libsylva_fn2.so .venv/bin/python benchmarks/noise.py
 
-For each case both libraries produce the same number of float32 samples: sylva evaluates a
+Peers: FastNoise Lite (pyfastnoiselite, scalar C) always; FastNoise2 (MIT, C++17, SIMD with
+runtime dispatch SSE2 .. AVX-512) when ``SYLVA_FASTNOISE2_LIB`` names a build of the small
+C wrapper ``benchmarks/peers/fastnoise2_wrap.cpp`` (our code; nothing of FastNoise2 is in
+the package or in CI).  Build it (about a minute; FastNoise2 v1.1.1 pins FastSIMD at
+16450dae)::
+
+    git clone --branch v1.1.1 https://github.com/Auburn/FastNoise2 /tmp/fn2
+    git clone https://github.com/Auburn/FastSIMD /tmp/fastsimd
+    git -C /tmp/fastsimd checkout 16450dae9528727e500e7254f635a671f9c7ee2d
+    cd /tmp/fn2 && cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DBUILD_SHARED_LIBS=ON \
+        -DFASTNOISE2_TOOLS=OFF -DFASTNOISE2_TESTS=OFF -DCPM_FastSIMD_SOURCE=/tmp/fastsimd
+    cmake --build build -j2
+    g++ -O2 -std=c++17 -shared -fPIC -I include -I /tmp/fastsimd/include \
+        -I build/src/fastsimd/FastSIMD_FastNoise/include \
+        <sylva>/benchmarks/peers/fastnoise2_wrap.cpp -o /tmp/fn2/libsylva_fn2.so \
+        -L build/Release/lib -lFastNoise -Wl,-rpath,/tmp/fn2/build/Release/lib
+
+FastNoise2 runs twice: at the best SIMD level of the CPU (printed) and capped at AVX2.
+FastNoise2 generates the grid itself (``GenUniformGrid2D/3D``, one lattice cell per unit,
+the same step as sylva's grid), single-threaded.  sylva runs both of its roads:
+``dtype=float32`` (the default: float32 SIMD kernels) and ``dtype=float64`` (the
+bit-exact road, rounded to float32 here would be the same work).
+
+For each case every library produces the same number of samples: sylva evaluates a
 regular grid with :func:`sylva.texture.noise_grid`; FastNoise Lite evaluates the same grid's
 coordinates with ``FastNoiseLite.gen_from_coords`` (single-threaded).  sylva runs with
-``numba.set_num_threads(1)`` for the one-core figure and with every core for the speed-up.
+``numba.set_num_threads(1)`` for the one-core figures and with every core for the speed-up
+(float32 road).
 
-Measurement: ``--repeat`` rounds per case; a round times sylva on one core, FastNoise Lite
-and sylva on all cores back to back (each the best of ``--inner`` calls; the order within a
-round alternates), so that a slow phase of a shared machine hits the three alike.  The
-ratio and the speed-up are the medians of the per-round ratios; the rates are the medians
-of the per-round rates, in million samples per second.
+Measurement: ``--repeat`` rounds per case; a round times every contestant back to back
+(each the best of ``--inner`` calls; the order within a round alternates), so that a slow
+phase of a shared machine hits them alike.  Ratios and the speed-up are the medians of the
+per-round ratios; the rates are the medians of the per-round rates, in million samples per
+second.
 
 The two-core speed-up of a shared virtual machine varies from moment to moment whatever the
 code (the host decides where the virtual cores run), so every round also times a
@@ -22,6 +47,7 @@ trivially parallel arithmetic kernel on one and on all cores: its median speed-u
 from __future__ import annotations
 
 import argparse
+import ctypes
 import math
 import os
 import statistics
@@ -63,31 +89,72 @@ def _best(fn, inner: int) -> float:
     return best
 
 
-def _rounds(ours, peer, repeat: int, inner: int, cores: int):
-    """Per-round times: ours on one core, the peer, ours on ``cores`` cores, the probe on
-    one core and on ``cores`` cores."""
-    numba.set_num_threads(1)
-    ours()  # warm-up (and compile)
-    peer()
-    _probe()
-    numba.set_num_threads(cores)
-    ours()
-    _probe()
+def _rounds(fns: dict, repeat: int, inner: int, cores: int):
+    """Per-round times of ``fns`` (name -> (callable, threads)); the probe on one and on
+    ``cores`` cores is added as ``probe1`` and ``probeN``."""
+    fns = dict(fns, probe1=(_probe, 1), probeN=(_probe, cores))
+    for fn, threads in fns.values():  # warm-up (and compile)
+        numba.set_num_threads(threads)
+        fn()
     rounds = []
     try:
         for r in range(repeat):
-            t = {}
-            order = ["one", "peer", "all", "probe1", "probeN"]
+            order = list(fns)
             if r % 2:
                 order.reverse()
+            t = {}
             for what in order:
-                numba.set_num_threads(1 if what in ("one", "probe1") else cores)
-                fn = _probe if what.startswith("probe") else peer if what == "peer" else ours
+                fn, threads = fns[what]
+                numba.set_num_threads(threads)
                 t[what] = _best(fn, inner)
-            rounds.append((t["one"], t["peer"], t["all"], t["probe1"], t["probeN"]))
+            rounds.append(t)
     finally:
         numba.set_num_threads(cores)
     return rounds
+
+
+class _FastNoise2:
+    """FastNoise2 through ``benchmarks/peers/fastnoise2_wrap.cpp`` (see the docstring)."""
+
+    KINDS = {"improved": 0, "simplex": 1, "value": 2, "worley": 3}
+
+    def __init__(self, path: str):
+        lib = ctypes.CDLL(path)
+        lib.sfn2_new.restype = ctypes.c_void_p
+        lib.sfn2_new.argtypes = [ctypes.c_int, ctypes.c_int, ctypes.c_int]
+        lib.sfn2_free.argtypes = [ctypes.c_void_p]
+        lib.sfn2_level.restype = ctypes.c_char_p
+        lib.sfn2_level.argtypes = [ctypes.c_void_p]
+        fp = ctypes.POINTER(ctypes.c_float)
+        lib.sfn2_grid2.argtypes = [ctypes.c_void_p, fp] + [ctypes.c_int] * 2 + [
+            ctypes.c_float,
+            ctypes.c_int,
+        ]
+        lib.sfn2_grid3.argtypes = [ctypes.c_void_p, fp] + [ctypes.c_int] * 3 + [
+            ctypes.c_float,
+            ctypes.c_int,
+        ]
+        self.lib = lib
+
+    def maker(self, kind: str, octaves: int, shape, step: float, avx2: bool):
+        """A callable filling a float32 grid of ``shape`` and the SIMD level it runs."""
+        lib = self.lib
+        h = lib.sfn2_new(self.KINDS[kind], octaves, int(avx2))
+        if not h:
+            return None, "n/a"
+        out = np.empty(shape, np.float32)
+        ptr = out.ctypes.data_as(ctypes.POINTER(ctypes.c_float))
+        if len(shape) == 2:
+
+            def run():
+                lib.sfn2_grid2(h, ptr, shape[1], shape[0], step, 1337)
+        else:
+
+            def run():
+                lib.sfn2_grid3(h, ptr, shape[2], shape[1], shape[0], step, 1337)
+
+        run.keep = (h, out)
+        return run, lib.sfn2_level(h).decode()
 
 
 def _fnl(noise_type, octaves: int) -> FastNoiseLite:
@@ -138,14 +205,26 @@ def main(argv=None) -> int:
         ("2D Worley F1", shape2, "worley", 1, c2, NoiseType.NoiseType_Cellular),
     ]
     ncores = numba.config.NUMBA_NUM_THREADS
+    lib = os.environ.get("SYLVA_FASTNOISE2_LIB")
+    fn2 = _FastNoise2(lib) if lib else None
+    llvm_cpu = _llvm_cpu()
     print(
-        f"sylva.texture vs FastNoise Lite  ({os.cpu_count()} CPUs, numba {numba.__version__},"
-        f" {args.repeat} rounds, float32 output, M samples/s)"
+        f"sylva.texture vs FastNoise Lite{' and FastNoise2' if fn2 else ''}  ({os.cpu_count()}"
+        f" CPUs, numba {numba.__version__}, {args.repeat} rounds, M samples/s, one core"
+        " unless said)"
+    )
+    print(
+        f"SIMD: sylva = numba/LLVM for {llvm_cpu} (float32 road: 16 float32 lanes where the CPU"
+        " has AVX-512, 8 with AVX2); FastNoise Lite = scalar C"
+        + ("; FastNoise2 = runtime dispatch (level per case below)" if fn2 else
+           "; FastNoise2: not measured (set SYLVA_FASTNOISE2_LIB, see the docstring)")
     )
     print(f"load average before the run: {os.getloadavg()[0]:.2f}")
+    cols = ["f32", "f64", "FNL"] + (["FN2", "FN2avx2"] if fn2 else [])
     head = (
-        f"{'case':<24}{'samples':>10}{'sylva 1c':>10}{'FNL 1c':>9}{'ratio':>8}"
-        f"{f'sylva {ncores}c':>11}{'speed-up':>10}{'machine':>9}{'ratio range':>15}"
+        f"{'case':<24}" + "".join(f"{c:>9}" for c in cols)
+        + f"{'f32/FNL':>9}" + (f"{'f32/FN2':>9}{'/FN2avx2':>9}" if fn2 else "")
+        + f"{'f32/f64':>9}{f'{ncores}c x':>8}{'machine':>9}  FN2 level"
     )
     print(head)
     print("-" * len(head))
@@ -154,31 +233,50 @@ def main(argv=None) -> int:
             continue
         count = int(np.prod(shape))
 
-        def ours(shape=shape, kind=kind, octaves=octaves):
-            return noise_grid(shape, kind=kind, octaves=octaves, scale=scale, seed=1)
+        def ours(dt, shape=shape, kind=kind, octaves=octaves):
+            return lambda: noise_grid(
+                shape, kind=kind, octaves=octaves, scale=scale, seed=1, dtype=dt
+            )
 
         fnl = _fnl(ntype, octaves)
-        rounds = _rounds(
-            ours, lambda fnl=fnl, c=c: fnl.gen_from_coords(c), args.repeat, args.inner, ncores
-        )
-        r1 = statistics.median(count / r[0] / 1e6 for r in rounds)
-        rf = statistics.median(count / r[1] / 1e6 for r in rounds)
-        rn = statistics.median(count / r[2] / 1e6 for r in rounds)
-        ratios = sorted(r[1] / r[0] for r in rounds)
-        speedup = statistics.median(r[0] / r[2] for r in rounds)
-        machine = statistics.median(r[3] / r[4] for r in rounds)
-        print(
-            f"{name:<24}{count:>10}{r1:>10.1f}{rf:>9.1f}{statistics.median(ratios):>7.2f}x"
-            f"{rn:>11.1f}{speedup:>9.2f}x{machine:>8.2f}x{ratios[0]:>8.2f}-{ratios[-1]:.2f}x"
-        )
+        fns = {
+            "f32": (ours(np.float32), 1),
+            "f64": (ours(np.float64), 1),
+            "FNL": (lambda fnl=fnl, c=c: fnl.gen_from_coords(c), 1),
+            "all": (ours(np.float32), ncores),
+        }
+        level = ""
+        if fn2:
+            step = scale / shape[-1]
+            run, level = fn2.maker(kind, octaves, shape, step, False)
+            run2, level2 = fn2.maker(kind, octaves, shape, step, True)
+            fns["FN2"] = (run, 1)
+            fns["FN2avx2"] = (run2, 1)
+            level = f"{level} / {level2}"
+        rounds = _rounds(fns, args.repeat, args.inner, ncores)
+
+        def rate(w, rounds=rounds, count=count):
+            return statistics.median(count / r[w] / 1e6 for r in rounds)
+
+        def ratio(a, b, rounds=rounds):
+            return statistics.median(r[b] / r[a] for r in rounds)
+
+        line = f"{name:<24}" + "".join(f"{rate(w):>9.1f}" for w in cols)
+        line += f"{ratio('f32', 'FNL'):>8.2f}x"
+        if fn2:
+            line += f"{ratio('f32', 'FN2'):>8.2f}x{ratio('f32', 'FN2avx2'):>8.2f}x"
+        line += f"{ratio('f32', 'f64'):>8.2f}x{ratio('all', 'f32'):>7.2f}x"
+        line += f"{ratio('probeN', 'probe1'):>8.2f}x  {level}"
+        print(line)
     if not args.only or "graph" in args.only.lower():
         _graph_rows(args, shape2, scale, c2)
     print(f"load average after the run: {os.getloadavg()[0]:.2f}")
     print(
-        "\nratio = sylva one core / FastNoise Lite one core (median of the rounds; range: the"
-        " rounds' lowest and highest); speed-up = sylva one core time / sylva"
-        f" {ncores} cores time (median of the rounds); machine = the same speed-up of a"
-        " trivially parallel arithmetic kernel, measured in the same rounds."
+        "\nf32 / f64 = sylva noise_grid with dtype float32 (SIMD float32 road) / float64"
+        " (bit-exact road); FNL = FastNoise Lite; FN2 = FastNoise2 at its best level, FN2avx2"
+        " = capped at AVX2; a/b = rate of a over rate of b (median of the rounds);"
+        f" {ncores}c x = sylva float32 one core time / {ncores} cores time; machine = the same"
+        " speed-up of a trivially parallel arithmetic kernel, measured in the same rounds."
     )
     return 0
 
@@ -241,6 +339,15 @@ def _graph_rows(args, shape, scale, coords) -> None:
           "target is <= 1.15x); vs FNL = FastNoise Lite time / graph time (the target is >= 2x):"
           " its 6-octave Perlin fBm, and for marble that fBm followed by marble's arithmetic in"
           " NumPy (FastNoise Lite has no marble); rates in M samples/s.")
+
+
+def _llvm_cpu() -> str:
+    try:
+        import llvmlite.binding as llvm
+
+        return llvm.get_host_cpu_name()
+    except Exception:  # noqa: BLE001 - only a label
+        return "the host CPU"
 
 
 if __name__ == "__main__":

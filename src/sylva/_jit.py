@@ -48,6 +48,7 @@ KERNEL_MODULES = {
     "sylva.geometry._simd": "mesh",
     "sylva.texture._kernels": "noise",
     "sylva.texture._gridkernels": "noise",
+    "sylva.texture._gridkernels32": "noise",
     "sylva.texture._cellkernels": "noise",
     "sylva.texture._sampling": "texture",
     "sylva.texture._raster": "texture",

@@ -1,0 +1,639 @@
+"""Float32 SIMD paths for noise on regular grids (private; see :mod:`sylva.texture.noise`).
+
+The float32 road of :func:`sylva.texture.noise_grid` (``dtype=np.float32``, the default):
+the same lattices, hashes and gradients as the float64 road of :mod:`._gridkernels`, but
+float32 arithmetic throughout, every octave fused into one pass per row (the output row
+is the accumulator), and one branch-free loop per row and octave that LLVM vectorises to
+the machine's widest registers (16 float32 lanes with AVX-512, 8 with AVX2): the
+permutation-table lookups become vector gathers, gradients come from bit masks or
+selects instead of tables, floors are float floors, fast-math lets LLVM fuse multiply-adds.
+
+Results differ from the float64 road by float32 rounding only: the difference is below
+``TOLERANCE`` (absolute, on values normalised to about [-1, 1]); see
+``tests/texture/test_grid32.py``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange, uint64
+
+from . import _kernels as k
+from ._gridkernels import BLOCK, ROWS, axis_tables
+
+#: bound on the absolute difference from the float64 road (values about [-1, 1]): value
+#: and improved noise differ by ~3e-7 (their lattice tables are computed in float64);
+#: 2D simplex, located in float32 coordinates (~1e-4 of a cell of rounding at 2000 cells),
+#: by up to ~7e-5 over 6 octaves; 3D simplex is located in float64 (its kernel, r² = 0.6,
+#: jumps across simplex faces, so the simplex must be the float64 road's) and differs by
+#: ~5e-7
+TOLERANCE = 2e-4
+
+_F = np.float32
+ZERO = _F(0.0)
+ONE = _F(1.0)
+HALF = _F(0.5)
+F2 = _F(k.F2)
+G2 = _F(k.G2)
+G2X2 = _F(2.0 * k.G2 - 1.0)  # x2 = x0 - 1 + 2 G2
+F3 = _F(k.F3)
+G3 = _F(k.G3)
+G3X2 = _F(2.0 * k.G3)
+G3X3 = _F(3.0 * k.G3 - 1.0)
+SIX = _F(6.0)
+FIFTEEN = _F(15.0)
+TEN = _F(10.0)
+THREE = _F(3.0)
+TWO = _F(2.0)
+R2 = _F(0.5)
+R3 = _F(0.6)
+S2 = _F(70.0)
+S3 = _F(32.0)
+
+_OPTS = dict(cache=True, fastmath=True, error_model="numpy")
+
+
+@njit(inline="always", **_OPTS)
+def _lerp(t, a, b):
+    return a + t * (b - a)
+
+
+@njit(inline="always", **_OPTS)
+def _g16(h, x, y, z):
+    """Improved noise's gradient ``GRAD16[h & 15] . (x, y, z)`` by selects (Perlin's own
+    ``grad``; no table, and no 64-bit shifts to halve the lanes)."""
+    h = h & 15
+    u = x if h < 8 else y
+    v = y if h < 4 else (x if (h == 12) | (h == 14) else z)
+    return (-u if h & 1 else u) + (-v if h & 2 else v)
+
+
+@njit(inline="always", **_OPTS)
+def _g16_2(h, x, y):
+    """:func:`_g16` with z = 0."""
+    h = h & 15
+    u = x if h < 8 else y
+    v = y if h < 4 else (x if (h == 12) | (h == 14) else ZERO)
+    return (-u if h & 1 else u) + (-v if h & 2 else v)
+
+
+@njit(**_OPTS)
+def _combine_block(mode, row, weight, base, cnt, nb, amp, gain):
+    """Add octave values ``nb[:cnt]`` into ``row[base:base + cnt]`` (fBm, turbulence or
+    ridged, as :func:`._gridkernels._combine_block`)."""
+    b = uint64(base)
+    if mode == k.FBM:
+        for q in range(cnt):
+            row[b + uint64(q)] += amp * nb[q]
+    elif mode == k.TURBULENCE:
+        for q in range(cnt):
+            row[b + uint64(q)] += amp * abs(nb[q])
+    else:
+        for q in range(cnt):
+            i = b + uint64(q)
+            s = ONE - abs(nb[q])
+            s *= s
+            s *= weight[i]
+            weight[i] = min(max(s * gain, ZERO), ONE)
+            row[i] += amp * s
+
+
+@njit(inline="always", **_OPTS)
+def _finish(mode, row, norm):
+    if mode == k.RIDGED:
+        for i in range(row.shape[0]):
+            row[i] *= norm
+
+
+@njit(**_OPTS)
+def _lat_hash(kind, ndim, base, cnt, a0, a1, perm, vals, y0, y1, z0, z1, hb, vb):
+    """Scalar pass: the corner hashes of samples ``base..base + cnt`` (gradient indices
+    into ``hb`` for improved noise, lattice values into ``vb`` for value noise)."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        i = b0 + uint64(q)
+        a = uint64(a0[i])
+        b = uint64(a1[i])
+        if ndim == 2:
+            h0 = perm[a + y0]
+            h1 = perm[b + y0]
+            h2 = perm[a + y1]
+            h3 = perm[b + y1]
+            if kind == k.IMPROVED:
+                hb[0, q] = perm[uint64(h0)]
+                hb[1, q] = perm[uint64(h1)]
+                hb[2, q] = perm[uint64(h2)]
+                hb[3, q] = perm[uint64(h3)]
+            else:
+                vb[0, q] = vals[uint64(h0)]
+                vb[1, q] = vals[uint64(h1)]
+                vb[2, q] = vals[uint64(h2)]
+                vb[3, q] = vals[uint64(h3)]
+        else:
+            aa = uint64(perm[a + y0])
+            ba = uint64(perm[b + y0])
+            ab = uint64(perm[a + y1])
+            bb = uint64(perm[b + y1])
+            if kind == k.IMPROVED:
+                hb[0, q] = perm[aa + z0]
+                hb[1, q] = perm[ba + z0]
+                hb[2, q] = perm[ab + z0]
+                hb[3, q] = perm[bb + z0]
+                hb[4, q] = perm[aa + z1]
+                hb[5, q] = perm[ba + z1]
+                hb[6, q] = perm[ab + z1]
+                hb[7, q] = perm[bb + z1]
+            else:
+                vb[0, q] = vals[uint64(perm[aa + z0])]
+                vb[1, q] = vals[uint64(perm[ba + z0])]
+                vb[2, q] = vals[uint64(perm[ab + z0])]
+                vb[3, q] = vals[uint64(perm[bb + z0])]
+                vb[4, q] = vals[uint64(perm[aa + z1])]
+                vb[5, q] = vals[uint64(perm[ba + z1])]
+                vb[6, q] = vals[uint64(perm[ab + z1])]
+                vb[7, q] = vals[uint64(perm[bb + z1])]
+
+
+@njit(**_OPTS)
+def _row_tables(kind, perm, vals, y0, y1, th, tv):
+    """The 2D corner hashes of one row and octave for every ``a = perm[x]`` (0..255): a
+    row of 2D noise then needs one lookup per corner instead of two."""
+    for a in range(256):
+        h0 = uint64(perm[uint64(a) + y0])
+        h1 = uint64(perm[uint64(a) + y1])
+        if kind == k.IMPROVED:
+            th[0, a] = perm[h0]
+            th[1, a] = perm[h1]
+        else:
+            tv[0, a] = vals[h0]
+            tv[1, a] = vals[h1]
+
+
+@njit(**_OPTS)
+def _lat_hash2(kind, base, cnt, a0, a1, th, tv, hb, vb):
+    """:func:`_lat_hash` of a 2D row through its :func:`_row_tables`."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        i = b0 + uint64(q)
+        a = uint64(a0[i])
+        b = uint64(a1[i])
+        if kind == k.IMPROVED:
+            hb[0, q] = th[0, a]
+            hb[1, q] = th[0, b]
+            hb[2, q] = th[1, a]
+            hb[3, q] = th[1, b]
+        else:
+            vb[0, q] = tv[0, a]
+            vb[1, q] = tv[0, b]
+            vb[2, q] = tv[1, a]
+            vb[3, q] = tv[1, b]
+
+
+@njit(**_OPTS)
+def _lat_eval(kind, ndim, base, cnt, fx, cu, y, v, z, w, hb, vb, nb):
+    """SIMD pass: blend the corners of samples ``base..base + cnt`` into ``nb``."""
+    b0 = uint64(base)
+    y_1 = y - ONE
+    z_1 = z - ONE
+    if kind == k.IMPROVED and ndim == 2:
+        for q in range(cnt):
+            i = b0 + uint64(q)
+            x = fx[i]
+            u = cu[i]
+            x_1 = x - ONE
+            n = _lerp(
+                v,
+                _lerp(u, _g16_2(hb[0, q], x, y), _g16_2(hb[1, q], x_1, y)),
+                _lerp(u, _g16_2(hb[2, q], x, y_1), _g16_2(hb[3, q], x_1, y_1)),
+            )
+            nb[q] = n
+    elif kind == k.IMPROVED:
+        for q in range(cnt):
+            i = b0 + uint64(q)
+            x = fx[i]
+            u = cu[i]
+            x_1 = x - ONE
+            n = _lerp(
+                w,
+                _lerp(
+                    v,
+                    _lerp(u, _g16(hb[0, q], x, y, z), _g16(hb[1, q], x_1, y, z)),
+                    _lerp(u, _g16(hb[2, q], x, y_1, z), _g16(hb[3, q], x_1, y_1, z)),
+                ),
+                _lerp(
+                    v,
+                    _lerp(u, _g16(hb[4, q], x, y, z_1), _g16(hb[5, q], x_1, y, z_1)),
+                    _lerp(u, _g16(hb[6, q], x, y_1, z_1), _g16(hb[7, q], x_1, y_1, z_1)),
+                ),
+            )
+            nb[q] = n
+    elif ndim == 2:
+        for q in range(cnt):
+            i = b0 + uint64(q)
+            u = cu[i]
+            n = _lerp(v, _lerp(u, vb[0, q], vb[1, q]), _lerp(u, vb[2, q], vb[3, q]))
+            nb[q] = n
+    else:
+        for q in range(cnt):
+            i = b0 + uint64(q)
+            u = cu[i]
+            n = _lerp(
+                w,
+                _lerp(v, _lerp(u, vb[0, q], vb[1, q]), _lerp(u, vb[2, q], vb[3, q])),
+                _lerp(v, _lerp(u, vb[4, q], vb[5, q]), _lerp(u, vb[6, q], vb[7, q])),
+            )
+            nb[q] = n
+
+
+@njit(parallel=True, **_OPTS)
+def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, norm, gain):
+    """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D (``nz == 1``) or 3D value or
+    improved noise, every octave in one pass per row.
+
+    ``xt = (px0, px1, xf, xu)``: per octave and column ``perm[x0]``, ``perm[x1]`` (int32)
+    and the fraction and curve weight (float32); ``yt``, ``zt = (i0, i1, f, c)`` the
+    lattice indices, fractions and weights of the rows and slices (see
+    :func:`._gridkernels.axis_tables`).  ``amps`` already carry ``norm`` unless ``mode``
+    is ridged.  Each block of :data:`BLOCK` samples goes in two passes: the table lookups
+    (scalar: LLVM rates vector gathers too dear on some CPUs) and the arithmetic (SIMD).
+    """
+    nz, ny, nx = out.shape
+    px0, px1, xf, xu = xt
+    yi0, yi1, yf, yv = yt
+    zi0, zi1, zf, zw = zt
+    no = px0.shape[0]
+    nrows = ny * nz
+    for c in prange((nrows + ROWS - 1) // ROWS):
+        weight = np.empty(nx, np.float32)
+        hb = np.empty((8, BLOCK), np.int32)
+        vb = np.empty((8, BLOCK), np.float32)
+        nb = np.empty(BLOCK, np.float32)
+        th = np.empty((2, 256), np.int32)
+        tv = np.empty((2, 256), np.float32)
+        for r in range(c * ROWS, min(nrows, (c + 1) * ROWS)):
+            j = r % ny
+            m = r // ny
+            row = out[m, j]
+            row[:] = ZERO
+            weight[:] = ONE
+            for o in range(no):
+                y0 = uint64(yi0[o, j])
+                y1 = uint64(yi1[o, j])
+                z0 = uint64(zi0[o, m]) if ndim == 3 else uint64(0)
+                z1 = uint64(zi1[o, m]) if ndim == 3 else uint64(0)
+                rowtab = ndim == 2 and nx > 128
+                if rowtab:
+                    _row_tables(kind, perm, vals, y0, y1, th, tv)
+                for base in range(0, nx, BLOCK):
+                    cnt = min(BLOCK, nx - base)
+                    if rowtab:
+                        _lat_hash2(kind, base, cnt, px0[o], px1[o], th, tv, hb, vb)
+                    else:
+                        _lat_hash(
+                            kind,
+                            ndim,
+                            base,
+                            cnt,
+                            px0[o],
+                            px1[o],
+                            perm,
+                            vals,
+                            y0,
+                            y1,
+                            z0,
+                            z1,
+                            hb,
+                            vb,
+                        )
+                    _lat_eval(
+                        kind,
+                        ndim,
+                        base,
+                        cnt,
+                        xf[o],
+                        xu[o],
+                        yf[o, j],
+                        yv[o, j],
+                        zf[o, m],
+                        zw[o, m],
+                        hb,
+                        vb,
+                        nb,
+                    )
+                    _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
+            _finish(mode, row, norm)
+
+
+@njit(inline="always", **_OPTS)
+def _gx(g):
+    """``GRAD3[g, 0]`` for g in 0..11 as a select."""
+    return (-ONE if g & 1 else ONE) if g < 8 else ZERO
+
+
+@njit(inline="always", **_OPTS)
+def _gy(g):
+    s = -ONE if (g & 2 if g < 4 else g & 1) else ONE
+    return ZERO if (g >= 4) & (g < 8) else s
+
+
+@njit(inline="always", **_OPTS)
+def _gz(g):
+    return (-ONE if g & 2 else ONE) if g >= 4 else ZERO
+
+
+@njit(**_OPTS)
+def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bi, bj, bc):
+    """SIMD pass: skew, find the simplex of samples ``base..base + cnt``."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        xin = xs[b0 + uint64(q)] * fx + ox
+        s = (xin + yin) * F2
+        fi = np.floor(xin + s)
+        fj = np.floor(yin + s)
+        t = (fi + fj) * G2
+        x0 = xin - (fi - t)
+        y0 = yin - (fj - t)
+        bx[q] = x0
+        by[q] = y0
+        bi[q] = np.int32(fi) & 255
+        bj[q] = np.int32(fj) & 255
+        bc[q] = np.int32(x0 > y0)
+
+
+@njit(**_OPTS)
+def _s2_hash(cnt, bi, bj, bc, tab, g0, g1, g2):
+    """Scalar pass: the corners' gradient indices, ``perm12[i + perm[j]]`` as one lookup
+    in ``tab[j, i]`` (:func:`simplex_table`)."""
+    one = uint64(1)
+    for q in range(cnt):
+        ii = uint64(bi[q])
+        jj = uint64(bj[q])
+        i1 = uint64(bc[q])
+        g0[q] = tab[jj, ii]
+        g1[q] = tab[jj + one - i1, ii + i1]
+        g2[q] = tab[jj + one, ii + one]
+
+
+@njit(**_OPTS)
+def _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb):
+    """SIMD pass: the three corner contributions, gradients by selects."""
+    for q in range(cnt):
+        x0 = bx[q]
+        y0 = by[q]
+        i1 = _F(bc[q])
+        x1 = x0 - i1 + G2
+        y1 = y0 - (ONE - i1) + G2
+        x2 = x0 + G2X2
+        y2 = y0 + G2X2
+        t0 = max(R2 - x0 * x0 - y0 * y0, ZERO)
+        t1 = max(R2 - x1 * x1 - y1 * y1, ZERO)
+        t2 = max(R2 - x2 * x2 - y2 * y2, ZERO)
+        t0 *= t0
+        t1 *= t1
+        t2 *= t2
+        a = g0[q]
+        b = g1[q]
+        c = g2[q]
+        n = t0 * t0 * (_gx(a) * x0 + _gy(a) * y0)
+        n += t1 * t1 * (_gx(b) * x1 + _gy(b) * y1)
+        n += t2 * t2 * (_gx(c) * x2 + _gy(c) * y2)
+        nb[q] = S2 * n
+
+
+@njit(inline="always", **_OPTS)
+def _corners3(c):
+    """Second and third corner offsets of the 3D simplex from the comparison bits."""
+    ca = c & 1
+    cb = (c >> 1) & 1
+    cc = (c >> 2) & 1
+    rx = ca + cc
+    ry = 1 - ca + cb
+    rz = 2 - cb - cc
+    return (
+        np.int32(rx >= 2),
+        np.int32(ry >= 2),
+        np.int32(rz >= 2),
+        np.int32(rx >= 1),
+        np.int32(ry >= 1),
+        np.int32(rz >= 1),
+    )
+
+
+@njit(cache=True, error_model="numpy")  # no fast-math: the float64 road's roundings
+def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc):
+    """SIMD pass, in float64 (``xs``, ``fx`` ... ``zin``): Gustavson's 3D kernel
+    (r² = 0.6) jumps by up to 1e-2 across simplex faces, so the simplex must be the one
+    the float64 road picks; the offsets are then rounded to float32."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        xin = xs[b0 + uint64(q)] * fx + ox
+        s = (xin + yin + zin) * k.F3
+        fi = np.floor(xin + s)
+        fj = np.floor(yin + s)
+        fk = np.floor(zin + s)
+        t = (fi + fj + fk) * k.G3
+        x0 = xin - (fi - t)
+        y0 = yin - (fj - t)
+        z0 = zin - (fk - t)
+        bx[q] = x0
+        by[q] = y0
+        bz[q] = z0
+        bi[q] = np.int32(np.int64(fi) & 255)
+        bj[q] = np.int32(np.int64(fj) & 255)
+        bk[q] = np.int32(np.int64(fk) & 255)
+        bc[q] = np.int32(x0 >= y0) | (np.int32(y0 >= z0) << 1) | (np.int32(x0 >= z0) << 2)
+
+
+@njit(**_OPTS)
+def _s3_hash(cnt, bi, bj, bk, bc, perm, tab, g0, g1, g2, g3):
+    one = uint64(1)
+    for q in range(cnt):
+        i1, j1, k1, i2, j2, k2 = _corners3(bc[q])
+        ii = uint64(bi[q])
+        jj = uint64(bj[q])
+        kk = uint64(bk[q])
+        g0[q] = tab[jj + uint64(perm[kk]), ii]
+        g1[q] = tab[jj + uint64(j1) + uint64(perm[kk + uint64(k1)]), ii + uint64(i1)]
+        g2[q] = tab[jj + uint64(j2) + uint64(perm[kk + uint64(k2)]), ii + uint64(i2)]
+        g3[q] = tab[jj + one + uint64(perm[kk + one]), ii + one]
+
+
+@njit(**_OPTS)
+def _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb):
+    for q in range(cnt):
+        i1, j1, k1, i2, j2, k2 = _corners3(bc[q])
+        x0 = bx[q]
+        y0 = by[q]
+        z0 = bz[q]
+        x1 = x0 - _F(i1) + G3
+        y1 = y0 - _F(j1) + G3
+        z1 = z0 - _F(k1) + G3
+        x2 = x0 - _F(i2) + G3X2
+        y2 = y0 - _F(j2) + G3X2
+        z2 = z0 - _F(k2) + G3X2
+        x3 = x0 + G3X3
+        y3 = y0 + G3X3
+        z3 = z0 + G3X3
+        t0 = max(R3 - x0 * x0 - y0 * y0 - z0 * z0, ZERO)
+        t1 = max(R3 - x1 * x1 - y1 * y1 - z1 * z1, ZERO)
+        t2 = max(R3 - x2 * x2 - y2 * y2 - z2 * z2, ZERO)
+        t3 = max(R3 - x3 * x3 - y3 * y3 - z3 * z3, ZERO)
+        t0 *= t0
+        t1 *= t1
+        t2 *= t2
+        t3 *= t3
+        a = g0[q]
+        b = g1[q]
+        c = g2[q]
+        d = g3[q]
+        n = t0 * t0 * (_gx(a) * x0 + _gy(a) * y0 + _gz(a) * z0)
+        n += t1 * t1 * (_gx(b) * x1 + _gy(b) * y1 + _gz(b) * z1)
+        n += t2 * t2 * (_gx(c) * x2 + _gy(c) * y2 + _gz(c) * z2)
+        n += t3 * t3 * (_gx(d) * x3 + _gy(d) * y3 + _gz(d) * z3)
+        nb[q] = S3 * n
+
+
+@njit(cache=True, parallel=True, error_model="numpy")  # no fast-math: yin, zin as in float64
+def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, tab, norm, gain):
+    """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D or 3D simplex noise (Gustavson's
+    corners, hashes and gradients), every octave in one pass per row.  ``xs, ys, zs``,
+    ``freqs``, ``offs`` as for :func:`._gridkernels.simplex_grid` (float64; ``xs32``:
+    ``xs`` in float32 for the 2D pass); ``amps``
+    already carry ``norm`` unless ``mode`` is ridged.  Blocks go in three passes: locate
+    (SIMD), hash (scalar table lookups), corner sums (SIMD)."""
+    nz, ny, nx = out.shape
+    nrows = ny * nz
+    for c in prange((nrows + ROWS - 1) // ROWS):
+        weight = np.empty(nx, np.float32)
+        bx = np.empty(BLOCK, np.float32)
+        by = np.empty(BLOCK, np.float32)
+        bz = np.empty(BLOCK, np.float32)
+        nb = np.empty(BLOCK, np.float32)
+        bi = np.empty(BLOCK, np.int32)
+        bj = np.empty(BLOCK, np.int32)
+        bk = np.empty(BLOCK, np.int32)
+        bc = np.empty(BLOCK, np.int32)
+        g0 = np.empty(BLOCK, np.int32)
+        g1 = np.empty(BLOCK, np.int32)
+        g2 = np.empty(BLOCK, np.int32)
+        g3 = np.empty(BLOCK, np.int32)
+        for r in range(c * ROWS, min(nrows, (c + 1) * ROWS)):
+            j = r % ny
+            m = r // ny
+            row = out[m, j]
+            row[:] = ZERO
+            weight[:] = ONE
+            for o in range(freqs.shape[0]):
+                fx = freqs[o, 0]
+                ox = offs[o, 0]
+                yin = ys[j] * freqs[o, 1] + offs[o, 1]
+                zin = zs[m] * freqs[o, 2] + offs[o, 2]
+                fx32 = _F(fx)
+                ox32 = _F(ox)
+                yin32 = _F(yin)
+                for base in range(0, nx, BLOCK):
+                    cnt = min(BLOCK, nx - base)
+                    if ndim == 2:
+                        _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bi, bj, bc)
+                        _s2_hash(cnt, bi, bj, bc, tab, g0, g1, g2)
+                        _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb)
+                    else:
+                        _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc)
+                        _s3_hash(cnt, bi, bj, bk, bc, perm, tab, g0, g1, g2, g3)
+                        _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb)
+                    _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
+            _finish(mode, row, norm)
+
+
+def simplex_table(seed, perm, perm12):
+    """``tab[m, i] = perm12[i + perm[m]]`` (int8, m in 0..511, i in 0..256): simplex's two
+    chained lookups as one (cached per seed)."""
+    tab = _TABS.get(seed)
+    if tab is None:
+        m = np.arange(512)
+        tab = perm12[np.arange(257)[None, :] + perm[m][:, None]].astype(np.int8)
+        if len(_TABS) > 16:
+            _TABS.clear()
+        _TABS[seed] = tab
+    return tab
+
+
+_TABS: dict = {}
+
+
+def lattice_tables32(axis_tab, perm, is_x):
+    """Float32 tables of one axis from :func:`._gridkernels.axis_tables`' ``(i0, i1, frac,
+    curve)``: for the x axis ``perm`` is applied to the lattice indices up front."""
+    i0, i1, fr, cu = axis_tab
+    if is_x:
+        i0 = perm[i0]
+        i1 = perm[i1]
+    return (
+        np.ascontiguousarray(i0, np.int32),
+        np.ascontiguousarray(i1, np.int32),
+        np.ascontiguousarray(fr, np.float32),
+        np.ascontiguousarray(cu, np.float32),
+    )
+
+
+def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, full):
+    """The float32 road of :func:`.noise.noise_grid` (its arguments as it computes them;
+    ``full``: the grid's (nx, ny, nz, nw)), shape (nz, ny, nx), or None where this
+    module has no kernel (the float64 road then runs and rounds)."""
+    if ndim not in (2, 3):
+        return None
+    shape3 = (full[2], full[1], full[0])
+    t = setup.tables
+    a32 = (amps if mode == k.RIDGED else amps * norm).astype(np.float32)
+    if setup.kind in (k.VALUE, k.IMPROVED):
+        tabs = [
+            lattice_tables32(
+                axis_tables(
+                    axes[a],
+                    np.ascontiguousarray(freqs[:, a]),
+                    np.ascontiguousarray(offs[:, a]),
+                    np.ascontiguousarray(pers[:, a]),
+                    setup.interp,
+                ),
+                t.perm,
+                a == 0,
+            )
+            for a in range(ndim)
+        ]
+        out = np.empty(shape3, np.float32)
+        lattice_grid32(
+            setup.kind,
+            mode,
+            ndim,
+            tabs[0],
+            tabs[1],
+            tabs[-1],
+            out,
+            a32,
+            t.perm,
+            t.values.astype(np.float32),
+            np.float32(norm),
+            np.float32(gain),
+        )
+        return out
+    if setup.kind == k.SIMPLEX and not torus:
+        out = np.empty(shape3, np.float32)
+        f32 = np.float32
+        simplex_grid32(
+            ndim,
+            mode,
+            axes[0],
+            axes[0].astype(f32),
+            axes[1],
+            axes[2],
+            out,
+            freqs,
+            a32,
+            offs,
+            t.perm,
+            simplex_table(t.seed, t.perm, t.perm12),
+            f32(norm),
+            f32(gain),
+        )
+        return out
+    return None

@@ -1,0 +1,60 @@
+"""The float32 road of noise_grid (``dtype=np.float32``, the default) against the float64
+road, which stays bit-exact to the reference values (test_reference_noise, test_grid_paths).
+
+The float32 road computes in float32 with its own SIMD kernels (``_gridkernels32``): its
+values agree with the float64 road within ``_gridkernels32.TOLERANCE`` on every kind it
+covers, with the same statistics (so the same images to the eye).
+"""
+
+import numpy as np
+import pytest
+
+from sylva.texture import _gridkernels32 as gk32
+from sylva.texture import noise_grid
+
+TOL = gk32.TOLERANCE
+
+# a row longer than a block (256) and one shorter, 2D and 3D
+SHAPES = [(20, 300), (5, 12, 72)]
+
+
+@pytest.mark.parametrize("shape", SHAPES, ids=["2d", "3d"])
+@pytest.mark.parametrize("kind", ["value", "improved", "simplex"])
+@pytest.mark.parametrize(
+    "fractal,octaves", [("fbm", 1), ("fbm", 6), ("ridged", 4), ("turbulence", 3)]
+)
+def test_float32_road_within_tolerance_of_float64(shape, kind, fractal, octaves):
+    kw = dict(kind=kind, fractal=fractal, octaves=octaves, scale=24.0, seed=5)
+    a = noise_grid(shape, **kw)
+    b = noise_grid(shape, dtype=np.float64, **kw)
+    assert a.dtype == np.float32 and b.dtype == np.float64
+    assert np.abs(a.astype(np.float64) - b).max() < TOL
+    assert abs(float(a.mean()) - b.mean()) < TOL
+    assert abs(float(a.std()) - b.std()) < TOL
+    assert b.std() > 0.05  # a real pattern, not a constant
+
+
+def test_float32_road_is_the_default_and_float64_keeps_its_road(monkeypatch):
+    calls = []
+    real = gk32.lattice_grid32
+
+    def spy(*args):
+        calls.append(args[6].dtype)
+        return real(*args)
+
+    monkeypatch.setattr(gk32, "lattice_grid32", spy)
+    a = noise_grid((8, 40), kind="improved", octaves=2, seed=1)
+    noise_grid((8, 40), kind="improved", octaves=2, seed=1, dtype=np.float32)
+    b = noise_grid((8, 40), kind="improved", octaves=2, seed=1, dtype=np.float64)
+    assert calls == [np.float32, np.float32]
+    # float32 arithmetic: not merely the float64 values rounded
+    assert not np.array_equal(a, b.astype(np.float32))
+
+
+def test_float32_road_offsets_tiling_and_periods_match():
+    # tileable lattice noise (integer periods per octave) and offsets go through the same
+    # axis tables on both roads
+    kw = dict(kind="improved", octaves=3, scale=6.0, tileable=True, offset=(3.5, -2.25))
+    a = noise_grid((32, 48), **kw)
+    b = noise_grid((32, 48), dtype=np.float64, **kw)
+    assert np.abs(a - b).max() < TOL
