@@ -139,6 +139,9 @@ class Rule:
     span: Span | None = field(default=None, compare=False)
     phase: str = "production"
     group: int = 0
+    #: cpfg's statement blocks of the production (:class:`~.dialects._cpfg_blocks.Block`):
+    #: run by the engine around the condition; ``None`` for every other rule.
+    block: object | None = None
 
     @property
     def has_context(self) -> bool:

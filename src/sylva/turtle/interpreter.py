@@ -291,7 +291,7 @@ def _check_at(word: ModuleString, ops: np.ndarray, arg: np.ndarray, cpfg: bool) 
     ok2 = tee & (sub_at < n)
     sub[ok2] = arg[word.ids[sub_at[ok2]]]
     bad = ~fun | (tee & ~np.isin(sub, list(T.AT_SUBFUNCTIONS.values())))
-    want = "@O @v @M @R @Ts @Ti @Td"
+    want = "@O @o @c @v @M @R @Ts @Ti @Td @Tx @Tf @G. @! @# @L"
     if bad.any():
         k = int(np.flatnonzero(bad)[0])
         p = int(at[k])

@@ -62,6 +62,8 @@ class Globals:
         self.values: dict[str, float] = {}
         self.arrays: dict[str, list[float]] = {}
         self.rng = np.random.Generator(np.random.PCG64(seed))
+        #: cpfg's functions of the view file's files (``func``, ``curveX`` …): name -> f(*x)
+        self.functions: dict = {}
 
     def numbers(self) -> dict[str, float]:
         return dict(self.values)
@@ -122,8 +124,21 @@ def _exec(node, g: Globals, state, where: str) -> None:
                 _exec(step, g, state, where)
     elif kind == "arrays":
         for d in ch:
-            name, size = str(d.children[0]), int(d.children[1])
-            g.arrays[name] = [0.0] * size
+            name, size, init = str(d.children[0]), d.children[1], d.children[2]
+            if size is None:  # a scalar declaration: float x = 1;
+                g.values[name] = _eval(init, g, where) if init is not None else 0.0
+                continue
+            n = _eval(size, g, where)
+            if not (n == int(n) and 0 < n <= 1_000_000):
+                raise SylvaError(f"{where}: array {name}[{n:g}]: expected a size 1..1000000")
+            g.arrays[name] = [0.0] * int(n)
+            items = [] if init is None else (
+                [c for c in init.children if c is not None]
+                if isinstance(init, Tree) and init.data == "init_list" else [init])  # fmt: skip
+            if len(items) > n:
+                raise SylvaError(f"{where}: {len(items)} values for array {name}[{int(n)}]")
+            for k, item in enumerate(items):
+                g.arrays[name][k] = _eval(item, g, where)
     elif kind == "assign":
         target, op, value = ch
         v = _eval(value, g, where)
@@ -202,6 +217,10 @@ def _eval(node, g: Globals, where: str) -> float:
     if kind == "unary":
         v = _eval(ch[1], g, where)
         return {"-": -v, "+": v, "!": _truth(not v)}[str(ch[0])]
+    if kind == "ternary":
+        return _eval(ch[1] if _eval(ch[0], g, where) else ch[2], g, where)
+    if kind == "string":
+        raise SylvaError(f"{where}: a string is only an argument of printf")
     if kind == "power":
         return float(_eval(ch[0], g, where) ** _eval(ch[1], g, where))
     if kind == "or_":
@@ -248,10 +267,17 @@ _CPFG = {
     "atan2": (2, lambda g, y, x: math.atan2(y, x)),
     "min": (2, lambda g, a, b: min(a, b)),
     "max": (2, lambda g, a, b: max(a, b)),
+    "frac": (1, lambda g, x: x - math.floor(x)),
+    "bran": (2, lambda g, a, b: float(g.rng.beta(a, b))),
+    "biran": (2, lambda g, n, p: float(g.rng.binomial(int(n), p))),
 }
 
 
 def _call(name: str, args, g: Globals, where: str) -> float:
+    if name in ("printf", "fprintf", "fflush"):  # output only: sylva prints nothing
+        return 0.0
+    if name in g.functions:
+        return float(g.functions[name](*[_eval(a, g, where) for a in args]))
     values = [_eval(a, g, where) for a in args]
     if name in _CPFG:
         n, f = _CPFG[name]
@@ -279,8 +305,10 @@ class Schedule:
     engine runs :meth:`before` ahead of each derivation step and :meth:`after` behind it,
     over its own copy of the globals (:meth:`fresh`: as ``Start:`` left them)."""
 
-    def __init__(self, initial: Globals, before=None, after=None, source: str = ""):
+    def __init__(self, initial: Globals, before=None, after=None, source: str = "",
+                 runtime=None):
         self.initial = initial
+        self.runtime = runtime  # where production blocks find the running globals
         self._before = before  # (tree, where) or None
         self._after = after
         self.source = source
@@ -295,9 +323,14 @@ class Schedule:
     def fresh(self) -> Globals:
         import copy
 
-        return copy.deepcopy(self.initial)
+        g = copy.deepcopy(self.initial)
+        if self.runtime is not None:
+            self.runtime.current = g
+        return g
 
     def before(self, g: Globals, step: int) -> None:
+        if self.runtime is not None:
+            self.runtime.current = g
         if self._before is not None:
             run(self._before[0], g, f"{self._before[1]}, before step {step + 1}")
 
