@@ -4,7 +4,8 @@ vlab (Algorithmic Botany's Virtual Laboratory, GPL-3, not part of sylva) publish
 manuals' and course's cpfg models under ``oofs/``.  This script finds every cpfg
 L-system there (a ``.l`` file with an ``Lsystem:`` line), reads it with sylva's cpfg
 reader together with the view file, colour map (``-m``) or material file (``-M``) named
-on the object's ``cpfg`` command line, derives it to its ``derivation length``, builds its meshes and renders them with the
+on the object's ``cpfg`` command line, derives it to its ``derivation length``, builds
+its meshes and renders them with the
 view file's camera.  Each model runs in its own child process with a time limit.
 
 Per model it prints one line: ``derived`` (with the modules of the word, the time and the
