@@ -58,14 +58,16 @@ Examples
 
 from __future__ import annotations
 
+import copy
 import math
 import re
 from dataclasses import replace
+from pathlib import Path
 
 from ...errors import LSystemSyntaxError, SylvaError
 from ..ast import Program, Span
 from ..expr import evaluate_constant
-from . import _cpfg_blocks, _cpfg_production, _cpfg_statements, _cpfg_view, _cpp, lsysvis
+from . import _cpfg_blocks, _cpfg_functions, _cpfg_production, _cpfg_statements, _cpfg_view, _cpp, lsysvis
 
 __all__ = ["parse"]
 
@@ -311,6 +313,9 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
     block_src: dict[int, tuple] = {}  # line of out -> (blocks, logical line, where)
     top: list[tuple[str, _cpp.Line]] = []  # assignments that go before everything
     seed = _seed_of(lines)
+    vpath = None if view is False else (_cpfg_view.view_path(filename) if view is None
+                                        else Path(view))  # fmt: skip
+    functions = _cpfg_functions.load_functions(vpath)
     globals_ = None
     for logical in lines:
 
@@ -341,7 +346,7 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
                 emit("")
                 continue
             if globals_ is None:
-                globals_ = _cpfg_statements.Globals(seed)
+                globals_ = _new_globals(seed, functions)
                 globals_.values.update(pre.values)  # the #define constants, read only
             for name, value in _block(logical, m, kind, globals_, where, pre):
                 top.append((f"{name} = {value!r}", logical))  # Start: runs before all
@@ -368,6 +373,9 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
         if m := _KEY.match(line):
             key = " ".join(m.group(1).lower().split())
             value = m.group(2).strip()
+            if key == "axiom" and value:
+                value = _axiom_calls(value, globals_ or _new_globals(seed, functions), pre,
+                                     where, m.start(2) + 1)  # fmt: skip
             if key == "lsystem":
                 name = value or None
                 emit("")
@@ -407,7 +415,7 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
     runtime = None
     if block_src:
         if globals_ is None:
-            globals_ = _cpfg_statements.Globals(seed)
+            globals_ = _new_globals(seed, functions)
             globals_.values.update(pre.values)
         runtime = _cpfg_blocks.Runtime(globals_)
         made = _make_blocks(block_src, runtime, pre, each, top, lines)
@@ -417,7 +425,7 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
                                 each.values() if t is not None)) if each else set()  # fmt: skip
     statements = None
     if each:
-        globals_ = globals_ or _cpfg_statements.Globals(seed)
+        globals_ = globals_ or _new_globals(seed, functions)
         if globals_ is not None and not globals_.values:
             globals_.values.update(pre.values)
         known = set(globals_.values)
@@ -575,3 +583,26 @@ def _attach_blocks(raw_rules, rules, made: dict, globals_names: set, shift: int)
                            condition=rule.condition if rule.condition is not None
                            else Num(1.0)))  # fmt: skip
     return tuple(out)
+
+
+def _new_globals(seed: int, functions: dict):
+    g = _cpfg_statements.Globals(seed)
+    g.functions = dict(functions)
+    return g
+
+
+def _axiom_calls(value: str, g, pre, where, column: int) -> str:
+    """The axiom with each call of a function sylva's expressions lack (``func``, ``ran``
+    …) replaced by its value, computed once when the file is read, as cpfg does."""
+    calls: list = []
+    text = _cpfg_production.hoist(value, calls, {}, successor=True)
+    if not calls:
+        return value
+    g = copy.deepcopy(g)
+    g.values.update({k: v for k, v in pre.values.items() if k not in g.values})
+    for var, call in calls:
+        tree = _cpfg_statements.parse_block(f"{var} = {call};",
+                                            lambda msg, o: where(msg, column))  # fmt: skip
+        _cpfg_statements.run(tree, g, "the axiom")
+        text = re.sub(rf"\b{var}\b", repr(g.values[var]), text)
+    return text
