@@ -183,6 +183,8 @@ class _Ctx:
             name = self._scalar(target)
             self._store(name, self._var(name, vals) + (1.0 if str(op) == "++" else -1.0),
                         vals, mask)  # fmt: skip
+        elif kind == "expr_stmt":  # C's expression statement: evaluated, the value dropped
+            self.eval(ch[0], vals)
         elif kind == "call_stmt":
             self._call(str(ch[0]), [c for c in ch[1:] if c is not None], vals, mask)
         elif kind == "arrays":

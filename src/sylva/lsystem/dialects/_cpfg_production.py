@@ -62,6 +62,8 @@ def hoist(text: str, calls: list, rename: dict, *, successor: bool) -> str:
     """``text`` with each call of a function sylva's expressions lack replaced by ``_hN``
     (appended to ``calls`` as ``(name, call text)``) and renamed variables renamed.
     In a successor only what is inside a module's parentheses is an expression."""
+    if "?" in text:
+        text = _hoist_ternaries(text, calls, successor)
     out, k, depth = [], 0, 0
     n = len(text)
     while k < n:
@@ -100,4 +102,41 @@ def hoist(text: str, calls: list, rename: dict, *, successor: bool) -> str:
             continue
         out.append(rename.get(name, name))
         k = m.end()
+    return "".join(out)
+
+
+def _hoist_ternaries(text: str, calls: list, successor: bool) -> str:
+    """Each argument (of a successor's module) or condition with C's ``a ? b : c`` as a
+    block variable ``_hN`` (sylva's expressions have no conditional operator)."""
+    if not successor:
+        var = f"_h{len(calls) + 1}"
+        calls.append((var, text))
+        return var
+    out, k, n = [], 0, len(text)
+    while k < n:
+        if text[k] == "(" and (k == 0 or text[k - 1] != "("):
+            end = _match(text, k, "(", ")")
+            if end < 0:
+                break
+            args, start, depth = [], k + 1, 0
+            for j in range(k + 1, end):
+                depth += (text[j] == "(") - (text[j] == ")")
+                if text[j] == "," and depth == 0:
+                    args.append(text[start:j])
+                    start = j + 1
+            args.append(text[start:end])
+            new = []
+            for a in args:
+                if "?" in a:
+                    var = f"_h{len(calls) + 1}"
+                    calls.append((var, a))
+                    new.append(var)
+                else:
+                    new.append(a)
+            out.append("(" + ",".join(new) + ")")
+            k = end + 1
+            continue
+        out.append(text[k])
+        k += 1
+    out.append(text[k:])
     return "".join(out)

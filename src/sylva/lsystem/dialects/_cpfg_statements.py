@@ -151,6 +151,8 @@ def _exec(node, g: Globals, state, where: str) -> None:
         _store(target, g, _load(target, g, where) + (1.0 if op == "++" else -1.0), where)
     elif kind == "call_stmt":
         _call(str(ch[0]), [c for c in ch[1:] if c is not None], g, where)
+    elif kind == "expr_stmt":  # C's expression statement: evaluated, the value dropped
+        _eval(ch[0], g, where)
     else:  # pragma: no cover - the grammar makes no other statement
         raise SylvaError(f"{where}: cannot run {kind}")
 

@@ -8,7 +8,7 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
     the width ``thick``, when ``line style:`` is ``polygon`` or ``cylinder`` (a width in
     units, as sylva draws); with cpfg's default ``pixel`` style the width is in pixels of the
     screen, which sylva's cylinders do not have, and a warning says so.
-``line style: pixel | polygon | cylinder``
+``line style: pixel | polygon | cylinder | wireframe``
     decides what the width means (above).
 ``tropism direction: x, y, z`` (normalised), ``initial elasticity: e``, ``elasticity increment: d``
     ABOP §2.3's tropism (``tropism``, ``elasticity``, ``elasticity_step``), as when these lines
@@ -148,8 +148,14 @@ def read_view(text: str, filename: str | None = None) -> dict[str, object]:
                               "widths in units: set line style: cylinder)", SylvaWarning,
                               stacklevel=4)  # fmt: skip
         elif key == "line style":
-            if style not in ("pixel", "pixels", "polygon", "polygons", "cylinder", "cylinders"):
-                raise err(0, f"line style {style!r}: expected pixel, polygon or cylinder")
+            if style == "wireframe":  # cpfg draws lines: as pixel, sylva's tubes
+                warnings.warn(f"{filename or '<view>'}:{number}: line style 'wireframe' is "
+                              "drawn as 'pixel' (sylva's tubes)", SylvaWarning,
+                              stacklevel=4)  # fmt: skip
+            elif style not in ("pixel", "pixels", "polygon", "polygons", "cylinder",
+                               "cylinders"):  # fmt: skip
+                raise err(0, f"line style {style!r}: expected pixel, polygon, cylinder or "
+                          "wireframe")  # fmt: skip
         elif key == "tropism direction":
             t = _numbers(value, 3, err)
             norm = math.sqrt(sum(c * c for c in t))

@@ -67,7 +67,15 @@ from pathlib import Path
 from ...errors import LSystemSyntaxError, SylvaError
 from ..ast import Program, Span
 from ..expr import evaluate_constant
-from . import _cpfg_blocks, _cpfg_functions, _cpfg_production, _cpfg_statements, _cpfg_view, _cpp, lsysvis
+from . import (
+    _cpfg_blocks,
+    _cpfg_functions,
+    _cpfg_production,
+    _cpfg_statements,
+    _cpfg_view,
+    _cpp,
+    lsysvis,
+)
 
 __all__ = ["parse"]
 
@@ -85,6 +93,7 @@ _UNSUPPORTED_WHY = {"ring l-system": "ring L-systems, whose first and last modul
                     "neighbours, are not implemented"}  # fmt: skip
 #: A line that begins a production whose arrow comes later: ``M(t) : 1 {x=0.5*R^t;}``.
 _HEAD = re.compile(r"[^{}]*:\s*\{|[^{}]*:[^{}]*\{[^}]*(?<![=!<>])=(?!=)")
+_AXIOM = re.compile(r"\s*axiom\s*:", re.IGNORECASE)
 _SECTION = re.compile(r"\s*(homomorphism|decomposition|endlsystem)\b(.*)\Z", re.IGNORECASE)
 
 
@@ -248,7 +257,7 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
             out.append(_cpp.Line("", line.origin[-1:]))
             continue
         forced = False
-        if plain and "-->" in text:
+        if plain and ("-->" in text or _AXIOM.match(text)):  # both may run on
             open_at = len(out)
             stripped = text.rstrip()
             if stripped.endswith("\\"):
@@ -256,7 +265,7 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
                 line = line.slice(0, len(stripped) - 1)
         else:  # anything else, an empty line too, ends the production
             open_at = None
-            if (plain and ":" in text and not _KEY.match(text) and not _SECTION.match(text)
+            if (plain and not _KEY.match(text) and not _SECTION.match(text)
                     and not _UNSUPPORTED.match(text)):  # fmt: skip
                 head_at = len(out)  # pred : {…} condition … on lines before its arrow
         out.append(line)
@@ -397,7 +406,8 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
                     trop_at = where("the tropism direction is the zero vector; expected a "
                                     "direction such as 0,-1,0", line.index(":") + 2)  # fmt: skip
             else:
-                if key == "consider":  # cpfg lets brackets be listed: they always are
+                if key in ("consider", "ignore"):  # cpfg lets brackets be listed: they
+                    # are always considered (the word's tree), as cpfg does
                     value = value.replace("[", " ").replace("]", " ")
                 emit(f"{key} = {_in_parens_power(value)}")
             continue
