@@ -412,10 +412,11 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
                 emit(f"{key} = {_in_parens_power(value)}")
             continue
         if "-->" in line:
-            rule, parts[len(out) + 1], blocks = _production(line, render, where)
-            if blocks is not None:
-                block_src[len(out) + 1] = (blocks, logical, where)
-            emit(rule)
+            for piece in _multi_predecessor(line):
+                rule, parts[len(out) + 1], blocks = _production(piece, render, where)
+                if blocks is not None:
+                    block_src[len(out) + 1] = (blocks, logical, where)
+                emit(rule)
             continue
         raise where(
             "expected a production 'pred --> successor', a 'keyword: value' line, "
@@ -616,3 +617,59 @@ def _axiom_calls(value: str, g, pre, where, column: int) -> str:
         _cpfg_statements.run(tree, g, "the axiom")
         text = re.sub(rf"\b{var}\b", repr(g.values[var]), text)
     return text
+
+
+def _pred_modules(text: str) -> list[str]:
+    """The modules of a predecessor string ``XF(x)`` (``?P(x)`` and ``"#"`` are one each)."""
+    mods, k, n = [], 0, len(text)
+    while k < n:
+        ch = text[k]
+        if ch.isspace():
+            k += 1
+            continue
+        if ch == '"':
+            end = text.find('"', k + 1)
+            j = n if end < 0 else end + 1
+        elif ch == "?" and k + 1 < n and text[k + 1].isalpha():
+            j = k + 2
+        else:
+            j = k + 1
+        while j < n and text[j] == " ":
+            j += 1
+        if j < n and text[j] == "(":
+            depth = 0
+            for q in range(j, n):
+                depth += (text[q] == "(") - (text[q] == ")")
+                if depth == 0:
+                    j = q + 1
+                    break
+            else:
+                j = n
+        mods.append(text[k:j].strip())
+        k = j
+    return mods
+
+
+def _multi_predecessor(line: str) -> list[str]:
+    """cpfg's strict predecessor of several modules, ``lc < A B > rc : c --> s``, as the
+    productions sylva has (each module rewritten alone): ``lc < A > B rc : c --> s`` and
+    ``lc A < B > rc : c --> *`` (the others are erased where the first is rewritten)."""
+    at = line.index("-->")
+    lhs, rhs = line[:at], line[at + 3 :]
+    c = _outside_parens(lhs, ":")
+    head, cond = (lhs, "") if c < 0 else (lhs[:c], lhs[c:])
+    lt = _outside_parens(head, "<")
+    left, rest = (head[:lt].strip(), head[lt + 1 :]) if lt >= 0 else ("", head)
+    gt = _outside_parens(rest, ">")
+    pred, right = (rest[:gt], rest[gt + 1 :].strip()) if gt >= 0 else (rest, "")
+    mods = _pred_modules(pred)
+    if len(mods) < 2 or "*" in mods:
+        return [line]
+    out = []
+    succ, prob = _split_probability(rhs)
+    for k, m in enumerate(mods):
+        lc = " ".join([left, *mods[:k]]).strip()
+        rc = " ".join([*mods[k + 1 :], right]).strip()
+        h = (f"{lc} < " if lc else "") + m + (f" > {rc}" if rc else "")
+        out.append(f"{h} {cond} -->{rhs}" if k == 0 else f"{h} {cond} --> *")
+    return out
