@@ -14,6 +14,10 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
     ABOP §2.3's tropism (``tropism``, ``elasticity``, ``elasticity_step``), as when these lines
     appear in the ``.l``.
 
+``function: f.func``, ``function set: f.fset``, ``curve: c.con``
+    the functions ``func(k, x)`` and curves ``curveX(k, t)`` … of expressions and blocks
+    (:mod:`._cpfg_functions`).
+
 Every other line (``projection``, ``viewpoint``, ``view reference point``, ``twist``,
 ``scale``, ``front distance``, ``back distance``, ``z buffer``, ``render mode``, ``light:``,
 ``surface:``, ``texture:``, ``color map``, ``material``, ``initial color``, ``color
@@ -172,7 +176,7 @@ def read_view(text: str, filename: str | None = None) -> dict[str, object]:
 
 _HONOURED = frozenset({"angle increment", "angle factor", "initial line width", "line style",
                        "tropism direction", "initial elasticity",
-                       "elasticity increment"})  # fmt: skip
+                       "elasticity increment", "function", "function set", "curve"})  # fmt: skip
 
 
 def load_view(view, filename: str | None) -> dict[str, object]:

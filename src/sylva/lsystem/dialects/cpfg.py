@@ -563,7 +563,7 @@ def _make_blocks(block_src: dict, runtime, pre, each: dict, top: list, lines) ->
         block = _cpfg_blocks.Block(pre_tree, post_tree, outputs, runtime,
                                    f"{file or '<string>'}:{number} (production block)",
                                    logical.text, rename, names)  # fmt: skip
-        made[out_line] = (block, where, pre_c)
+        made[out_line] = (block, where, pre_c if pre_t is not None else post_c)
         for name in outputs:
             if name not in declared and name not in runtime.initial.values:
                 top.append((f"{name} = 0.0", lines[0]))
