@@ -92,6 +92,29 @@ def environment_program(env: Path) -> str:
     return env.name
 
 
+def camera_from_view(view, scene):
+    """sylva's camera for a cpfg view file: the eye on the line from the view reference
+    point through the viewpoint, ``parallel`` projection orthographic, fitted to the plant
+    (cpfg fits its view to the object's box too); the twist is not applied."""
+    import math
+
+    import numpy as np
+
+    from sylva.lsystem.dialects._cpfg_view import read_camera
+    from sylva.render import Camera
+
+    cam = read_camera(view or False)
+    eye = np.array(cam.get("viewpoint", (0.0, 0.0, 1.0)), float)
+    ref = np.array(cam.get("view reference point", (0.0, 0.0, 0.0)), float)
+    d = eye - ref
+    n = float(np.linalg.norm(d))
+    d = d / n if n > 0 else np.array([0.0, 0.0, 1.0])
+    pitch = math.degrees(math.asin(max(-1.0, min(1.0, d[1]))))
+    yaw = math.degrees(math.atan2(d[0], d[2]))
+    mode = "perspective" if cam.get("projection") == "perspective" else "orthographic"
+    return Camera.auto(scene, mode, yaw=yaw, pitch=min(89.0, max(-89.0, pitch)))
+
+
 def _run(model: str, files: dict, size: int, render: bool, queue) -> None:
     out: dict = {}
     try:
@@ -114,17 +137,15 @@ def _run(model: str, files: dict, size: int, render: bool, queue) -> None:
         out["derive_s"] = time.perf_counter() - t0
         out["status"] = "derived"
         if render:
-            from sylva.turtle.view import camera_for
-
             from sylva.geometry.build import build_mesh
             from sylva.turtle import interpret
 
             rw = d.render_word()
             geometry = interpret(rw, program, seed=seed)
             scene = build_mesh(geometry, detail=4)
-            out["triangles"] = sum(int(m.faces.shape[0]) for m in scene.meshes)
+            out["triangles"] = sum(int(m.n_triangles) for m in scene.meshes)
             if out["triangles"]:
-                cam = camera_for(program, scene)
+                cam = camera_from_view(files["view"], scene)
                 image = sylva.render.render(scene, (size, size), cam, shadows=False, msaa=0,
                                             ground=False, textures=False)  # fmt: skip
                 out["image"] = np.asarray(image.convert("RGB")).tobytes()

@@ -196,3 +196,36 @@ def load_view(view, filename: str | None) -> dict[str, object]:
     except UnicodeDecodeError:
         text = data.decode("latin-1")
     return read_view(text, str(path))
+
+
+_CAMERA_KEYS = {"viewpoint": 3, "view reference point": 3, "twist": 1, "scale factor": 1,
+                "scale": 1}  # fmt: skip
+
+
+def read_camera(view, filename: str | None = None) -> dict[str, object]:
+    """The camera lines of a view file as plain values: ``viewpoint`` and ``view reference
+    point`` (3 floats each), ``twist`` (degrees), ``projection`` (``"parallel"`` or
+    ``"perspective"``) and ``scale`` (the ``scale factor``); only the lines present (empty
+    for no file).  ``view`` as in :func:`load_view`; a renderer makes its camera from them
+    (the corpus runner: the eye on the line from the reference point to the viewpoint)."""
+    if view is False:
+        return {}
+    path = view_path(filename) if view is None else Path(view)
+    if path is None or not path.is_file():
+        return {}
+    out: dict[str, object] = {}
+    for line in path.read_text("latin-1").splitlines():
+        m = _LINE.match(line.split("//")[0])
+        if m is None:
+            continue
+        key = " ".join(m.group(1).lower().split())
+        value = m.group(2)
+        if key == "projection":
+            out["projection"] = value.strip().lower()
+        elif key in _CAMERA_KEYS:
+            nums = [float(x) for x in re.findall(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?",
+                                                  value)][: _CAMERA_KEYS[key]]  # fmt: skip
+            if len(nums) == _CAMERA_KEYS[key]:
+                name = "scale" if key == "scale factor" else key
+                out[name] = tuple(nums) if len(nums) > 1 else nums[0]
+    return out
