@@ -305,7 +305,8 @@ def _check_at(word: ModuleString, ops: np.ndarray, arg: np.ndarray, cpfg: bool) 
             f"unknown @ module at module {p} of the word: {got}; expected one of {want}"
         )
     if cpfg and word.values.size:  # cpfg's @T take the tropism's index first: sylva has one
-        for p in at[tee].tolist():
+        settable = tee & np.isin(sub, [T.AT_TS, T.AT_TI, T.AT_TD])  # not @Tx, @Tf
+        for p in at[settable].tolist():
             a, b = word.offsets[p + 2], word.offsets[p + 3]
             if b > a and word.values[a] != 1.0:
                 raise TurtleSettingsError(

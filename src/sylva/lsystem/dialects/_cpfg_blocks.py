@@ -214,6 +214,9 @@ class _Ctx:
             return np.full(self.n, g.values[name])
         if name in self.constants:
             return np.full(self.n, float(self.constants[name]))
+        ids = g.functions.get("__ids__", {})
+        if name in ids:  # a function's name stands for its number
+            return np.full(self.n, float(ids[name]))
         raise self.error(f"unknown variable {name!r}; expected a parameter of the rule, a "
                          "global or a variable the block sets first")  # fmt: skip
 
@@ -291,11 +294,12 @@ class _Ctx:
             want(_VECTOR[name][0])
             with np.errstate(all="ignore"):
                 return np.asarray(_VECTOR[name][1](*x), np.float64)
-        if name in g.functions:
+        if name in g.functions and name != "__ids__":
             return np.asarray(g.functions[name](*x), np.float64) + np.zeros(n)
         spec = FUNCTIONS.get(name)
         if spec is None:
-            known = ", ".join(sorted({*FUNCTIONS, *_RANDOM, *_VECTOR, *g.functions, "srand"}))
+            known = ", ".join(sorted({*FUNCTIONS, *_RANDOM, *_VECTOR, *g.functions,
+                                      "srand"} - {"__ids__"}))  # fmt: skip
             raise self.error(f"unknown function {name!r}; expected one of {known}")
         f, lo, hi = spec
         if len(x) < lo or (hi is not None and len(x) > hi):

@@ -100,6 +100,7 @@ def _function(lines: list[str], start: int, path: Path):
     def f(v, _x=x, _y=y):
         return np.interp(np.asarray(v, np.float64), _x, _y)
 
+    f.cpfg_name = None
     return f, end
 
 
@@ -107,9 +108,15 @@ def _read_func_file(path: Path) -> list:
     lines = path.read_text("latin-1").splitlines()
     out, k = [], 0
     gallery = lines and lines[0].strip().lower().startswith("funcgalleryver")
+    name = None
     while k < len(lines):
-        if lines[k].strip().lower().startswith("points:"):
+        low = lines[k].strip().lower()
+        if low.startswith("name:"):
+            name = lines[k].split(":", 1)[1].strip() or None
+        if low.startswith("points:"):
             f, k = _function(lines, k, path)
+            f.cpfg_name = name
+            name = None
             out.append(f)
             if not gallery:
                 break
@@ -162,6 +169,8 @@ def load_functions(view: Path | None) -> dict:
             return _f[idx - 1](x)
 
         out["func"] = func
+        #: cpfg names a function by its number or by its name: func(BR_ANGLE, x)
+        out["__ids__"] = {f.cpfg_name: k + 1 for k, f in enumerate(funcs) if f.cpfg_name}
     if curves:
         def pick(k):
             idx = int(np.asarray(k, np.float64).reshape(-1)[0])

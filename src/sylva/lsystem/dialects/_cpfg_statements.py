@@ -197,6 +197,9 @@ def _store(target, g: Globals, value: float, where: str) -> None:
 def _var(name: str, g: Globals, where: str) -> float:
     if name in g.values:
         return g.values[name]
+    ids = g.functions.get("__ids__", {})
+    if name in ids:  # cpfg names a function by its number or by its name
+        return float(ids[name])
     raise SylvaError(f"{where}: unknown variable {name!r}; expected a variable set before")
 
 
@@ -278,7 +281,7 @@ _CPFG = {
 def _call(name: str, args, g: Globals, where: str) -> float:
     if name in ("printf", "fprintf", "fflush"):  # output only: sylva prints nothing
         return 0.0
-    if name in g.functions:
+    if name in g.functions and name != "__ids__":
         return float(g.functions[name](*[_eval(a, g, where) for a in args]))
     values = [_eval(a, g, where) for a in args]
     if name in _CPFG:

@@ -93,6 +93,7 @@ _UNSUPPORTED_WHY = {"ring l-system": "ring L-systems, whose first and last modul
                     "neighbours, are not implemented"}  # fmt: skip
 #: A line that begins a production whose arrow comes later: ``M(t) : 1 {x=0.5*R^t;}``.
 _HEAD = re.compile(r"[^{}]*:\s*\{|[^{}]*:[^{}]*\{[^}]*(?<![=!<>])=(?!=)")
+_OTHER_ARROW = re.compile(r"-+>|<-+|=>|-o>")  # not cpfg's arrow: an error, not a head
 _AXIOM = re.compile(r"\s*axiom\s*:", re.IGNORECASE)
 _SECTION = re.compile(r"\s*(homomorphism|decomposition|endlsystem)\b(.*)\Z", re.IGNORECASE)
 
@@ -247,7 +248,8 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
             continue
         continues = open_at is not None and plain and (
             forced or ("-->" not in text and not _KEY.match(text) and not _SECTION.match(text)
-                       and not _UNSUPPORTED.match(text) and not _HEAD.match(text)))  # fmt: skip
+                       and not _UNSUPPORTED.match(text) and not _HEAD.match(text)
+                       and not _OTHER_ARROW.search(text)))  # fmt: skip
         if continues:
             body = line.slice(0, len(text.rstrip()))
             forced = body.text.endswith("\\")
@@ -266,7 +268,8 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
         else:  # anything else, an empty line too, ends the production
             open_at = None
             if (plain and not _KEY.match(text) and not _SECTION.match(text)
-                    and not _UNSUPPORTED.match(text)):  # fmt: skip
+                    and not _UNSUPPORTED.match(text) and not _OTHER_ARROW.search(text)
+                    and any(c in text for c in ":<>")):  # fmt: skip
                 head_at = len(out)  # pred : {…} condition … on lines before its arrow
         out.append(line)
     return out
