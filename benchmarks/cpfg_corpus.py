@@ -202,6 +202,12 @@ def main(argv=None) -> int:
     ap.add_argument("--only", default=None)
     ap.add_argument("--no-render", action="store_true")
     args = ap.parse_args(argv)
+    import sylva.lsystem.dialects.cpfg  # noqa: F401 - loaded once, shared by the children
+    import sylva.plant  # noqa: F401
+
+    if not args.no_render:
+        import sylva.geometry.build  # noqa: F401
+        import sylva.render  # noqa: F401
     models = find_models(args.vlab)
     if args.only:
         models = [m for m in models if args.only in str(m)]

@@ -169,3 +169,18 @@ def test_programs_with_blocks_have_no_lsys_spelling():
     p = loads("Lsystem: 1\nAxiom: A(1)\nA(t) : {t=t+1;} --> B(t)\nendlsystem\n", view=False)
     with pytest.raises(ValueError, match="statement blocks"):
         dumps(p)
+
+
+def test_array_elements_and_labels_in_successors_and_a_head_ending_in_a_colon():
+    # len[s] reads the Define: array; @L("%.f", c) keeps its number, not its text;
+    # the second production's head ends with ':' and its condition is on the next line
+    text = """Lsystem: 1
+Define: { array len[2] = {1.5, 2.5}; }
+derivation length: 1
+Axiom: A(1) B(0)
+A(s) --> F(len[s]) @L("%.f", s)
+B(x) :
+    x == 0 --> C
+endlsystem
+"""
+    assert _word(text) == "F(2.5)@L(1)C"

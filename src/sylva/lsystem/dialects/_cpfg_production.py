@@ -86,6 +86,14 @@ def hoist(text: str, calls: list, rename: dict, *, successor: bool) -> str:
         j = m.end()
         while j < n and text[j] == " ":
             j += 1
+        if j < n and text[j] == "[":  # an element of a global array
+            end = _match(text, j, "[", "]")
+            if end > 0:
+                var = f"_h{len(calls) + 1}"
+                calls.append((var, text[k : end + 1]))
+                out.append(var)
+                k = end + 1
+                continue
         if j < n and text[j] == "(":
             if name not in FUNCTIONS:
                 end = _match(text, j, "(", ")")

@@ -92,7 +92,16 @@ _UNSUPPORTED = re.compile(r"\s*(ring\s+l-?system|start\s*:|starteach\s*:|endeach
 _UNSUPPORTED_WHY = {"ring l-system": "ring L-systems, whose first and last modules are "
                     "neighbours, are not implemented"}  # fmt: skip
 #: A line that begins a production whose arrow comes later: ``M(t) : 1 {x=0.5*R^t;}``.
-_HEAD = re.compile(r"[^{}]*:\s*\{|[^{}]*:[^{}]*\{[^}]*(?<![=!<>])=(?!=)")
+_HEAD = re.compile(r"[^{}]*:\s*\{|[^{}]*:[^{}]*\{[^}]*(?<![=!<>])=(?!=)|.*:\s*\Z"
+                   r"|[^:(]*(?:\([^)]*\))?[^:(]*[<>][^:]*:(?!\s*[-+]?[\d.]+\s*\Z)")
+_LABEL = re.compile(r'@L\(\s*"(?:[^"\\]|\\.)*"\s*(,|\))')
+
+
+def _label(m) -> str:
+    """``@L("fmt", x)`` as ``@L(x)``, ``@L("text")`` as ``@L``: a label draws nothing."""
+    return "@L(" if m.group(1) == "," else "@L"
+
+
 _OTHER_ARROW = re.compile(r"-+>|<-+|=>|-o>")  # not cpfg's arrow: an error, not a head
 _AXIOM = re.compile(r"\s*axiom\s*:", re.IGNORECASE)
 _SECTION = re.compile(r"\s*(homomorphism|decomposition|endlsystem)\b(.*)\Z", re.IGNORECASE)
@@ -154,6 +163,7 @@ def _production(line: str, render: bool, where):
                                               else "")  # fmt: skip
     else:
         lhs = _quote_equals(lhs)
+    rhs = _LABEL.sub(_label, rhs)  # @L("%.f", c): the label's text is not kept
     succ, prob = _split_probability(rhs)
     if render and prob is not None:
         raise where("a homomorphism production takes no probability", line.rindex(":") + 1)
