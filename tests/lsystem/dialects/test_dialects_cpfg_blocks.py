@@ -184,3 +184,16 @@ B(x) :
 endlsystem
 """
     assert _word(text) == "F(2.5)@L(1)C"
+
+
+def test_arrays_of_two_dimensions_row_major():
+    # m[2][3] = {1..6}: m[1][0] is the 4th value, m[0][2] the 3rd
+    text = """Lsystem: 1
+Define: { array m[2][3] = {1, 2, 3, 4, 5, 6}; }
+Start: { s = m[1][0] + 10 * m[0][2]; }
+derivation length: 1
+Axiom: A(1, 2)
+A(i, j) --> B(m[i][j], s)
+endlsystem
+"""
+    assert _word(text) == "B(6,34)"

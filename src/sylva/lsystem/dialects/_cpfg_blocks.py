@@ -122,6 +122,7 @@ class _Ctx:
     def __init__(self, g, constants, n, where):
         self.g, self.constants, self.n, self.where = g, constants, n, where
         self.left = STEP_BUDGET
+        self.mask = np.ones(n, np.bool_)
 
     def tick(self):
         self.left -= 1
@@ -134,6 +135,7 @@ class _Ctx:
     # ------------------------------------------------------------------ statements
     def exec(self, node, vals, mask) -> None:
         self.tick()
+        self.mask = mask  # the rows this statement runs for (index checks look at them)
         kind, ch = node.data, node.children
         if kind in ("start", "block"):
             for c in ch:
@@ -149,12 +151,14 @@ class _Ctx:
             while m.any():
                 self.tick()
                 self.exec(ch[1], vals, m)
+                self.mask = m
                 m = m & _truth(self.eval(ch[0], vals))
         elif kind == "do_":
             m = mask
             while m.any():
                 self.tick()
                 self.exec(ch[0], vals, m)
+                self.mask = m
                 m = m & _truth(self.eval(ch[1], vals))
         elif kind == "for_":
             init, cond, step, body = ch
@@ -166,6 +170,7 @@ class _Ctx:
                 self.exec(body, vals, m)
                 if step is not None:
                     self.exec(step, vals, m)
+                self.mask = m
                 if cond is not None:
                     m = m & _truth(self.eval(cond, vals))
         elif kind == "assign":
@@ -235,12 +240,19 @@ class _Ctx:
             if arr is None:
                 raise self.error(f"{name} is not an array; expected 'array {name}[n];' in "
                                  "Define:")  # fmt: skip
-            i = self.eval(ch[1], vals)
-            bad = (i < 0) | (i >= len(arr)) | (i != np.trunc(i))
-            if bad.any():
-                raise self.error(f"index {i[bad][0]:g} of {name} is outside "
-                                 f"0..{len(arr) - 1}")  # fmt: skip
-            return np.asarray(arr, np.float64)[i.astype(np.int64)]
+            dims = self.g.dims.get(name, (len(arr),))
+            subs = [self.eval(c, vals) for c in ch[1:]]
+            if len(subs) != len(dims):
+                raise self.error(f"{name} has {len(dims)} dimension(s), indexed with "
+                                 f"{len(subs)}")  # fmt: skip
+            flat = np.zeros(self.n, np.int64)
+            for i, size in zip(subs, dims, strict=True):
+                bad = (i < 0) | (i >= size) | (i != np.trunc(i))
+                if (bad & self.mask).any():  # rows the statement runs for: an error
+                    raise self.error(f"index {i[bad & self.mask][0]:g} of {name} is "
+                                     f"outside 0..{size - 1}")  # fmt: skip
+                flat = flat * size + np.where(bad, 0, i).astype(np.int64)
+            return np.asarray(arr, np.float64)[flat]
         if kind == "call":
             return self._call(str(ch[0]), [c for c in ch[1:] if c is not None], vals, None)
         if kind == "string":

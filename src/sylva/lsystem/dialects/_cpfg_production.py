@@ -88,6 +88,8 @@ def hoist(text: str, calls: list, rename: dict, *, successor: bool) -> str:
             j += 1
         if j < n and text[j] == "[":  # an element of a global array
             end = _match(text, j, "[", "]")
+            while 0 < end < n - 1 and text[end + 1] == "[":  # len[o][i]
+                end = _match(text, end + 1, "[", "]")
             if end > 0:
                 var = f"_h{len(calls) + 1}"
                 calls.append((var, text[k : end + 1]))

@@ -61,6 +61,7 @@ class Globals:
     def __init__(self, seed: int = 0):
         self.values: dict[str, float] = {}
         self.arrays: dict[str, list[float]] = {}
+        self.dims: dict[str, tuple[int, ...]] = {}  # of arrays of several dimensions
         self.rng = np.random.Generator(np.random.PCG64(seed))
         #: cpfg's functions of the view file's files (``func``, ``curveX`` …): name -> f(*x)
         self.functions: dict = {}
@@ -124,19 +125,26 @@ def _exec(node, g: Globals, state, where: str) -> None:
                 _exec(step, g, state, where)
     elif kind == "arrays":
         for d in ch:
-            name, size, init = str(d.children[0]), d.children[1], d.children[2]
-            if size is None:  # a scalar declaration: float x = 1;
+            name, sizes, init = str(d.children[0]), d.children[1:-2], d.children[-1]
+            if d.children[-2] is not None and str(d.children[-2]) != "=":
+                raise SylvaError(f"{where}: {name} {d.children[-2]} …: expected '=' in a "
+                                 "declaration")  # fmt: skip
+            if not sizes:  # a scalar declaration: float x = 1;
                 g.values[name] = _eval(init, g, where) if init is not None else 0.0
                 continue
-            n = _eval(size, g, where)
-            if not (n == int(n) and 0 < n <= 1_000_000):
-                raise SylvaError(f"{where}: array {name}[{n:g}]: expected a size 1..1000000")
-            g.arrays[name] = [0.0] * int(n)
+            dims = [_eval(e, g, where) for e in sizes]
+            n = math.prod(dims)
+            if not (all(k == int(k) and k > 0 for k in dims) and n <= 1_000_000):
+                raise SylvaError(f"{where}: array {name}{dims}: expected sizes of 1 or more, "
+                                 "1,000,000 elements at most")  # fmt: skip
+            n = int(n)
+            g.arrays[name] = [0.0] * n
+            g.dims[name] = tuple(int(k) for k in dims)
             items = [] if init is None else (
                 [c for c in init.children if c is not None]
                 if isinstance(init, Tree) and init.data == "init_list" else [init])  # fmt: skip
             if len(items) > n:
-                raise SylvaError(f"{where}: {len(items)} values for array {name}[{int(n)}]")
+                raise SylvaError(f"{where}: {len(items)} values for array {name} of {n}")
             for k, item in enumerate(items):
                 g.arrays[name][k] = _eval(item, g, where)
     elif kind == "assign":
@@ -163,18 +171,29 @@ def _div(a: float, b: float) -> float:
     return a / b
 
 
+def flat_index(name: str, idx: list, g: Globals, where: str) -> int:
+    """The element of array ``name`` at the indices ``idx`` (row-major)."""
+    dims = g.dims.get(name, (len(g.arrays[name]),))
+    if len(idx) != len(dims):
+        raise SylvaError(f"{where}: {name} has {len(dims)} dimension(s), indexed with "
+                         f"{len(idx)}")  # fmt: skip
+    flat = 0
+    for i, size in zip(idx, dims, strict=True):
+        if not (0 <= i < size) or i != int(i):
+            raise SylvaError(f"{where}: index {i:g} of {name} is outside 0..{size - 1}")
+        flat = flat * size + int(i)
+    return flat
+
+
 def _index(target, g: Globals, where: str) -> tuple[str, int | None]:
     name = str(target.children[0])
-    if len(target.children) == 1 or target.children[1] is None:
+    subs = [c for c in target.children[1:] if c is not None]
+    if not subs:
         return name, None
-    i = _eval(target.children[1], g, where)
-    arr = g.arrays.get(name)
-    if arr is None:
+    if name not in g.arrays:
         raise SylvaError(f"{where}: {name} is not an array; expected 'array {name}[n];' in "
                          "Define:")  # fmt: skip
-    if not (0 <= i < len(arr)) or i != int(i):
-        raise SylvaError(f"{where}: index {i:g} of {name} is outside 0..{len(arr) - 1}")
-    return name, int(i)
+    return name, flat_index(name, [_eval(c, g, where) for c in subs], g, where)
 
 
 def _load(target, g: Globals, where: str) -> float:

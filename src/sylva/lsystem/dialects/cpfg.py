@@ -392,7 +392,7 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
                 ended = True
                 emit("")
             continue
-        if m := _KEY.match(line):
+        if (m := _KEY.match(line)) and "-->" not in line:  # AXIOM : c --> is a rule
             key = " ".join(m.group(1).lower().split())
             value = m.group(2).strip()
             if key == "axiom" and value:
