@@ -197,3 +197,15 @@ A(i, j) --> B(m[i][j], s)
 endlsystem
 """
     assert _word(text) == "B(6,34)"
+
+
+def test_a_head_whose_condition_has_a_minus_after_a_less_than():
+    # x<-1 is a comparison, not an arrow: the head runs on to the next line's arrow
+    text = """Lsystem: 1
+derivation length: 1
+Axiom: A(-2) B A(0)
+A(x) B : x<-1
+    --> C
+endlsystem
+"""
+    assert _word(text) == "CA(0)"

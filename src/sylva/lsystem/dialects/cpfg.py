@@ -103,6 +103,19 @@ def _label(m) -> str:
 
 
 _OTHER_ARROW = re.compile(r"-+>|<-+|=>|-o>")  # not cpfg's arrow: an error, not a head
+
+
+def _other_arrow(text: str) -> bool:
+    """Whether ``text`` holds an arrow that is not cpfg's (``->``, ``<-``, ``=>``) outside
+    parentheses and before a condition's ``:`` (``x<-1`` in a condition is no arrow)."""
+    colon = _outside_parens(text, ":")
+    out, depth = [], 0
+    for ch in text if colon < 0 else text[:colon]:
+        depth += (ch == "(") - (ch == ")")
+        out.append(ch if depth <= 0 and ch != ")" else " ")
+    return bool(_OTHER_ARROW.search("".join(out)))
+
+
 _AXIOM = re.compile(r"\s*axiom\s*:", re.IGNORECASE)
 _SECTION = re.compile(r"\s*(homomorphism|decomposition|endlsystem)\b(.*)\Z", re.IGNORECASE)
 
@@ -234,6 +247,7 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
     forced = False
     depth = block_at = 0  # of braces in an open statement block; where it began
     head_at: int | None = None  # a production head whose arrow is on a later line
+    axiom_open = False  # the line that may continue is the axiom's
     for line in pre.lines:
         text = line.text
         if depth > 0:  # a statement block continues
@@ -259,7 +273,8 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
         continues = open_at is not None and plain and (
             forced or ("-->" not in text and not _KEY.match(text) and not _SECTION.match(text)
                        and not _UNSUPPORTED.match(text) and not _HEAD.match(text)
-                       and not _OTHER_ARROW.search(text)))  # fmt: skip
+                       and not _other_arrow(text)
+                       and not (axiom_open and _outside_parens(text, ":") >= 0)))  # fmt: skip
         if continues:
             body = line.slice(0, len(text.rstrip()))
             forced = body.text.endswith("\\")
@@ -271,6 +286,7 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
         forced = False
         if plain and ("-->" in text or _AXIOM.match(text)):  # both may run on
             open_at = len(out)
+            axiom_open = "-->" not in text
             stripped = text.rstrip()
             if stripped.endswith("\\"):
                 forced = True
@@ -278,7 +294,7 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
         else:  # anything else, an empty line too, ends the production
             open_at = None
             if (plain and not _KEY.match(text) and not _SECTION.match(text)
-                    and not _UNSUPPORTED.match(text) and not _OTHER_ARROW.search(text)
+                    and not _UNSUPPORTED.match(text) and not _other_arrow(text)
                     and any(c in text for c in ":<>")):  # fmt: skip
                 head_at = len(out)  # pred : {…} condition … on lines before its arrow
         out.append(line)
