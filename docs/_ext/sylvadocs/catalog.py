@@ -246,7 +246,10 @@ MEANINGS: dict[object, Command] = {
                   "sphere of diameter *d*, ``@v`` rolls to vertical (ABOP's ``$``), "
                   "``@M`` moves to a point without drawing, ``@R`` sets the heading (and "
                   "up), ``@Ts``/``@Ti``/``@Td`` set, raise and lower the elasticity of "
-                  "tropism for the rest of the branch (cpfg files: ``@Ts(1, e)``)."),
+                  "tropism for the rest of the branch (cpfg files: ``@Ts(1, e)``); "
+                  "``@o(d)`` and ``@c(r)`` (cpfg's disc and circle) draw a sphere of "
+                  "diameter *d* / radius *r*; ``@Gs @Gc @Ge @Gt @Gr`` (generalised "
+                  "cylinders), ``@Tx @Tf``, ``@! @# @L`` are read and draw nothing."),
 }
 
 #: A word that shows each opcode's effect (``{s}``: the symbol itself), per table.

@@ -143,6 +143,9 @@ class Rule:
     phase: str = "production"
     group: int = 0
     lsystem: int = 0
+    #: cpfg's statement blocks of the production (:class:`~.dialects._cpfg_blocks.Block`):
+    #: run by the engine around the condition; ``None`` for every other rule.
+    block: object | None = None
 
     @property
     def has_context(self) -> bool:

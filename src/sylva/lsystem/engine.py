@@ -148,6 +148,9 @@ class _RuleSet:
         for j, p in enumerate(rule.right):
             bindings += [(name, "right", j, k) for k, name in enumerate(p.params)]
         names = tuple(dict.fromkeys(b[0] for b in bindings))
+        block = rule.block  # cpfg's statement blocks: what they assign is bound too
+        if block is not None:
+            names = tuple(dict.fromkeys(names + block.outputs))
         right_ids = np.array([alphabet.id(p.symbol) for p in rule.right], ID_DTYPE)
         try:
             pattern_match(right_ids)
@@ -163,6 +166,8 @@ class _RuleSet:
                 raise
 
         cond = comp(rule.condition) if rule.condition is not None else None
+        if block is not None:  # the blocks run around the condition, over its arrays
+            cond = block.wrap(cond, constants)
         weight = comp(rule.weight)
         wc = getattr(weight, "constant", None)
         if wc is not None and not np.isfinite(wc):

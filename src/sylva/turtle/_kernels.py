@@ -15,7 +15,18 @@ from numba import njit, uint64
 from . import tables as T
 from ._state import COPIED, SPHERE_NP, SPHERE_NV, SPHERE_OFF, SPHERE_V
 from ._state import copy_state as _copy_state
-from .tables import AT_HEADING, AT_MOVE, AT_SPHERE, AT_T, AT_TD, AT_TI, AT_TS, AT_VERTICAL
+from .tables import (
+    AT_CIRCLE,
+    AT_G,
+    AT_HEADING,
+    AT_MOVE,
+    AT_SPHERE,
+    AT_T,
+    AT_TD,
+    AT_TI,
+    AT_TS,  # fmt: skip
+    AT_VERTICAL,
+)
 
 # --------------------------------------------------------------------------- state layout
 S_POS = 0
@@ -807,8 +818,11 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                 fn = offsets[j + 1] - fa
             if trace:
                 _trace_pose(tr_pos, tr_frame, i, st)
-            if code == AT_SPHERE:
-                r = (values[fa] if fn > 0 else 2.0 * st[S_RAD]) * 0.5  # @O(d): a diameter
+            if code == AT_SPHERE or code == AT_CIRCLE:  # noqa: SIM109 - numba
+                if code == AT_CIRCLE:  # @c(r): a radius
+                    r = values[fa] if fn > 0 else st[S_RAD]
+                else:
+                    r = (values[fa] if fn > 0 else 2.0 * st[S_RAD]) * 0.5  # @O(d), @o(d)
                 if cfg[C_MAT_POLY] >= 0:
                     mat = np.int32(cfg[C_MAT_POLY])
                 else:
@@ -824,6 +838,8 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                     poly_mod[npoly] = i
                     npoly += 1
                     poly_off[npoly] = nv
+            elif code == AT_G:  # the letter after @G names the cylinder's function
+                j += 1
             elif code == AT_VERTICAL:
                 _level(st)
             elif code == AT_MOVE:

@@ -297,7 +297,7 @@ def _check_at(word: ModuleString, ops: np.ndarray, arg: np.ndarray, cpfg: bool) 
     ok2 = tee & (sub_at < n)
     sub[ok2] = arg[word.ids[sub_at[ok2]]]
     bad = ~fun | (tee & ~np.isin(sub, list(T.AT_SUBFUNCTIONS.values())))
-    want = "@O @v @M @R @Ts @Ti @Td"
+    want = "@O @o @c @v @M @R @Ts @Ti @Td @Tx @Tf @G. @! @# @L"
     if bad.any():
         k = int(np.flatnonzero(bad)[0])
         p = int(at[k])
@@ -311,7 +311,8 @@ def _check_at(word: ModuleString, ops: np.ndarray, arg: np.ndarray, cpfg: bool) 
             f"unknown @ module at module {p} of the word: {got}; expected one of {want}"
         )
     if cpfg and word.values.size:  # cpfg's @T take the tropism's index first: sylva has one
-        for p in at[tee].tolist():
+        settable = tee & np.isin(sub, [T.AT_TS, T.AT_TI, T.AT_TD])  # not @Tx, @Tf
+        for p in at[settable].tolist():
             a, b = word.offsets[p + 2], word.offsets[p + 3]
             if b > a and word.values[a] != 1.0:
                 raise TurtleSettingsError(

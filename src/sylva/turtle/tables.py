@@ -111,11 +111,17 @@ AT_T = 5  # @T followed by s, i or d: the elasticity of tropism
 AT_TS = 6  # @Ts: set it
 AT_TI = 7  # @Ti: increase it
 AT_TD = 8  # @Td: decrease it
-#: The letters after ``@`` and their functions (``T`` takes one more letter).
+AT_CIRCLE = 9  # @c(r) / @o(d): cpfg's circle and disc, drawn as a sphere of that size
+AT_G = 10  # @G followed by s, c, e, t or r: cpfg's generalised cylinders (read, not drawn)
+AT_NOP = 11  # @! @# @L: cpfg's sides, contour and label settings (read, no drawing)
+AT_TX = 12  # @Tx @Tf: cpfg's texture and tropism-function settings (read, no drawing)
+#: The letters after ``@`` and their functions (``T`` and ``G`` take one more letter).
 AT_FUNCTIONS: Mapping[str, int] = {
     "O": AT_SPHERE, "v": AT_VERTICAL, "M": AT_MOVE, "R": AT_HEADING, "T": AT_T,
+    "o": AT_SPHERE, "c": AT_CIRCLE, "G": AT_G, "!": AT_NOP, "#": AT_NOP, "L": AT_NOP,
 }  # fmt: skip
-AT_SUBFUNCTIONS: Mapping[str, int] = {"s": AT_TS, "i": AT_TI, "d": AT_TD}
+AT_SUBFUNCTIONS: Mapping[str, int] = {"s": AT_TS, "i": AT_TI, "d": AT_TD, "x": AT_TX,
+                                      "f": AT_TX}  # fmt: skip
 
 OPCODE_NAMES = {
     v: k

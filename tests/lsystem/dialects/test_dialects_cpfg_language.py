@@ -129,7 +129,8 @@ def test_an_error_in_an_included_file_names_that_file(tmp_path):
         ("#if 1 +\n#endif\n", 1, 5, "constant expression"),
         ("Lsystem: 1\nring L-system: on\n", 2, 1, "ring l-system"),
         ("Lsystem: 1\nAxiom: A\nStartEach: { x = ; }\n", 3, 18, "unexpected ';'"),
-        ("Lsystem: 1\nAxiom: A(1)\nA(x) : {y = x;} y > 0 --> B\n", 3, 8, "statement blocks"),
+        ("Lsystem: 1\nStart: {g = 0;}\nAxiom: A(1)\nA(x) : {g = x;} g > 0 --> B\n", 4, 9,
+         "global variable 'g'"),
     ],
 )
 def test_bad_directives_and_unsupported_constructs(text, line, column, words):

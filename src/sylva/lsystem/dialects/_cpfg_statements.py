@@ -61,7 +61,10 @@ class Globals:
     def __init__(self, seed: int = 0):
         self.values: dict[str, float] = {}
         self.arrays: dict[str, list[float]] = {}
+        self.dims: dict[str, tuple[int, ...]] = {}  # of arrays of several dimensions
         self.rng = np.random.Generator(np.random.PCG64(seed))
+        #: cpfg's functions of the view file's files (``func``, ``curveX`` …): name -> f(*x)
+        self.functions: dict = {}
 
     def numbers(self) -> dict[str, float]:
         return dict(self.values)
@@ -122,8 +125,28 @@ def _exec(node, g: Globals, state, where: str) -> None:
                 _exec(step, g, state, where)
     elif kind == "arrays":
         for d in ch:
-            name, size = str(d.children[0]), int(d.children[1])
-            g.arrays[name] = [0.0] * size
+            name, sizes, init = str(d.children[0]), d.children[1:-2], d.children[-1]
+            if d.children[-2] is not None and str(d.children[-2]) != "=":
+                raise SylvaError(f"{where}: {name} {d.children[-2]} …: expected '=' in a "
+                                 "declaration")  # fmt: skip
+            if not sizes:  # a scalar declaration: float x = 1;
+                g.values[name] = _eval(init, g, where) if init is not None else 0.0
+                continue
+            dims = [_eval(e, g, where) for e in sizes]
+            n = math.prod(dims)
+            if not (all(k == int(k) and k > 0 for k in dims) and n <= 1_000_000):
+                raise SylvaError(f"{where}: array {name}{dims}: expected sizes of 1 or more, "
+                                 "1,000,000 elements at most")  # fmt: skip
+            n = int(n)
+            g.arrays[name] = [0.0] * n
+            g.dims[name] = tuple(int(k) for k in dims)
+            items = [] if init is None else (
+                [c for c in init.children if c is not None]
+                if isinstance(init, Tree) and init.data == "init_list" else [init])  # fmt: skip
+            if len(items) > n:
+                raise SylvaError(f"{where}: {len(items)} values for array {name} of {n}")
+            for k, item in enumerate(items):
+                g.arrays[name][k] = _eval(item, g, where)
     elif kind == "assign":
         target, op, value = ch
         v = _eval(value, g, where)
@@ -136,6 +159,8 @@ def _exec(node, g: Globals, state, where: str) -> None:
         _store(target, g, _load(target, g, where) + (1.0 if op == "++" else -1.0), where)
     elif kind == "call_stmt":
         _call(str(ch[0]), [c for c in ch[1:] if c is not None], g, where)
+    elif kind == "expr_stmt":  # C's expression statement: evaluated, the value dropped
+        _eval(ch[0], g, where)
     else:  # pragma: no cover - the grammar makes no other statement
         raise SylvaError(f"{where}: cannot run {kind}")
 
@@ -146,18 +171,29 @@ def _div(a: float, b: float) -> float:
     return a / b
 
 
+def flat_index(name: str, idx: list, g: Globals, where: str) -> int:
+    """The element of array ``name`` at the indices ``idx`` (row-major)."""
+    dims = g.dims.get(name, (len(g.arrays[name]),))
+    if len(idx) != len(dims):
+        raise SylvaError(f"{where}: {name} has {len(dims)} dimension(s), indexed with "
+                         f"{len(idx)}")  # fmt: skip
+    flat = 0
+    for i, size in zip(idx, dims, strict=True):
+        if not (0 <= i < size) or i != int(i):
+            raise SylvaError(f"{where}: index {i:g} of {name} is outside 0..{size - 1}")
+        flat = flat * size + int(i)
+    return flat
+
+
 def _index(target, g: Globals, where: str) -> tuple[str, int | None]:
     name = str(target.children[0])
-    if len(target.children) == 1 or target.children[1] is None:
+    subs = [c for c in target.children[1:] if c is not None]
+    if not subs:
         return name, None
-    i = _eval(target.children[1], g, where)
-    arr = g.arrays.get(name)
-    if arr is None:
+    if name not in g.arrays:
         raise SylvaError(f"{where}: {name} is not an array; expected 'array {name}[n];' in "
                          "Define:")  # fmt: skip
-    if not (0 <= i < len(arr)) or i != int(i):
-        raise SylvaError(f"{where}: index {i:g} of {name} is outside 0..{len(arr) - 1}")
-    return name, int(i)
+    return name, flat_index(name, [_eval(c, g, where) for c in subs], g, where)
 
 
 def _load(target, g: Globals, where: str) -> float:
@@ -180,6 +216,9 @@ def _store(target, g: Globals, value: float, where: str) -> None:
 def _var(name: str, g: Globals, where: str) -> float:
     if name in g.values:
         return g.values[name]
+    ids = g.functions.get("__ids__", {})
+    if name in ids:  # cpfg names a function by its number or by its name
+        return float(ids[name])
     raise SylvaError(f"{where}: unknown variable {name!r}; expected a variable set before")
 
 
@@ -202,6 +241,10 @@ def _eval(node, g: Globals, where: str) -> float:
     if kind == "unary":
         v = _eval(ch[1], g, where)
         return {"-": -v, "+": v, "!": _truth(not v)}[str(ch[0])]
+    if kind == "ternary":
+        return _eval(ch[1] if _eval(ch[0], g, where) else ch[2], g, where)
+    if kind == "string":
+        raise SylvaError(f"{where}: a string is only an argument of printf")
     if kind == "power":
         return float(_eval(ch[0], g, where) ** _eval(ch[1], g, where))
     if kind == "or_":
@@ -248,10 +291,17 @@ _CPFG = {
     "atan2": (2, lambda g, y, x: math.atan2(y, x)),
     "min": (2, lambda g, a, b: min(a, b)),
     "max": (2, lambda g, a, b: max(a, b)),
+    "frac": (1, lambda g, x: x - math.floor(x)),
+    "bran": (2, lambda g, a, b: float(g.rng.beta(a, b))),
+    "biran": (2, lambda g, n, p: float(g.rng.binomial(int(n), p))),
 }
 
 
 def _call(name: str, args, g: Globals, where: str) -> float:
+    if name in ("printf", "fprintf", "fflush"):  # output only: sylva prints nothing
+        return 0.0
+    if name in g.functions and name != "__ids__":
+        return float(g.functions[name](*[_eval(a, g, where) for a in args]))
     values = [_eval(a, g, where) for a in args]
     if name in _CPFG:
         n, f = _CPFG[name]
@@ -279,8 +329,10 @@ class Schedule:
     engine runs :meth:`before` ahead of each derivation step and :meth:`after` behind it,
     over its own copy of the globals (:meth:`fresh`: as ``Start:`` left them)."""
 
-    def __init__(self, initial: Globals, before=None, after=None, source: str = ""):
+    def __init__(self, initial: Globals, before=None, after=None, source: str = "",
+                 runtime=None):
         self.initial = initial
+        self.runtime = runtime  # where production blocks find the running globals
         self._before = before  # (tree, where) or None
         self._after = after
         self.source = source
@@ -295,9 +347,14 @@ class Schedule:
     def fresh(self) -> Globals:
         import copy
 
-        return copy.deepcopy(self.initial)
+        g = copy.deepcopy(self.initial)
+        if self.runtime is not None:
+            self.runtime.current = g
+        return g
 
     def before(self, g: Globals, step: int) -> None:
+        if self.runtime is not None:
+            self.runtime.current = g
         if self._before is not None:
             run(self._before[0], g, f"{self._before[1]}, before step {step + 1}")
 

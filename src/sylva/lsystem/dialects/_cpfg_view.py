@@ -8,11 +8,15 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
     the width ``thick``, when ``line style:`` is ``polygon`` or ``cylinder`` (a width in
     units, as sylva draws); with cpfg's default ``pixel`` style the width is in pixels of the
     screen, which sylva's cylinders do not have, and a warning says so.
-``line style: pixel | polygon | cylinder``
+``line style: pixel | polygon | cylinder | wireframe``
     decides what the width means (above).
 ``tropism direction: x, y, z`` (normalised), ``initial elasticity: e``, ``elasticity increment: d``
     ABOP §2.3's tropism (``tropism``, ``elasticity``, ``elasticity_step``), as when these lines
     appear in the ``.l``.
+
+``function: f.func``, ``function set: f.fset``, ``curve: c.con``
+    the functions ``func(k, x)`` and curves ``curveX(k, t)`` … of expressions and blocks
+    (:mod:`._cpfg_functions`).
 
 Every other line (``projection``, ``viewpoint``, ``view reference point``, ``twist``,
 ``scale``, ``front distance``, ``back distance``, ``z buffer``, ``render mode``, ``light:``,
@@ -148,8 +152,14 @@ def read_view(text: str, filename: str | None = None) -> dict[str, object]:
                               "widths in units: set line style: cylinder)", SylvaWarning,
                               stacklevel=4)  # fmt: skip
         elif key == "line style":
-            if style not in ("pixel", "pixels", "polygon", "polygons", "cylinder", "cylinders"):
-                raise err(0, f"line style {style!r}: expected pixel, polygon or cylinder")
+            if style == "wireframe":  # cpfg draws lines: as pixel, sylva's tubes
+                warnings.warn(f"{filename or '<view>'}:{number}: line style 'wireframe' is "
+                              "drawn as 'pixel' (sylva's tubes)", SylvaWarning,
+                              stacklevel=4)  # fmt: skip
+            elif style not in ("pixel", "pixels", "polygon", "polygons", "cylinder",
+                               "cylinders"):  # fmt: skip
+                raise err(0, f"line style {style!r}: expected pixel, polygon, cylinder or "
+                          "wireframe")  # fmt: skip
         elif key == "tropism direction":
             t = _numbers(value, 3, err)
             norm = math.sqrt(sum(c * c for c in t))
@@ -166,7 +176,7 @@ def read_view(text: str, filename: str | None = None) -> dict[str, object]:
 
 _HONOURED = frozenset({"angle increment", "angle factor", "initial line width", "line style",
                        "tropism direction", "initial elasticity",
-                       "elasticity increment"})  # fmt: skip
+                       "elasticity increment", "function", "function set", "curve"})  # fmt: skip
 
 
 def load_view(view, filename: str | None) -> dict[str, object]:
@@ -186,3 +196,36 @@ def load_view(view, filename: str | None) -> dict[str, object]:
     except UnicodeDecodeError:
         text = data.decode("latin-1")
     return read_view(text, str(path))
+
+
+_CAMERA_KEYS = {"viewpoint": 3, "view reference point": 3, "twist": 1, "scale factor": 1,
+                "scale": 1}  # fmt: skip
+
+
+def read_camera(view, filename: str | None = None) -> dict[str, object]:
+    """The camera lines of a view file as plain values: ``viewpoint`` and ``view reference
+    point`` (3 floats each), ``twist`` (degrees), ``projection`` (``"parallel"`` or
+    ``"perspective"``) and ``scale`` (the ``scale factor``); only the lines present (empty
+    for no file).  ``view`` as in :func:`load_view`; a renderer makes its camera from them
+    (the corpus runner: the eye on the line from the reference point to the viewpoint)."""
+    if view is False:
+        return {}
+    path = view_path(filename) if view is None else Path(view)
+    if path is None or not path.is_file():
+        return {}
+    out: dict[str, object] = {}
+    for line in path.read_text("latin-1").splitlines():
+        m = _LINE.match(line.split("//")[0])
+        if m is None:
+            continue
+        key = " ".join(m.group(1).lower().split())
+        value = m.group(2)
+        if key == "projection":
+            out["projection"] = value.strip().lower()
+        elif key in _CAMERA_KEYS:
+            nums = [float(x) for x in re.findall(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?",
+                                                  value)][: _CAMERA_KEYS[key]]  # fmt: skip
+            if len(nums) == _CAMERA_KEYS[key]:
+                name = "scale" if key == "scale factor" else key
+                out[name] = tuple(nums) if len(nums) > 1 else nums[0]
+    return out

@@ -45,6 +45,8 @@ INCLUDE_DEPTH = 16
 _EXPANSION_DEPTH = 64
 
 _DIRECTIVE = re.compile(r"\s*#\s*([A-Za-z_]\w*)?(.*)\Z", re.DOTALL)
+#: A line that starts with cpfg's module ``#`` (the width), not a directive: ``#(0.1) F``.
+_MODULE_HASH = re.compile(r"\s*#\s*[(#!;,\[\]{}+\-&^\\/|$@~.]")
 _TOKEN = re.compile(r"(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[A-Za-z_]\w*|.", re.DOTALL)
 _IDENT = re.compile(r"[A-Za-z_]\w*\Z")
 _DEFINED = re.compile(r"\bdefined\s*(?:\(\s*([A-Za-z_]\w*)\s*\)|([A-Za-z_]\w*))")
@@ -256,14 +258,17 @@ def _file(state: _State, text: str, filename: str | None, depth: int, at: Origin
         number = k + 1
         line = _line(lines[k].rstrip("\r"), filename, number)
         k += 1
-        m = _DIRECTIVE.match(line.text)
+        m = None if _MODULE_HASH.match(line.text) else _DIRECTIVE.match(line.text)
         active = all(s[0] for s in stack)
         if m is None:
             result.lines.append(state.expand(line) if active else _line("", filename, number))
             continue
         result.lines.append(_line("", filename, number))
-        while line.text.endswith("\\") and k < len(lines):  # a directive continued
-            line = line.slice(0, len(line.text) - 1) + _line(lines[k].rstrip("\r"), filename, k + 1)
+        while line.text.rstrip().endswith("\\") and k < len(lines):  # a directive continued
+            cut = len(line.text.rstrip()) - 1
+            if line.text[:cut].endswith("\\"):  # vlab's files write '\\' for one '\'
+                cut -= 1
+            line = line.slice(0, cut) + _line(lines[k].rstrip("\r"), filename, k + 1)
             k += 1
             result.lines.append(_line("", filename, k))
         name = m.group(1) or ""

@@ -207,6 +207,8 @@ def format_program(program: Program) -> str:
     F -> F[+F][-F]F
     """
     lines: list[str] = []
+    if any(r.block is not None for r in program.rules):
+        raise ValueError("cpfg's statement blocks of productions have no .lsys spelling")
     if program.statements is not None:
         raise ValueError("statements between steps (cpfg's StartEach:/EndEach:) have no "
                          ".lsys form")  # fmt: skip

@@ -58,14 +58,24 @@ Examples
 
 from __future__ import annotations
 
+import copy
 import math
 import re
 from dataclasses import replace
+from pathlib import Path
 
 from ...errors import LSystemSyntaxError, SylvaError
 from ..ast import Program, Span
 from ..expr import evaluate_constant
-from . import _cpfg_statements, _cpfg_view, _cpp, lsysvis
+from . import (
+    _cpfg_blocks,
+    _cpfg_functions,
+    _cpfg_production,
+    _cpfg_statements,
+    _cpfg_view,
+    _cpp,
+    lsysvis,
+)
 
 __all__ = ["parse"]
 
@@ -81,6 +91,32 @@ _UNSUPPORTED = re.compile(r"\s*(ring\s+l-?system|start\s*:|starteach\s*:|endeach
                           re.IGNORECASE)  # fmt: skip
 _UNSUPPORTED_WHY = {"ring l-system": "ring L-systems, whose first and last modules are "
                     "neighbours, are not implemented"}  # fmt: skip
+#: A line that begins a production whose arrow comes later: ``M(t) : 1 {x=0.5*R^t;}``.
+_HEAD = re.compile(r"[^{}]*:\s*\{|[^{}]*:[^{}]*\{[^}]*(?<![=!<>])=(?!=)|.*:\s*\Z"
+                   r"|[^:(]*(?:\([^)]*\))?[^:(]*[<>][^:]*:(?!\s*[-+]?[\d.]+\s*\Z)")
+_LABEL = re.compile(r'@L\(\s*"(?:[^"\\]|\\.)*"\s*(,|\))')
+
+
+def _label(m) -> str:
+    """``@L("fmt", x)`` as ``@L(x)``, ``@L("text")`` as ``@L``: a label draws nothing."""
+    return "@L(" if m.group(1) == "," else "@L"
+
+
+_OTHER_ARROW = re.compile(r"-+>|<-+|=>|-o>")  # not cpfg's arrow: an error, not a head
+
+
+def _other_arrow(text: str) -> bool:
+    """Whether ``text`` holds an arrow that is not cpfg's (``->``, ``<-``, ``=>``) outside
+    parentheses and before a condition's ``:`` (``x<-1`` in a condition is no arrow)."""
+    colon = _outside_parens(text, ":")
+    out, depth = [], 0
+    for ch in text if colon < 0 else text[:colon]:
+        depth += (ch == "(") - (ch == ")")
+        out.append(ch if depth <= 0 and ch != ")" else " ")
+    return bool(_OTHER_ARROW.search("".join(out)))
+
+
+_AXIOM = re.compile(r"\s*axiom\s*:", re.IGNORECASE)
 _SECTION = re.compile(r"\s*(homomorphism|decomposition|endlsystem)\b(.*)\Z", re.IGNORECASE)
 
 
@@ -109,32 +145,82 @@ def _split_probability(rhs: str) -> tuple[str, str | None]:
     return rhs, None
 
 
-def _production(line: str, render: bool, where) -> tuple[str, list[tuple[int, int]]]:
-    """The ``.lsys`` rule of a production line, and where its parts came from: pairs of
-    (column in the rule, column in the line), both 0-based, one per part."""
+def _production(line: str, render: bool, where):
+    """The ``.lsys`` rule of a production line, where its parts came from (pairs of (column
+    in the rule, column in the line), both 0-based, one per part), and its statement blocks:
+    None, or ``(pre, pre column, post, post column)`` with the hoisted calls in ``calls``
+    (:mod:`._cpfg_production`)."""
     at = line.index("-->")
     lhs, rhs = line[:at], line[at + 3 :]
-    cond_at = lhs.find(":")
+    cond_at = _outside_parens(lhs, ":")
+    blocks = None
+    rename: dict = {}
+    calls_pre: list = []
+    calls_post: list = []
     if cond_at >= 0:
-        cond = lhs[cond_at + 1 :].strip()
-        if "{" in cond:  # cpfg's  pred : {pre} condition {post} --> successor
-            raise where("cpfg's pre-/post-condition statement blocks of a production "
-                        "('pred : { … } condition { … } -->') are not supported yet (the "
-                        "engine does not run statements during a derivation)",
-                        line.index("{", cond_at) + 1)  # fmt: skip
-        lhs = lhs[:cond_at] + (f": {_power(cond)}" if cond and cond != "*" else "")
+        cond = lhs[cond_at + 1 :]
+        try:
+            pre, pre_at, cond, post, post_at = _cpfg_production.split_blocks(cond)
+        except ValueError as e:
+            raise where("a statement block '{' of this production does not close, or text "
+                        "follows its post-condition block; expected pred : {pre} condition "
+                        "{post} --> successor", cond_at + 2 + e.args[0]) from None  # fmt: skip
+        cond = cond.strip()
+        rename = {n: f"_b_{n}" for n in _ASSIGNED.findall(f"{pre or ''};{post or ''}")
+                  if n in lsysvis.SPECIAL_VARIABLES}  # fmt: skip
+        if pre is not None or post is not None:
+            blocks = (pre, cond_at + 1 + pre_at, post, cond_at + 1 + post_at)
+        if cond and cond != "*":
+            cond = _cpfg_production.hoist(cond, calls_pre, rename, successor=False)
+        lhs = _quote_equals(lhs[:cond_at]) + (f": {_power(cond)}" if cond and cond != "*"
+                                              else "")  # fmt: skip
+    else:
+        lhs = _quote_equals(lhs)
+    rhs = _LABEL.sub(_label, rhs)  # @L("%.f", c): the label's text is not kept
     succ, prob = _split_probability(rhs)
     if render and prob is not None:
         raise where("a homomorphism production takes no probability", line.rindex(":") + 1)
+    if prob is not None:
+        prob = _cpfg_production.hoist(prob, calls_post, rename, successor=False)
+    succ = _cpfg_production.hoist(succ, calls_post, rename, successor=True)
     head = lhs.rstrip()
     arrow = "->>" if render else (f"->({_power(prob)})" if prob else "->")
     parts = [(0, 0)]
-    if prob:
+    if prob and prob in line:
         parts.append((len(head) + 4, line.rindex(prob)))
     succ_at = at + 3 + len(succ) - len(succ.lstrip())
     parts.append((len(head) + len(arrow) + 2, succ_at))
     succ = "" if succ.strip() == "*" else succ  # cpfg's '*' is the empty word
-    return f"{head} {arrow} {_in_parens_power(succ.strip())}", sorted(parts)
+    if calls_pre or calls_post:
+        blocks = blocks or (None, 0, None, 0)
+    if blocks is not None:
+        blocks = (*blocks, calls_pre, calls_post, rename)
+    succ = _quote_equals(succ)
+    return f"{head} {arrow} {_in_parens_power(succ.strip())}", sorted(parts), blocks
+
+
+def _quote_equals(word: str) -> str:
+    """cpfg's module ``=`` outside parentheses as ``.lsys``'s ``"="``."""
+    if "=" not in word:
+        return word
+    out, depth = [], 0
+    for ch in word:
+        depth += (ch == "(") - (ch == ")")
+        out.append('"="' if ch == "=" and depth <= 0 else ch)
+    return "".join(out)
+
+
+_ASSIGNED = re.compile(r"\b([A-Za-z_][A-Za-z0-9_]*)\s*(?:[-+*/]?=(?!=)|\+\+|--)")
+
+
+def _outside_parens(text: str, char: str) -> int:
+    """The first index of ``char`` outside parentheses and braces (or -1)."""
+    depth = 0
+    for k, ch in enumerate(text):
+        depth += (ch in "({") - (ch in ")}")
+        if ch == char and depth == 0:
+            return k
+    return -1
 
 
 def _quote_hash(line: _cpp.Line) -> _cpp.Line:
@@ -160,6 +246,8 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
     open_at: int | None = None  # index in out of the production that may continue
     forced = False
     depth = block_at = 0  # of braces in an open statement block; where it began
+    head_at: int | None = None  # a production head whose arrow is on a later line
+    axiom_open = False  # the line that may continue is the axiom's
     for line in pre.lines:
         text = line.text
         if depth > 0:  # a statement block continues
@@ -172,9 +260,21 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
             out.append(line)
             continue
         plain = bool(text.strip()) and line.define is None
+        if head_at is not None and plain:  # a production's head before its arrow
+            out[head_at] = out[head_at] + _cpp.Line(" ", [line.origin[0]] * 2) + line
+            out.append(_cpp.Line("", line.origin[-1:]))
+            if "-->" in text:
+                open_at, head_at = head_at, None
+                stripped = out[open_at].text.rstrip()
+                forced = stripped.endswith("\\")
+                if forced:
+                    out[open_at] = out[open_at].slice(0, len(stripped) - 1)
+            continue
         continues = open_at is not None and plain and (
             forced or ("-->" not in text and not _KEY.match(text) and not _SECTION.match(text)
-                       and not _UNSUPPORTED.match(text)))  # fmt: skip
+                       and not _UNSUPPORTED.match(text) and not _HEAD.match(text)
+                       and not _other_arrow(text)
+                       and not (axiom_open and _outside_parens(text, ":") >= 0)))  # fmt: skip
         if continues:
             body = line.slice(0, len(text.rstrip()))
             forced = body.text.endswith("\\")
@@ -184,14 +284,19 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
             out.append(_cpp.Line("", line.origin[-1:]))
             continue
         forced = False
-        if plain and "-->" in text:
+        if plain and ("-->" in text or _AXIOM.match(text)):  # both may run on
             open_at = len(out)
+            axiom_open = "-->" not in text
             stripped = text.rstrip()
             if stripped.endswith("\\"):
                 forced = True
                 line = line.slice(0, len(stripped) - 1)
         else:  # anything else, an empty line too, ends the production
             open_at = None
+            if (plain and not _KEY.match(text) and not _SECTION.match(text)
+                    and not _UNSUPPORTED.match(text) and not _other_arrow(text)
+                    and any(c in text for c in ":<>")):  # fmt: skip
+                head_at = len(out)  # pred : {…} condition … on lines before its arrow
         out.append(line)
     return out
 
@@ -219,7 +324,8 @@ def _remap(span: Span | None, lines: list[_cpp.Line]) -> Span | None:
     return Span(number, col, file)
 
 
-def parse(text: str, filename: str | None = None, *, view=None) -> Program:
+def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
+          materials=None) -> Program:
     """Read a cpfg L-system (see the module notes); errors name the file, line and column.
 
     ``view`` is the view file (:mod:`._cpfg_view`): a path, ``None`` for the ``.v`` beside
@@ -242,8 +348,12 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
     src: list[_cpp.Line] = []  # the logical line of each line of ``out``
     each: dict[str, tuple] = {}  # StartEach / EndEach: (statements, where)
     each_text: list[str] = []
+    block_src: dict[int, tuple] = {}  # line of out -> (blocks, logical line, where)
     top: list[tuple[str, _cpp.Line]] = []  # assignments that go before everything
     seed = _seed_of(lines)
+    vpath = None if view is False else (_cpfg_view.view_path(filename) if view is None
+                                        else Path(view))  # fmt: skip
+    functions = _cpfg_functions.load_functions(vpath)
     globals_ = None
     for logical in lines:
 
@@ -265,7 +375,7 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
             continue
         if m := _BLOCK.match(line):
             kind = " ".join(m.group(1).lower().split())
-            if kind in ("starteach", "endeach"):
+            if kind in ("starteach", "endeach"):  # noqa: SIM102
                 tree = _cpfg_statements.parse_block(
                     logical.text[m.end() :], lambda msg, o, _m=m: where(msg, _m.end() + o + 1))
                 file, at_line, _ = logical.at(1)
@@ -274,7 +384,7 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
                 emit("")
                 continue
             if globals_ is None:
-                globals_ = _cpfg_statements.Globals(seed)
+                globals_ = _new_globals(seed, functions)
                 globals_.values.update(pre.values)  # the #define constants, read only
             for name, value in _block(logical, m, kind, globals_, where, pre):
                 top.append((f"{name} = {value!r}", logical))  # Start: runs before all
@@ -298,9 +408,12 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
                 ended = True
                 emit("")
             continue
-        if m := _KEY.match(line):
+        if (m := _KEY.match(line)) and "-->" not in line:  # AXIOM : c --> is a rule
             key = " ".join(m.group(1).lower().split())
             value = m.group(2).strip()
+            if key == "axiom" and value:
+                value = _axiom_calls(value, globals_ or _new_globals(seed, functions), pre,
+                                     where, m.start(2) + 1)  # fmt: skip
             if key == "lsystem":
                 name = value or None
                 emit("")
@@ -322,31 +435,48 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
                     trop_at = where("the tropism direction is the zero vector; expected a "
                                     "direction such as 0,-1,0", line.index(":") + 2)  # fmt: skip
             else:
+                if key in ("consider", "ignore"):  # cpfg lets brackets be listed: they
+                    # are always considered (the word's tree), as cpfg does
+                    value = value.replace("[", " ").replace("]", " ")
                 emit(f"{key} = {_in_parens_power(value)}")
             continue
         if "-->" in line:
-            rule, parts[len(out) + 1] = _production(line, render, where)
-            emit(rule)
+            for piece in _multi_predecessor(line):
+                rule, parts[len(out) + 1], blocks = _production(piece, render, where)
+                if blocks is not None:
+                    block_src[len(out) + 1] = (blocks, logical, where)
+                emit(rule)
             continue
         raise where(
             "expected a production 'pred --> successor', a 'keyword: value' line, "
             "#define, homomorphism or endlsystem",
             len(line) - len(line.lstrip()) + 1,
         )
+    runtime = None
+    if block_src:
+        if globals_ is None:
+            globals_ = _new_globals(seed, functions)
+            globals_.values.update(pre.values)
+        runtime = _cpfg_blocks.Runtime(globals_)
+        made = _make_blocks(block_src, runtime, pre, each, top, lines)
+    if block_src and not each:  # the blocks' globals start afresh with each derivation
+        each["blocks"] = (None, "")
+    each_names = set().union(*(_cpfg_statements.assigned_names(t) for t, _ in
+                                each.values() if t is not None)) if each else set()  # fmt: skip
     statements = None
     if each:
-        globals_ = globals_ or _cpfg_statements.Globals(seed)
+        globals_ = globals_ or _new_globals(seed, functions)
         if globals_ is not None and not globals_.values:
             globals_.values.update(pre.values)
         known = set(globals_.values)
         fresh = sorted(set().union(*(_cpfg_statements.assigned_names(t) for t, _ in
-                                     each.values())) - known)  # fmt: skip
+                                     each.values() if t is not None)) - known)  # fmt: skip
         for k in fresh:  # a global first set between steps starts at 0
             globals_.values[k] = 0.0
         top.extend((f"{k} = 0.0", lines[0]) for k in fresh)
         statements = _cpfg_statements.Schedule(globals_, each.get("starteach"),
                                                each.get("endeach"),
-                                               "\n".join(each_text))  # fmt: skip
+                                               "\n".join(each_text), runtime)  # fmt: skip
     if top:  # before every use
         out[:0] = [t for t, _ in top]
         src[:0] = [ln for _, ln in top]
@@ -381,6 +511,9 @@ def parse(text: str, filename: str | None = None, *, view=None) -> Program:
         at = _remap(Span(at.line, steps_col, at.filename), src)
     rules = tuple(r if r.span is None else replace(r, span=_remap(r.span, src))
                   for r in program.rules)  # fmt: skip
+    if block_src:
+        rules = _attach_blocks(program.rules, rules, made,
+                               (set(globals_.values) - set(pre.values)) | each_names, len(top))
     return program.replace(settings=settings, dialect="cpfg", name=name or program.name,
                            steps_at=at, rules=rules, statements=statements,
                            **fields)  # fmt: skip
@@ -433,3 +566,139 @@ def _block(logical: _cpp.Line, m, kind: str, g, where, pre) -> list[tuple[str, f
         raise where(f"the global variable {clash[0]!r} is also a sylva setting; expected "
                     "another name", 1)  # fmt: skip
     return sorted((k, v) for k, v in g.values.items() if pre.values.get(k) != v)
+
+
+def _make_blocks(block_src: dict, runtime, pre, each: dict, top: list, lines) -> dict:
+    """The :class:`~._cpfg_blocks.Block` of each production with statement blocks, by its
+    line in the translation; declares the variables they set as constants (0) so that the
+    rule's condition and successor may name them."""
+    made = {}
+    declared = {t.split(" = ")[0] for t, _ in top}
+    for out_line, (blocks, logical, where) in block_src.items():
+        pre_t, pre_c, post_t, post_c, calls_pre, calls_post, rename = blocks
+
+        def tree(text, calls, col, _w=where):
+            if text is None and not calls:
+                return None
+            body = (text or "") + "".join(f" {v} = {c};" for v, c in calls)
+            return _cpfg_statements.parse_block(
+                body, lambda msg, o, _c=col: _w(msg, _c + min(o, len(text or "")) + 1))
+
+        pre_tree = tree(pre_t, calls_pre, pre_c)
+        post_tree = tree(post_t, calls_post, post_c)
+        names = _cpfg_blocks.assigned(pre_tree) | _cpfg_blocks.assigned(post_tree)
+        outputs = sorted(rename.get(n, n) for n in names)
+        file, number, _ = logical.at(1)
+        block = _cpfg_blocks.Block(pre_tree, post_tree, outputs, runtime,
+                                   f"{file or '<string>'}:{number} (production block)",
+                                   logical.text, rename, names)  # fmt: skip
+        made[out_line] = (block, where, pre_c if pre_t is not None else post_c)
+        for name in outputs:
+            if name not in declared and name not in runtime.initial.values:
+                top.append((f"{name} = 0.0", lines[0]))
+                declared.add(name)
+    return made
+
+
+def _attach_blocks(raw_rules, rules, made: dict, globals_names: set, shift: int) -> tuple:
+    """``rules`` with their blocks (a rule with blocks is conditional: ``1`` without one);
+    a block that assigns a global variable is an error."""
+    out = []
+    for raw, rule in zip(raw_rules, rules, strict=True):
+        entry = made.get(raw.span.line - shift) if raw.span is not None else None
+        if entry is None:
+            out.append(rule)
+            continue
+        block, where, col = entry
+        params = {n for p in (*rule.left, rule.predecessor, *rule.right) for n in p.params}
+        clash = sorted((block.assigned - params) & globals_names)
+        if clash:
+            raise where(f"this production's block assigns the global variable {clash[0]!r}: "
+                        "a global changed by each application in turn is not supported "
+                        "(sylva applies a rule to all its modules at once); expected a "
+                        "variable of the block's own", col + 1)  # fmt: skip
+        from ..ast import Num
+
+        out.append(replace(rule, block=block,
+                           condition=rule.condition if rule.condition is not None
+                           else Num(1.0)))  # fmt: skip
+    return tuple(out)
+
+
+def _new_globals(seed: int, functions: dict):
+    g = _cpfg_statements.Globals(seed)
+    g.functions = dict(functions)
+    return g
+
+
+def _axiom_calls(value: str, g, pre, where, column: int) -> str:
+    """The axiom with each call of a function sylva's expressions lack (``func``, ``ran``
+    …) replaced by its value, computed once when the file is read, as cpfg does."""
+    calls: list = []
+    text = _cpfg_production.hoist(value, calls, {}, successor=True)
+    if not calls:
+        return value
+    g = copy.deepcopy(g)
+    g.values.update({k: v for k, v in pre.values.items() if k not in g.values})
+    for var, call in calls:
+        tree = _cpfg_statements.parse_block(f"{var} = {call};",
+                                            lambda msg, o: where(msg, column))  # fmt: skip
+        _cpfg_statements.run(tree, g, "the axiom")
+        text = re.sub(rf"\b{var}\b", repr(g.values[var]), text)
+    return text
+
+
+def _pred_modules(text: str) -> list[str]:
+    """The modules of a predecessor string ``XF(x)`` (``?P(x)`` and ``"#"`` are one each)."""
+    mods, k, n = [], 0, len(text)
+    while k < n:
+        ch = text[k]
+        if ch.isspace():
+            k += 1
+            continue
+        if ch == '"':
+            end = text.find('"', k + 1)
+            j = n if end < 0 else end + 1
+        elif ch == "?" and k + 1 < n and text[k + 1].isalpha():
+            j = k + 2
+        else:
+            j = k + 1
+        while j < n and text[j] == " ":
+            j += 1
+        if j < n and text[j] == "(":
+            depth = 0
+            for q in range(j, n):
+                depth += (text[q] == "(") - (text[q] == ")")
+                if depth == 0:
+                    j = q + 1
+                    break
+            else:
+                j = n
+        mods.append(text[k:j].strip())
+        k = j
+    return mods
+
+
+def _multi_predecessor(line: str) -> list[str]:
+    """cpfg's strict predecessor of several modules, ``lc < A B > rc : c --> s``, as the
+    productions sylva has (each module rewritten alone): ``lc < A > B rc : c --> s`` and
+    ``lc A < B > rc : c --> *`` (the others are erased where the first is rewritten)."""
+    at = line.index("-->")
+    lhs, rhs = line[:at], line[at + 3 :]
+    c = _outside_parens(lhs, ":")
+    head, cond = (lhs, "") if c < 0 else (lhs[:c], lhs[c:])
+    lt = _outside_parens(head, "<")
+    left, rest = (head[:lt].strip(), head[lt + 1 :]) if lt >= 0 else ("", head)
+    gt = _outside_parens(rest, ">")
+    pred, right = (rest[:gt], rest[gt + 1 :].strip()) if gt >= 0 else (rest, "")
+    mods = _pred_modules(pred)
+    if len(mods) < 2 or "*" in mods:
+        return [line]
+    out = []
+    succ, prob = _split_probability(rhs)
+    for k, m in enumerate(mods):
+        lc = " ".join([left, *mods[:k]]).strip()
+        rc = " ".join([*mods[k + 1 :], right]).strip()
+        h = (f"{lc} < " if lc else "") + m + (f" > {rc}" if rc else "")
+        out.append(f"{h} {cond} -->{rhs}" if k == 0 else f"{h} {cond} --> *")
+    return out

@@ -207,7 +207,14 @@ AT_FUNCTIONS: Mapping[str, frozenset[str]] = {
     "v": frozenset(),
     "M": frozenset(),
     "R": frozenset(),
-    "T": frozenset("sid"),
+    "T": frozenset("sidxf"),
+    # cpfg's: circle, disc, generalised cylinders, sides, contour, label
+    "c": frozenset(),
+    "o": frozenset(),
+    "G": frozenset("scetr"),
+    "!": frozenset(),
+    "#": frozenset(),
+    "L": frozenset(),
 }
 _AT_TURTLES = ("lsys", "abop")
 
@@ -612,7 +619,7 @@ def _modules(items: list[_Item], where: Where, what: str) -> list[tuple[Module, 
 
 def _check_at(items: list[_Item], where: Where) -> None:
     """Every ``@`` of a written word followed by a function in :data:`AT_FUNCTIONS`."""
-    want = "@O, @v, @M, @R, @Ts, @Ti or @Td"
+    want = "@O, @o, @c, @v, @M, @R, @Ts, @Ti, @Td, @Tx, @Tf, @Gs, @Gc, @Ge, @Gt, @Gr, @!, @# or @L"
     for k, it in enumerate(items):
         if it.bracket or it.symbol != "@":
             continue

@@ -1,0 +1,249 @@
+"""Run every cpfg model of a vlab checkout: derive, render, and print what happened.
+
+vlab (Algorithmic Botany's Virtual Laboratory, GPL-3, not part of sylva) publishes its
+manuals' and course's cpfg models under ``oofs/``.  This script finds every cpfg
+L-system there (a ``.l`` file with an ``Lsystem:`` line), reads it with sylva's cpfg
+reader together with the view file, colour map (``-m``) or material file (``-M``) named
+on the object's ``cpfg`` command line, derives it to its ``derivation length``, builds
+its meshes and renders them with the
+view file's camera.  Each model runs in its own child process with a time limit.
+
+Per model it prints one line: ``derived`` (with the modules of the word, the time and the
+triangles drawn), ``error`` (sylva's message), ``timeout``, or ``needs environment program
+X`` (the object runs cpfg with ``-e file.e`` and the environment program that file names,
+which sylva does not provide).  At the end: the counts, and a contact sheet of the renders
+(``--sheet``, default ``cpfg_corpus.png`` in the current folder).
+
+Usage::
+
+    PYTHONPATH=src .venv/bin/python benchmarks/cpfg_corpus.py PATH_TO_VLAB [--timeout 60]
+        [--size 200] [--sheet out.png] [--only SUBSTRING] [--no-render]
+
+The figure of issue 24: ``derived`` ≥ 85 of the 92 models.
+"""
+
+from __future__ import annotations
+
+import argparse
+import multiprocessing as mp
+import re
+import shlex
+import sys
+import time
+import warnings
+from pathlib import Path
+
+_LSYSTEM = re.compile(r"^\s*Lsystem\s*:", re.MULTILINE)
+
+
+def find_models(root: Path) -> list[Path]:
+    """The cpfg L-system files under ``root/oofs`` (found by their ``Lsystem:`` line)."""
+    out = []
+    for path in sorted((root / "oofs").rglob("*.l")):
+        if not path.is_file():
+            continue
+        try:
+            text = path.read_text("latin-1")
+        except OSError:
+            continue
+        if _LSYSTEM.search(text):
+            out.append(path)
+    return out
+
+
+def cpfg_command(model: Path) -> dict:
+    """What the object's ``specifications`` passes to cpfg for ``model``: the view file,
+    colour map, material file, environment file (paths, or None)."""
+    spec = model.parent / "specifications"
+    found = {"view": None, "map": None, "mat": None, "env": None}
+    if spec.is_file():
+        for line in spec.read_text("latin-1").splitlines():
+            words = line.strip().split()
+            if not words or words[0] != "cpfg" or model.name not in words:
+                continue
+            k = 1
+            while k < len(words):
+                w = words[k]
+                if w in ("-m", "-M", "-e") and k + 1 < len(words):
+                    found[{"-m": "map", "-M": "mat", "-e": "env"}[w]] = words[k + 1]
+                    k += 2
+                    continue
+                if w == "-w":
+                    k += 3
+                    continue
+                if w.endswith(".v"):
+                    found["view"] = w
+                k += 1
+            break
+    if found["view"] is None and model.with_suffix(".v").is_file():
+        found["view"] = model.with_suffix(".v").name
+    return {k: (model.parent / v if v else None) for k, v in found.items()}
+
+
+def environment_program(env: Path) -> str:
+    """The executable an environment file (``.e``) names."""
+    try:
+        for line in env.read_text("latin-1").splitlines():
+            if line.strip().lower().startswith("executable:"):
+                words = shlex.split(line.split(":", 1)[1])
+                return words[0] if words else "?"
+    except OSError:
+        pass
+    return env.name
+
+
+def camera_from_view(view, scene):
+    """sylva's camera for a cpfg view file: the eye on the line from the view reference
+    point through the viewpoint, ``parallel`` projection orthographic, fitted to the plant
+    (cpfg fits its view to the object's box too); the twist is not applied."""
+    import math
+
+    import numpy as np
+
+    from sylva.lsystem.dialects._cpfg_view import read_camera
+    from sylva.render import Camera
+
+    cam = read_camera(view or False)
+    eye = np.array(cam.get("viewpoint", (0.0, 0.0, 1.0)), float)
+    ref = np.array(cam.get("view reference point", (0.0, 0.0, 0.0)), float)
+    d = eye - ref
+    n = float(np.linalg.norm(d))
+    d = d / n if n > 0 else np.array([0.0, 0.0, 1.0])
+    pitch = math.degrees(math.asin(max(-1.0, min(1.0, d[1]))))
+    yaw = math.degrees(math.atan2(d[0], d[2]))
+    mode = "perspective" if cam.get("projection") == "perspective" else "orthographic"
+    return Camera.auto(scene, mode, yaw=yaw, pitch=min(89.0, max(-89.0, pitch)))
+
+
+def _run(model: str, files: dict, size: int, render: bool, queue) -> None:
+    out: dict = {}
+    try:
+        warnings.simplefilter("ignore")
+        import numpy as np
+
+        import sylva
+        from sylva.lsystem import Derivation
+        from sylva.lsystem.dialects import cpfg
+        from sylva.plant import query_for
+
+        t0 = time.perf_counter()
+        text = Path(model).read_text("latin-1")
+        program = cpfg.parse(text, model, view=files["view"] or False, colormap=files["map"],
+                             materials=files["mat"])  # fmt: skip
+        seed = program.seed if program.seed is not None else 1
+        d = Derivation(program, seed=seed, limit=5_000_000, query=query_for(program, seed))
+        d.advance(program.steps or 0)
+        out["modules"] = len(d.word)
+        out["derive_s"] = time.perf_counter() - t0
+        out["status"] = "derived"
+        if render:
+            from sylva.geometry.build import build_mesh
+            from sylva.turtle import interpret
+
+            rw = d.render_word()
+            geometry = interpret(rw, program, seed=seed)
+            scene = build_mesh(geometry, detail=4)
+            out["triangles"] = sum(int(m.n_triangles) for m in scene.meshes)
+            if out["triangles"]:
+                cam = camera_from_view(files["view"], scene)
+                image = sylva.render.render(scene, (size, size), cam, shadows=False, msaa=0,
+                                            ground=False, textures=False)  # fmt: skip
+                out["image"] = np.asarray(image.convert("RGB")).tobytes()
+            out["total_s"] = time.perf_counter() - t0
+    except Exception as e:  # noqa: BLE001 - the runner reports every failure
+        out["status"] = out.get("status", "error")
+        msg = f"{type(e).__name__}: {e}".splitlines()
+        out["message" if out["status"] == "error" else "render_error"] = " / ".join(msg)[:400]
+    queue.put(out)
+
+
+def run_one(model: Path, files: dict, timeout: float, size: int, render: bool) -> dict:
+    ctx = mp.get_context("fork")
+    queue = ctx.Queue()
+    p = ctx.Process(target=_run, args=(str(model), files, size, render, queue))
+    t0 = time.perf_counter()
+    p.start()
+    try:
+        out = queue.get(timeout=timeout)
+    except Exception:  # noqa: BLE001 - queue.Empty: the child ran out of time
+        out = {"status": "timeout"}
+    p.join(1)
+    if p.is_alive():
+        p.kill()
+        p.join()
+    out["wall_s"] = time.perf_counter() - t0
+    return out
+
+
+def contact_sheet(results: list, size: int, path: Path) -> None:
+    from PIL import Image, ImageDraw
+
+    cols = 10
+    rows = (len(results) + cols - 1) // cols
+    sheet = Image.new("RGB", (cols * size, rows * (size + 14)), "white")
+    draw = ImageDraw.Draw(sheet)
+    for k, (name, out) in enumerate(results):
+        x, y = (k % cols) * size, (k // cols) * (size + 14)
+        if "image" in out:
+            sheet.paste(Image.frombytes("RGB", (size, size), out["image"]), (x, y))
+        else:
+            draw.rectangle([x + 2, y + 2, x + size - 3, y + size - 3], outline="red")
+            draw.text((x + 6, y + 6), out["status"][:28], fill="red")
+        draw.text((x + 2, y + size), name[-32:], fill="black")
+    sheet.save(path)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("vlab", type=Path)
+    ap.add_argument("--timeout", type=float, default=60.0)
+    ap.add_argument("--size", type=int, default=200)
+    ap.add_argument("--sheet", type=Path, default=Path("cpfg_corpus.png"))
+    ap.add_argument("--only", default=None)
+    ap.add_argument("--no-render", action="store_true")
+    args = ap.parse_args(argv)
+    import sylva.lsystem.dialects.cpfg  # noqa: F401 - loaded once, shared by the children
+    import sylva.plant  # noqa: F401
+
+    if not args.no_render:
+        import sylva.geometry.build  # noqa: F401
+        import sylva.render  # noqa: F401
+    models = find_models(args.vlab)
+    if args.only:
+        models = [m for m in models if args.only in str(m)]
+    counts: dict[str, int] = {}
+    results = []
+    for model in models:
+        name = str(model.relative_to(args.vlab / "oofs")).replace("ext/", "")
+        files = cpfg_command(model)
+        if files["env"] is not None:
+            out = {"status": f"needs environment program {environment_program(files['env'])}",
+                   "wall_s": 0.0}  # fmt: skip
+        else:
+            out = run_one(model, files, args.timeout, args.size, not args.no_render)
+        status = out["status"]
+        key = status if not status.startswith("needs") else "needs environment program"
+        counts[key] = counts.get(key, 0) + 1
+        line = f"{status:9s} {name}"
+        if status == "derived":
+            line += f"  modules={out['modules']} derive={out['derive_s']:.2f}s"
+            if "triangles" in out:
+                line += f" triangles={out['triangles']} total={out['total_s']:.2f}s"
+            if "render_error" in out:
+                line += f"  (render: {out['render_error']})"
+        elif status == "error":
+            line += f"  {out['message']}"
+        elif status == "timeout":
+            line += f"  (over {args.timeout:g}s)"
+        print(line, flush=True)
+        results.append((name, out))
+    print()
+    print(f"{len(models)} models: " + ", ".join(f"{v} {k}" for k, v in sorted(counts.items())))
+    if not args.no_render and results:
+        contact_sheet(results, args.size, args.sheet)
+        print(f"contact sheet: {args.sheet}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,191 @@
+"""cpfg's graphically defined functions and curves, named in the view file.
+
+``function: name.func [samples]`` lines (numbered 1, 2 … in order) and ``function set:
+name.fset`` (a gallery of several, numbered in order) give ``func(k, x)``: the value at
+``x`` in [0, 1] of function ``k``.  ``curve: name.con`` lines give ``curveX(k, t)``,
+``curveY(k, t)``, ``curveZ(k, t)`` (the point at the fraction ``t`` of curve ``k``'s
+length) and ``curveGAL(k)`` (its length).  vlab's editors (funcedit, the contour editor)
+write both as the control points of a uniform cubic B-spline whose ends are clamped (its
+first and last points are on the curve), each point repeated as often as its multiplicity;
+sylva evaluates that spline at 1025 parameters and interpolates between them.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ...errors import SylvaError
+
+__all__ = ["load_functions"]
+
+_SAMPLES = 1025
+
+
+def _bspline(points: np.ndarray, samples: int = _SAMPLES) -> np.ndarray:
+    """Points of the clamped uniform cubic B-spline of control ``points`` ``(n, d)``."""
+    n = len(points)
+    if n < 2:
+        return np.repeat(points, 2, axis=0)
+    k = min(3, n - 1)
+    inner = n - k - 1
+    knots = np.concatenate([np.zeros(k + 1), np.arange(1, inner + 1) / (inner + 1),
+                            np.ones(k + 1)])  # fmt: skip
+    u = np.linspace(0.0, 1.0, samples)
+    # Cox-de Boor, vectorised over u
+    basis = np.zeros((samples, len(knots) - 1))
+    for i in range(len(knots) - 1):
+        basis[:, i] = (knots[i] <= u) & (u < knots[i + 1])
+    basis[-1, n - 1] = 1.0  # u = 1 belongs to the last span
+    basis[-1, n:] = 0.0
+    for p in range(1, k + 1):
+        nxt = np.zeros((samples, len(knots) - 1 - p))
+        for i in range(len(knots) - 1 - p):
+            d1 = knots[i + p] - knots[i]
+            d2 = knots[i + p + 1] - knots[i + 1]
+            a = (u - knots[i]) / d1 * basis[:, i] if d1 > 0 else 0.0
+            b = (knots[i + p + 1] - u) / d2 * basis[:, i + 1] if d2 > 0 else 0.0
+            nxt[:, i] = a + b
+        basis = nxt
+    return basis[:, :n] @ points
+
+
+def _numbers(line: str) -> list[float]:
+    out = []
+    for w in line.replace(",", " ").split():
+        try:
+            out.append(float(w))
+        except ValueError:
+            break
+    return out
+
+
+def _read_points(lines: list[str], at: int, path: Path, dims: int) -> tuple[np.ndarray, int]:
+    """The control points after a ``points: n`` line at ``at`` (with multiplicities)."""
+    try:
+        n = int(lines[at].split(":", 1)[1].split()[0])
+    except (IndexError, ValueError):
+        raise SylvaError(f"{path}:{at + 1}: expected 'points: n'") from None
+    pts: list = []
+    k = at + 1
+    read = 0
+    while read < n and k < len(lines):
+        nums = _numbers(lines[k])
+        k += 1
+        if not nums:  # range:, dimension:, type: … between the count and the points
+            continue
+        read += 1
+        coords = (nums + [0.0] * dims)[:dims]
+        mult = int(nums[dims]) if len(nums) > dims and nums[dims] >= 1 else 1
+        pts.extend([coords] * mult)
+    if not pts:
+        raise SylvaError(f"{path}:{at + 1}: no points")
+    return np.array(pts, np.float64), k
+
+
+def _function(lines: list[str], start: int, path: Path):
+    """The function (x -> y) whose ``points:`` line is at or after ``start``."""
+    k = start
+    while k < len(lines) and not lines[k].strip().lower().startswith("points:"):
+        k += 1
+    if k == len(lines):
+        raise SylvaError(f"{path}: expected a 'points:' line of a function")
+    pts, end = _read_points(lines, k, path, 2)
+    curve = _bspline(pts)
+    x, y = curve[:, 0], curve[:, 1]
+    order = np.argsort(x, kind="stable")
+    x, y = x[order], y[order]
+
+    def f(v, _x=x, _y=y):
+        return np.interp(np.asarray(v, np.float64), _x, _y)
+
+    f.cpfg_name = None
+    return f, end
+
+
+def _read_func_file(path: Path) -> list:
+    lines = path.read_text("latin-1").splitlines()
+    out, k = [], 0
+    gallery = lines and lines[0].strip().lower().startswith("funcgalleryver")
+    name = None
+    while k < len(lines):
+        low = lines[k].strip().lower()
+        if low.startswith("name:"):
+            name = lines[k].split(":", 1)[1].strip() or None
+        if low.startswith("points:"):
+            f, k = _function(lines, k, path)
+            f.cpfg_name = name
+            name = None
+            out.append(f)
+            if not gallery:
+                break
+            continue
+        k += 1
+    if not out:
+        raise SylvaError(f"{path}: expected a function ('points:' and its points)")
+    return out
+
+
+def _read_curve(path: Path):
+    lines = path.read_text("latin-1").splitlines()
+    for k, line in enumerate(lines):
+        if line.strip().lower().startswith("points:"):
+            pts, _ = _read_points(lines, k, path, 3)
+            curve = _bspline(pts)
+            seg = np.linalg.norm(np.diff(curve, axis=0), axis=1)
+            s = np.concatenate([[0.0], np.cumsum(seg)])
+            return curve, s
+    raise SylvaError(f"{path}: expected a curve ('points:' and its points)")
+
+
+def load_functions(view: Path | None) -> dict:
+    """``func``, ``curveX`` … for the files a view file names (empty without any)."""
+    if view is None or not Path(view).is_file():
+        return {}
+    view = Path(view)
+    funcs: list = []
+    curves: list = []
+    for line in view.read_text("latin-1").splitlines():
+        text = line.split("//")[0].split("/*")[0].strip()
+        low = text.lower()
+        if ":" not in low:
+            continue
+        key, value = (t.strip() for t in text.split(":", 1))
+        key = " ".join(key.lower().split())
+        words = value.split()
+        if key in ("function", "function set") and words:
+            funcs.extend(_read_func_file(view.parent / words[0]))
+        elif key == "curve" and words:
+            curves.append(_read_curve(view.parent / words[0]))
+    out: dict = {}
+    if funcs:
+        def func(k, x, _f=funcs):
+            k = np.asarray(k, np.float64).reshape(-1)
+            idx = int(k[0]) if k.size else 0
+            if not 1 <= idx <= len(_f):
+                raise SylvaError(f"func({idx}, …): the view file names {len(_f)} "
+                                 f"function(s); expected 1..{len(_f)}")  # fmt: skip
+            return _f[idx - 1](x)
+
+        out["func"] = func
+        #: cpfg names a function by its number or by its name: func(BR_ANGLE, x)
+        out["__ids__"] = {f.cpfg_name: k + 1 for k, f in enumerate(funcs) if f.cpfg_name}
+    if curves:
+        def pick(k):
+            idx = int(np.asarray(k, np.float64).reshape(-1)[0])
+            if not 1 <= idx <= len(curves):
+                raise SylvaError(f"curve {idx}: the view file names {len(curves)} curve(s)")
+            return curves[idx - 1]
+
+        def coord(axis):
+            def f(k, t):
+                curve, s = pick(k)
+                at = np.clip(np.asarray(t, np.float64), 0.0, 1.0) * s[-1]
+                return np.interp(at, s, curve[:, axis])
+
+            return f
+
+        out["curveX"], out["curveY"], out["curveZ"] = coord(0), coord(1), coord(2)
+        out["curveGAL"] = lambda k: pick(k)[1][-1]
+    return out
