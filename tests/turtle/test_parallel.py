@@ -21,6 +21,13 @@ FIELDS = (
 )  # fmt: skip
 
 
+@pytest.fixture(autouse=True)
+def _compiled(monkeypatch):
+    # the parallel walk is the compiled one: small words on a cold cache would take the
+    # interpreted road (sylva._jit.road), which walks in one thread
+    monkeypatch.setenv("SYLVA_JIT", "always")
+
+
 def _both(monkeypatch, fn, *args, **kw):
     """``fn`` walked in parallel and serially, and how many subtrees the threads walked."""
     walked = []
