@@ -41,7 +41,7 @@ import numpy as np
 
 from ._common import PathOrFile, as_scene, material_of, open_target, shaded_colors, to_up
 
-__all__ = ["Solid", "solids", "write_scad"]
+__all__ = ["ONE_SOLID_ABOVE", "Solid", "solids", "write_scad"]
 
 
 @dataclass
@@ -248,6 +248,26 @@ def solids(scene, *, thickness: float | None = None, spread: float = 0.2) -> lis
     return out
 
 
+#: Above this many faces the colour solids are written as one (:func:`write_scad`).
+ONE_SOLID_ABOVE = 100_000
+
+
+def _one_solid(parts: list[Solid], scene) -> tuple[list[Solid], str]:
+    """``parts`` unioned into one solid in the colour of the largest, and what the file's
+    header says about it."""
+    offs = np.cumsum([0] + [len(p.points) for p in parts])
+    pts = np.concatenate([p.points for p in parts])
+    faces = np.concatenate([p.faces + o for p, o in zip(parts, offs)])
+    lo, hi = scene.bounds().astype(np.float64)
+    diag = float(np.linalg.norm(hi - lo)) or 1.0
+    pts, faces = _union(pts, faces, diag * 1e-5)
+    big = max(parts, key=lambda p: len(p.faces))
+    colours = "; ".join("[" + ",".join(f"{c:.3g}" for c in p.color) + "]" for p in parts)
+    note = (f"the {len(parts)} colour solids ({colours}) unioned into one in the colour of "
+            "the largest: OpenSCAD 2021's own union of solids this large fails")
+    return [Solid(big.color, pts, faces)], note
+
+
 _GRID = 2.0**-20  # OpenSCAD 2021 rounds points to this grid before it makes a CGAL solid
 
 
@@ -302,6 +322,7 @@ def write_scad(
     convexity: int = 10,
     thickness: float | None = None,
     up: str = "z",
+    one_solid_above: int | None = ONE_SOLID_ABOVE,
 ) -> None:
     """Write an OpenSCAD file to a path or a text file object.
 
@@ -316,12 +337,23 @@ def write_scad(
         Of leaves and polygons, in scene units (default 0.4 % of the scene's diagonal).
     up : {"z", "y"}
         OpenSCAD's convention is Z up.
+    one_solid_above : int or None
+        When the colour solids have more faces than this together, they are unioned here
+        (``manifold3d``) into one solid in the colour of the largest: OpenSCAD 2021's own
+        union of them (CGAL, at every render) ends in an assertion for a full-size tree,
+        while one polyhedron renders and exports at once.  ``None`` keeps one solid per
+        colour at any size.  The file's header says which it did.
     """
     scene = as_scene(scene)
     parts = solids(scene, thickness=thickness)
+    note = "one per colour"
+    if (one_solid_above is not None and len(parts) > 1
+            and sum(len(p.faces) for p in parts) > one_solid_above):  # fmt: skip
+        parts, note = _one_solid(parts, scene)
     with open_target(target, binary=False) as fh:
         fh.write(f"// sylva: {scene.name}\n// {up.upper()} up; {scene.n_triangles} triangles "
-                 f"as {len(parts)} closed solids, one per colour\nunion() {{\n")  # fmt: skip
+                 f"as {len(parts)} closed solid{'s' if len(parts) != 1 else ''}, "
+                 f"{note}\nunion() {{\n")  # fmt: skip
         for s in parts:
             pts = _separate(to_up(s.points * scale, up), s.faces)
             r, g, b, a = s.color
