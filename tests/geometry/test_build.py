@@ -271,3 +271,19 @@ def test_program_detail_below_three_is_flat_for_prisms_and_minimal_for_tubes():
     assert (
         build_branches(interpret("F", dialect="lsys", detail=7.8), mode="prism").n_triangles == 14
     )
+
+
+@pytest.mark.parametrize("road", ["always", "never"])
+def test_segments_too_short_to_frame_are_left_out_of_the_tubes(monkeypatch, road):
+    # cpfg's F(func(...)) draws segments 1e-19 long (vlab's sympodial models): the compiled
+    # tube fill divided by their zero length inside its parallel loop (a SystemError)
+    from sylva.turtle import interpret
+
+    monkeypatch.setenv("SYLVA_JIT", road)
+    g = interpret("F(1)F(1e-19)F(1e-19)[+F(1)]F(-1e-19)F(1)", dialect="abop", rot=30)
+    clean = interpret("F(1)[+F(1)]F(1)", dialect="abop", rot=30)
+    assert g.n_segments == 6 and clean.n_segments == 3
+    a, b = build_branches(g, detail=6), build_branches(clean, detail=6)
+    assert a.n_triangles == b.n_triangles  # the same three tubes, joined the same way
+    np.testing.assert_allclose(a.vertices, b.vertices, atol=1e-6)
+    assert np.isfinite(a.normals).all()

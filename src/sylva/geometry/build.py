@@ -130,6 +130,7 @@ def build_branches(
     """
     if mode not in MODES:
         raise BuildError(f"unknown branch mode {mode!r}: expected one of {', '.join(MODES)}")
+    geometry = _drop_degenerate(geometry)
     d = _sides(detail, geometry, mode)
     want = geometry.vertex_colors if colors is None else bool(colors)
     n = geometry.n_segments
@@ -168,6 +169,40 @@ def build_branches(
         V, I, normals=N, uvs=UV, colors=C if want else None, material_ids=M,
         materials=list(geometry.materials), name="branches",
     )  # fmt: skip
+
+
+_SEGMENT_FIELDS = ("seg_start", "seg_end", "seg_radius", "seg_color", "seg_material",
+                   "seg_module", "seg_parent", "seg_depth", "seg_ref")
+
+
+def _drop_degenerate(geometry: Geometry) -> Geometry:
+    """``geometry`` without the segments too short to have a direction (below 1e-9 of the
+    plant's size: cpfg's ``F(func(…))`` can draw 4.9e-18 long; a tube cannot be framed on
+    them, and they show nothing), each child re-parented to its nearest kept ancestor."""
+    n = geometry.n_segments
+    if n == 0:
+        return geometry
+    axis = geometry.seg_end - geometry.seg_start
+    length = np.sqrt(np.einsum("ij,ij->i", axis, axis))
+    lo = np.minimum(geometry.seg_start.min(axis=0), geometry.seg_end.min(axis=0))
+    hi = np.maximum(geometry.seg_start.max(axis=0), geometry.seg_end.max(axis=0))
+    keep = length > 1e-9 * max(float(np.max(hi - lo)), 1e-300)
+    if keep.all():
+        return geometry
+    parent = geometry.seg_parent.astype(np.int64).copy()
+    while True:  # pointer jumping over the dropped ones: each pass halves a run of them
+        p = np.maximum(parent, 0)
+        skip = (parent >= 0) & ~keep[p]
+        if not skip.any():
+            break
+        parent[skip] = parent[p[skip]]
+    new_index = np.cumsum(keep) - 1
+    fields = {f: getattr(geometry, f)[keep] for f in _SEGMENT_FIELDS}
+    par = parent[keep]
+    fields["seg_parent"] = np.where(par >= 0, new_index[np.maximum(par, 0)], -1).astype(
+        geometry.seg_parent.dtype
+    )
+    return dataclasses.replace(geometry, **fields)
 
 
 def _tube_plan(geometry: Geometry, radius: np.ndarray, max_bend: float, split_colors: bool, d: int):
