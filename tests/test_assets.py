@@ -167,3 +167,24 @@ def test_the_one_line_api_saves_textured(tmp_path):
     assert len(doc["images"]) == 6
     with pytest.raises(SylvaError, match="textures: PLY files carry no images"):
         plant.save(tmp_path / "bush.ply", textures=16)
+
+
+def test_compiled_tangents_equal_the_numpy_reference():
+    # the GLB writer's TANGENT comes from a compiled loop; the NumPy formulation is the
+    # reference (uv gradients summed at the vertices, Gram-Schmidt, handedness)
+    from sylva.geometry.build import build_mesh
+    from sylva.geometry.exchange._textures import tangents, tangents_numpy
+    from sylva.turtle import interpret
+
+    g = interpret("F[+F[&F]L]F[-FL]/F", dialect="abop", rot=30, thick=0.1)
+    for mesh in build_mesh(g, detail=6).meshes:
+        a, b = tangents(mesh), tangents_numpy(mesh)
+        assert a.shape == b.shape == (mesh.n_vertices, 4)
+        np.testing.assert_allclose(a[:, :3], b[:, :3], atol=1e-5)
+        assert np.array_equal(a[:, 3], b[:, 3])
+    # a triangle without a uv gradient gets a unit tangent orthogonal to its normal
+    flat = Mesh(np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32), np.array([[0, 1, 2]]),
+                normals=np.array([[0, 0, 1]] * 3, np.float32), uvs=np.zeros((3, 2), np.float32))
+    t = tangents(flat)
+    np.testing.assert_allclose(t, tangents_numpy(flat), atol=1e-6)
+    np.testing.assert_allclose(np.linalg.norm(t[:, :3], axis=1), 1.0, atol=1e-6)

@@ -627,3 +627,69 @@ def ear_clip(vertices, offsets):
             owner[t] = i
             t += 1
     return tris[:t], owner[:t], normals
+
+
+# --------------------------------------------------------------------------- tangents
+@njit(cache=True)
+def vertex_tangents(V, N, UV, I):  # pragma: no cover - compiled
+    """glTF ``TANGENT`` (float32[n, 4]) of a mesh: per-triangle uv gradients dP/du and
+    dP/dv summed at the vertices, dP/du made orthogonal to the normal and unit (any
+    orthogonal direction where there is no gradient), w = ±1 the handedness that makes
+    ``cross(N, T) * w`` point towards smaller v.  The loop of
+    :func:`sylva.geometry.exchange._textures.tangents_numpy`, the reference it equals."""
+    nv = V.shape[0]
+    ts = np.zeros((nv, 3))
+    bs = np.zeros((nv, 3))
+    for f in range(I.shape[0]):
+        i0, i1, i2 = I[f, 0], I[f, 1], I[f, 2]
+        d1u = np.float64(UV[i1, 0]) - UV[i0, 0]
+        d1v = np.float64(UV[i1, 1]) - UV[i0, 1]
+        d2u = np.float64(UV[i2, 0]) - UV[i0, 0]
+        d2v = np.float64(UV[i2, 1]) - UV[i0, 1]
+        det = d1u * d2v - d2u * d1v
+        if abs(det) <= 1e-14:
+            continue
+        r = 1.0 / det
+        for c in range(3):
+            e1 = np.float64(V[i1, c]) - V[i0, c]
+            e2 = np.float64(V[i2, c]) - V[i0, c]
+            t = (e1 * d2v - e2 * d1v) * r
+            b = (e2 * d1u - e1 * d2u) * r
+            ts[i0, c] += t
+            ts[i1, c] += t
+            ts[i2, c] += t
+            bs[i0, c] += b
+            bs[i1, c] += b
+            bs[i2, c] += b
+    out = np.empty((nv, 4), np.float32)
+    for k in range(nv):
+        nx, ny, nz = np.float64(N[k, 0]), np.float64(N[k, 1]), np.float64(N[k, 2])
+        tx, ty, tz = ts[k, 0], ts[k, 1], ts[k, 2]
+        dn = nx * tx + ny * ty + nz * tz
+        tx -= nx * dn
+        ty -= ny * dn
+        tz -= nz * dn
+        ln = math.sqrt(tx * tx + ty * ty + tz * tz)
+        if ln < 1e-12:  # no uv gradient: any direction orthogonal to the normal
+            if abs(nx) < 0.9:
+                tx, ty, tz = 1.0, 0.0, 0.0
+            else:
+                tx, ty, tz = 0.0, 1.0, 0.0
+            dn = nx * tx + ny * ty + nz * tz
+            tx -= nx * dn
+            ty -= ny * dn
+            tz -= nz * dn
+            ln = math.sqrt(tx * tx + ty * ty + tz * tz)
+        ln = max(ln, 1e-30)
+        tx /= ln
+        ty /= ln
+        tz /= ln
+        cx = ny * tz - nz * ty
+        cy = nz * tx - nx * tz
+        cz = nx * ty - ny * tx
+        s = -(cx * bs[k, 0] + cy * bs[k, 1] + cz * bs[k, 2])
+        out[k, 0] = tx
+        out[k, 1] = ty
+        out[k, 2] = tz
+        out[k, 3] = -1.0 if s < 0.0 else 1.0
+    return out

@@ -189,6 +189,18 @@ def needs_tangents(mesh) -> bool:
 
 
 def tangents(mesh) -> np.ndarray:
+    """``float32[n, 4]`` glTF ``TANGENT`` of ``mesh`` (see :func:`tangents_numpy`), by the
+    compiled loop :func:`sylva.geometry._kernels.vertex_tangents` (a 20 M-triangle plant's
+    tangents took most of its GLB's writing time in NumPy)."""
+    from .._kernels import vertex_tangents
+
+    return vertex_tangents(
+        np.ascontiguousarray(mesh.vertices), np.ascontiguousarray(mesh.normals),
+        np.ascontiguousarray(mesh.uvs), np.ascontiguousarray(mesh.indices.astype(np.int64)),
+    )  # fmt: skip
+
+
+def tangents_numpy(mesh) -> np.ndarray:
     """``float32[n, 4]`` glTF ``TANGENT`` of ``mesh``: xyz the unit direction of ``+u`` on
     the surface, orthogonal to the normal, and w (±1) the handedness that makes
     ``cross(normal, xyz) * w`` point up the image (towards smaller ``v``), the normal maps'
