@@ -92,7 +92,7 @@ async function render({ model, el: host }) {
       if (kind === "segments" || arrayBuffer(model.get("segments"))?.byteLength) return;
       viewer.clear();
     } else if (kind === "segments") {
-      showSegments(THREE, viewer, new Float32Array(buffer));
+      viewer.showSegments(buffer);  // the studio Viewer's instanced branches
       mixer = null;
       if (first) { viewer.setMode(model.get("camera")); viewer.resetCamera(); first = false; }
     } else {
@@ -164,38 +164,6 @@ async function render({ model, el: host }) {
     viewer._disposePlant();
     viewer.renderer.dispose();
   };
-}
-
-// Branches as instanced cylinders: rows of 11 floats (start xyz, end xyz, r0, r1, linear
-// rgb), one shared cylinder scaled and turned per branch (LSysVis's TurtleVAO, seed 001).
-function showSegments(THREE, viewer, f) {
-  viewer._disposePlant();
-  const n = Math.floor(f.length / 11);
-  const geo = new THREE.CylinderGeometry(1, 1, 1, 8, 1, false);
-  geo.translate(0, 0.5, 0);  // from the origin along +Y
-  const mat = new THREE.MeshStandardMaterial({ roughness: 0.8, metalness: 0, side: THREE.DoubleSide });
-  const mesh = new THREE.InstancedMesh(geo, mat, n);
-  const m = new THREE.Matrix4(), q = new THREE.Quaternion(), scale = new THREE.Vector3();
-  const p = new THREE.Vector3(), d = new THREE.Vector3(), up = new THREE.Vector3(0, 1, 0);
-  const c = new THREE.Color(), box = new THREE.Box3();
-  for (let i = 0, k = 0; i < n; i++, k += 11) {
-    p.set(f[k], f[k + 1], f[k + 2]);
-    d.set(f[k + 3] - f[k], f[k + 4] - f[k + 1], f[k + 5] - f[k + 2]);
-    const len = d.length();
-    const r = 0.5 * (f[k + 6] + f[k + 7]);
-    if (len > 0) q.setFromUnitVectors(up, d.multiplyScalar(1 / len)); else q.identity();
-    m.compose(p, q, scale.set(r, len, r));
-    mesh.setMatrixAt(i, m);
-    mesh.setColorAt(i, c.setRGB(f[k + 8], f[k + 9], f[k + 10], THREE.LinearSRGBColorSpace));
-    box.expandByPoint(p);
-    box.expandByPoint(p.set(f[k + 3], f[k + 4], f[k + 5]));
-  }
-  mesh.instanceMatrix.needsUpdate = true;
-  if (mesh.instanceColor) mesh.instanceColor.needsUpdate = true;
-  mesh.computeBoundingSphere();
-  viewer.plant.add(mesh);
-  viewer.triangles = n * geo.index.count / 3;
-  viewer.bounds = box.isEmpty() ? null : box;
 }
 
 // The fraction of canvas pixels that differ from the background colour.
