@@ -258,9 +258,12 @@ def environment_for(program: Program, seed: int | None = None, environment=None)
     (a name such as ``"light"``, a function, or None for the program's own ``environment
     = …``, :func:`sylva.environments.resolve_environment`) and the turtle's
     :func:`turtle_locate`; ``(None, None)`` for a program without ``?E`` modules."""
-    if not has_communication(program):
-        return None, None
     from .environments import resolve_environment
+
+    if not has_communication(program):
+        if environment is not None:  # a misspelt name is an error even where none is used
+            resolve_environment(environment, program)
+        return None, None
 
     env = resolve_environment(environment, program)
     return env, (turtle_locate(program, seed=seed) if env is not None else None)

@@ -113,3 +113,23 @@ def test_export_dash_r_is_seed(capsys, stochastic, tmp_path):
     assert run(capsys, "export", stochastic, "-o", a, "-n", 6, "-r", 5)[0] == 0
     assert run(capsys, "export", stochastic, "-o", b, "-n", 6, "--seed", 5)[0] == 0
     assert a.read_bytes() == b.read_bytes()
+
+
+@pytest.mark.parametrize("command", ["derive", "render", "animate", "export"])
+@pytest.mark.parametrize("value", ["-5", "0", "x"])
+def test_a_limit_that_is_not_a_positive_whole_number_is_an_argument_error(capsys, doubling,
+                                                                         command, value):
+    argv = [command, str(doubling), "--limit", value]
+    if command != "derive":
+        argv += ["-o", "x.png" if command == "render" else "x.gif" if command == "animate"
+                 else "x.glb"]  # fmt: skip
+    with pytest.raises(SystemExit) as e:
+        main(argv)
+    err = capsys.readouterr().err
+    assert e.value.code == 2 and "argument --limit" in err and "Traceback" not in err
+
+
+def test_a_misspelt_environment_is_an_error_even_without_communication_modules(capsys,
+                                                                               doubling):
+    code, out, err = run(capsys, "derive", doubling, "--environment", "ligth")
+    assert code == 2 and out == "" and "unknown environment 'ligth'" in err

@@ -46,6 +46,19 @@ def steps_type(text: str) -> int:
     return n
 
 
+def limit_type(text: str) -> int:
+    """``--limit``: the module limit, a whole number of modules, at least 1."""
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: expected a whole number of modules such as 1000000"
+        ) from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"{text}: expected at least 1 module")
+    return n
+
+
 def add_growth(p: argparse.ArgumentParser) -> None:
     p.add_argument("file", metavar="FILE",
                    help="an L-system file (any dialect) or a built-in example name")

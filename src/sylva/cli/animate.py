@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from ._common import add_camera, add_growth, camera_for, check_suffix, render_options
+from ._common import add_camera, add_growth, camera_for, check_suffix, limit_type, render_options
 
 __all__ = ["register"]
 
@@ -18,7 +18,7 @@ def register(sub) -> None:
         "camera orbiting the grown plant (--turntable) to a GIF or MP4.",
     )
     add_growth(p)
-    p.add_argument("--limit", type=int, default=None, metavar="N",
+    p.add_argument("--limit", type=limit_type, default=None, metavar="N",
                    help="stop before a word passes N modules (default 50,000,000)")
     add_camera(p, size="640x480")
     kind = p.add_mutually_exclusive_group()

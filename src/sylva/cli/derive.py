@@ -11,7 +11,7 @@ from ..errors import GrowthLimitError, StepsError, SylvaError
 from ..lsystem import DEFAULT_MODULE_LIMIT, Derivation, ModuleString, Program
 from ..lsystem.engine import check_steps
 from ..lsystem.environment import has_queries
-from ._common import steps_type
+from ._common import limit_type, steps_type
 
 __all__ = ["derive_keeping", "load_program", "register"]
 
@@ -46,7 +46,7 @@ def add_common(p: argparse.ArgumentParser) -> None:
                    help="force the language of FILE (default: detected)")
     p.add_argument("--view", metavar="V", default=None,
                    help="cpfg: the view file (.v) to read (default: the one beside FILE)")
-    p.add_argument("--limit", type=int, default=DEFAULT_MODULE_LIMIT,
+    p.add_argument("--limit", type=limit_type, default=DEFAULT_MODULE_LIMIT,
                    help=f"stop before a word passes this many modules "
                         f"(default {DEFAULT_MODULE_LIMIT:,})")
     p.add_argument("--environment", metavar="ENV", default=None,
@@ -118,6 +118,10 @@ def _environment(program: Program, seed: int | None, environment=None) -> dict:
     from ..lsystem.environment import has_communication
 
     if not has_communication(program):
+        if environment is not None:  # a misspelt --environment is an error all the same
+            from ..environments import resolve_environment
+
+            resolve_environment(environment, program)
         return {}
     from ..plant import environment_for
 

@@ -12,7 +12,7 @@ import argparse
 import sys
 
 from ..errors import SylvaError
-from ._common import steps_type
+from ._common import limit_type, steps_type
 
 __all__ = ["register", "run"]
 
@@ -44,7 +44,7 @@ def register(subparsers) -> None:
                    help="branch construction (default: tube)")  # fmt: skip
     p.add_argument("--taper", choices=("none", "leonardo"), default="none",
                    help="radii from the turtle, or by Leonardo's rule")  # fmt: skip
-    p.add_argument("--limit", type=int, default=None, metavar="N",
+    p.add_argument("--limit", type=limit_type, default=None, metavar="N",
                    help="stop before a word passes N modules (default 50,000,000)")  # fmt: skip
     p.add_argument("--keep-last", action="store_true",
                    help="when the module limit stops the derivation, export the word of the "

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 import time
 
-from ._common import add_camera, add_growth, camera_for, check_suffix, render_options
+from ._common import add_camera, add_growth, camera_for, check_suffix, limit_type, render_options
 
 __all__ = ["register"]
 
@@ -18,7 +18,7 @@ def register(sub) -> None:
         "llvmpipe on the CPU) to a PNG or JPG of any size.",
     )
     add_growth(p)
-    p.add_argument("--limit", type=int, default=None, metavar="N",
+    p.add_argument("--limit", type=limit_type, default=None, metavar="N",
                    help="stop before a word passes N modules (default 50,000,000)")
     add_camera(p)
     p.add_argument("-o", "--output", required=True, metavar="OUT", help="OUT.png or OUT.jpg")
