@@ -43,9 +43,11 @@ def test_with_images_is_the_door_for_impostors():
 
 
 def _seam(img: np.ndarray, axis: int) -> float:
-    """Mean step across the wrap-around seam over the mean step between neighbours."""
+    """Mean step across the wrap-around seam over the largest mean step between other
+    neighbouring rows (axis 0) or columns (axis 1): below 1 where the image tiles; an image
+    that does not tile joins unrelated pixels there, several times any neighbours' step."""
     a = img.astype(float)
-    inner = np.abs(np.diff(a, axis=axis)).mean()
+    inner = np.abs(np.diff(a, axis=axis)).mean(axis=1 - axis).max()
     first = np.take(a, 0, axis=axis)
     last = np.take(a, -1, axis=axis)
     return float(np.abs(first - last).mean() / inner)
@@ -56,8 +58,8 @@ def test_baked_bark_tiles_around_and_along_the_stem():
     grey = img.base_color[:, :, :3].mean(axis=2)
     assert grey.std() > 8  # cracks, not a flat colour
     # the seam is no larger a step than any other pair of neighbouring pixels
-    assert _seam(grey, 0) < 1.6 and _seam(grey, 1) < 1.6
-    assert _seam(img.normal[:, :, 0], 1) < 1.6 and _seam(img.normal[:, :, 1], 0) < 1.6
+    assert _seam(grey, 0) < 1.0 and _seam(grey, 1) < 1.0
+    assert _seam(img.normal[:, :, 0], 1) < 1.0 and _seam(img.normal[:, :, 1], 0) < 1.0
     # cracks run along the stem (v, the rows): small steps down a column, large across
     assert np.abs(np.diff(grey, axis=1)).mean() > 2 * np.abs(np.diff(grey, axis=0)).mean()
     # rougher in the cracks than the material's 0.95 (the spec map is 0 there), never smoother

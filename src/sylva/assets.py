@@ -1,8 +1,10 @@
 """Baking: the procedural materials the renderer draws, as images that travel with an export.
 
 The renderer draws bark, leaves and grass with GLSL functions of the texture coordinates
-(``render/shaders/textures.glsl``).  :func:`bake_scene` evaluates the same functions over
-the unit square of uv, on the same OpenGL context the renderer uses, and puts the result
+(``render/shaders/textures.glsl``).  Bark and leaf are texture graphs
+(:mod:`sylva.texture.graph.surface`): the renderer runs their GLSL and :func:`bake_scene`
+evaluates the same graphs over the unit square of uv with the fused CPU kernel; grass is
+baked from its GLSL on the renderer's OpenGL context.  The result goes
 into each material as :class:`~sylva.geometry.mesh.MaterialImages`: a base colour (sRGB,
 with a leaf's outline as alpha), a tangent-space normal map from the pattern's relief and a
 roughness map from its specular map.  The writers of :mod:`sylva.geometry.exchange` that
@@ -111,6 +113,27 @@ def _bake_fields(kind: int, color, size: int) -> tuple[np.ndarray, np.ndarray]:
     return rgba.reshape(size, size, 4).copy(), hgt.reshape(size, size, 4)[:, :, 0].copy()
 
 
+def _surface_fields(tex: str, color, size: int) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_bake_fields` of bark and leaf on the CPU: their texture graphs
+    (:mod:`sylva.texture.graph.surface`, whose GLSL the renderer runs) at the pixel centres,
+    combined with the material's colour as ``textures.glsl``'s ``sylva_bark`` and
+    ``sylva_leaf`` combine them."""
+    from .texture.graph.surface import bake_surface
+
+    t = bake_surface(tex, size)
+    base = np.asarray(color[:3], np.float64)
+    rgba = np.empty((size, size, 4), np.float32)
+    if tex == "bark":
+        rgba[:, :, :3] = base * t[:, :, :1]
+        rgba[:, :, 3] = t[:, :, 1]
+        return rgba, t[:, :, 2].astype(np.float32)
+    bright = np.minimum(base * 1.7 + (0.06, 0.07, 0.03), 1.0)
+    dark = base * t[:, :, :1]
+    rgba[:, :, :3] = dark + t[:, :, 1:2] * (bright - dark)
+    rgba[:, :, 3] = t[:, :, 2]
+    return rgba, t[:, :, 3].astype(np.float32)
+
+
 def _srgb(linear: np.ndarray) -> np.ndarray:
     """uint8 sRGB of linear values in [0, 1] (the renderer's gamma: 2.2)."""
     return np.round(np.clip(linear, 0.0, 1.0) ** (1.0 / 2.2) * 255.0).astype(np.uint8)
@@ -213,7 +236,10 @@ def bake_material(material: Material, size: int = 256, *, coverage=None) -> Mate
         if path.suffix.lower() in (".png", ".jpg", ".jpeg") and path.is_file():
             return _image_material(material, path)
         return material
-    rgba, height = _bake_fields(kind, material.color, size)
+    if tex in ("bark", "leaf"):  # texture graphs, baked by the CPU kernel
+        rgba, height = _surface_fields(tex, material.color, size)
+    else:
+        rgba, height = _bake_fields(kind, material.color, size)
     alpha = np.full((size, size), 255, np.uint8)
     if coverage is not None:
         alpha = np.where(coverage, 255, 0).astype(np.uint8)

@@ -1,7 +1,9 @@
 """Shader sources shipped as package data (``shaders/*.glsl``) and their compilation.
 
 Sources may contain ``#include "name.glsl"`` lines, which are replaced by that file (once per
-program, recursively).
+program, recursively).  ``surfaces.glsl`` is not a file: it is the GLSL of the plant-surface
+texture graphs (:func:`sylva.texture.graph.surface.surface_glsl`), the functions the exports
+bake on the CPU.
 """
 
 from __future__ import annotations
@@ -21,6 +23,10 @@ _INCLUDE = re.compile(r'^\s*#include\s+"([\w.\-]+)"\s*$', re.MULTILINE)
 
 @cache
 def _raw(name: str) -> str:
+    if name == "surfaces.glsl":
+        from sylva.texture.graph.surface import surface_glsl
+
+        return surface_glsl()
     path = resources.files("sylva.render").joinpath("shaders", name)
     try:
         return path.read_text(encoding="utf-8")

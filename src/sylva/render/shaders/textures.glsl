@@ -2,80 +2,45 @@
 // RGB) and returns the textured colour, writing a specular-map value in [0, 1] to `spec`.
 // `scale` converts world units to noise units (the renderer sets it from the scene's size).
 
-const float SYLVA_TAU = 6.28318530718;
+#include "surfaces.glsl"
 
-// Bark: lengthwise cracks, in the stem's own coordinates (seed 002's bark that follows the
-// stem): u runs around the stem (period 1) and v along it, in circumferences of the stem's
-// base radius (sylva's branch and tree meshers write both), so the grain scales with the
-// radius: a trunk and a twig carry the same number of cracks around, at their own size.
-// Stripes are Perlin noise stretched along v (12 cells around to every cell along), so they
-// run along the stem; a rounder noise (8 around, 4 along per circumference) breaks them into
-// cracks of finite length.  Both lattices repeat once per unit of u and v, so the pattern joins
-// around the stem and a baked image of the unit square tiles along it.
-const vec3 SYLVA_BARK_STRIPES = vec3(24.0, 2.0, 256.0);
-const vec3 SYLVA_BARK_BREAKUP = vec3(8.0, 4.0, 256.0);
+// Bark and leaf are texture graphs (sylva.texture.graph.surface): surfaces.glsl is their GLSL,
+// generated from the same graphs the exports bake on the CPU, so a view and an exported image
+// show one function.  Each returns a vec4 of the surface's (u, v).
 
-void sylva_bark_fields(vec2 uv, out float stripes, out float global) {
-    vec3 p = vec3(uv, 0.37);
-    stripes = sylva_perlin_tiled(p * vec3(SYLVA_BARK_STRIPES.xy, 1.0), SYLVA_BARK_STRIPES)
-            + 0.5 * sylva_perlin_tiled(p * vec3(2.0 * SYLVA_BARK_STRIPES.xy, 1.0)
-                                       + vec3(0.0, 0.0, 5.3), 2.0 * SYLVA_BARK_STRIPES);
-    global = sylva_fbm_tiled(p * vec3(SYLVA_BARK_BREAKUP.xy, 1.0) + vec3(0.0, 0.0, 1.9),
-                             SYLVA_BARK_BREAKUP, 3, 0.5);
-}
-
-// The crack mask (1 in a crack) of the fields.
-float sylva_bark_crack(float stripes, float global) {
-    float crack = 1.0 - smoothstep(0.03, 0.17, abs(stripes));
-    return crack * smoothstep(-0.35, 0.05, global);
+// Bark, in the stem's own coordinates: u around the stem (period 1), v along it in
+// circumferences of the stem's base radius (sylva's branch and tree meshers write both), so
+// the grain follows the radius.  The graph's channels: r tone, g specular map, b relief.
+vec4 sylva_bark_at(vec2 uv, vec3 world, float scale, bool has_uv) {
+    if (has_uv) return sylva_bark_graph(vec3(uv, 0.0));
+    // no stem coordinates: the graph laid on world space, stripes along global Y
+    return sylva_bark_graph(vec3((world.x + world.z) * scale * 0.15, world.y * scale * 0.15,
+                                 0.0));
 }
 
 // Relief for normal maps: cracks are grooves, stripes ridges.
 float sylva_bark_height(vec2 uv) {
-    float stripes, global;
-    sylva_bark_fields(uv, stripes, global);
-    return 0.35 * stripes - sylva_bark_crack(stripes, global);
+    return sylva_bark_graph(vec3(uv, 0.0)).b;
 }
 
 vec3 sylva_bark(vec3 base, vec2 uv, vec3 world, float scale, bool has_uv, out float spec) {
-    float stripes, global;
-    if (has_uv) {
-        sylva_bark_fields(uv, stripes, global);
-    } else {  // no stem coordinates: stripes along global Y, broken in world space
-        vec3 ring = vec3(world.x * scale * 2.0, 0.0, world.z * scale * 2.0);
-        stripes = sylva_perlin(ring * 1.7) + 0.5 * sylva_perlin(ring * 3.9 + vec3(5.3, 0.0, 1.7));
-        global = sylva_fbm(world * scale * 0.7 + vec3(0.0, 0.5, 0.0), 3, 0.5);
-    }
-    float crack = sylva_bark_crack(stripes, global);
-    float tone = 0.78 + 0.5 * stripes * (0.6 + 0.4 * global);
-    spec = 0.25 * (1.0 - crack);
-    return base * tone * (1.0 - 0.75 * crack);
+    vec4 t = sylva_bark_at(uv, world, scale, has_uv);
+    spec = t.g;
+    return base * t.r;
 }
 
-// Leaf: u runs across the blade (main vein at u = 0.5), v from base (0) to tip (1).  The main
-// vein is brightest, side veins are a sine of the position, edges are slightly darker to suggest
-// curvature.  No randomness.
+// Leaf: u runs across the blade (main vein at u = 0.5), v from base (0) to tip (1).  The
+// graph's channels: r darkening towards the edges, g vein mask, b specular map, a relief.
 vec3 sylva_leaf(vec3 base, vec2 uv, out float spec) {
-    float ax = abs(uv.x - 0.5);
-    float main_vein = 1.0 - smoothstep(0.012, 0.035, ax);
-    float phase = uv.y * 7.0 - ax * 5.0;  // side veins sweep towards the tip
-    float side = smoothstep(0.82, 0.98, sin(SYLVA_TAU * phase));
-    side *= (1.0 - smoothstep(0.32, 0.48, ax)) * smoothstep(0.02, 0.06, ax);
-    float edge = smoothstep(0.18, 0.5, ax);
+    vec4 t = sylva_leaf_graph(vec3(uv, 0.0));
     vec3 bright = min(base * 1.7 + vec3(0.06, 0.07, 0.03), vec3(1.0));
-    vec3 c = base * (1.0 - 0.4 * edge);
-    c = mix(c, bright, max(main_vein, 0.55 * side));
-    spec = 0.6 * (1.0 - main_vein);
-    return c;
+    spec = t.b;
+    return mix(base * t.r, bright, t.g);
 }
 
 // Leaf relief for normal maps: the veins stand out of the blade.
 float sylva_leaf_height(vec2 uv) {
-    float ax = abs(uv.x - 0.5);
-    float main_vein = 1.0 - smoothstep(0.012, 0.035, ax);
-    float side = smoothstep(0.82, 0.98, sin(SYLVA_TAU * (uv.y * 7.0 - ax * 5.0)));
-    side *= (1.0 - smoothstep(0.32, 0.48, ax)) * smoothstep(0.02, 0.06, ax);
-    return max(main_vein, 0.55 * side) - 0.3 * smoothstep(0.18, 0.5, ax);
+    return sylva_leaf_graph(vec3(uv, 0.0)).a;
 }
 
 // Grass: two 2D Perlin noises (3D noise on the plane z = 0.37, off the lattice), the second at

@@ -29,10 +29,10 @@ import numpy as np
 from .. import _kernels as _k
 from .. import colormap as _cm
 from ._compile import _err, _f, _points, _vec
-from ._nodes import COLOUR, GENERATOR_KINDS, Node, walk
+from ._nodes import COLOUR, GENERATOR_KINDS, Node
 from ._ops import BLEND
 
-__all__ = ["compile_glsl"]
+__all__ = ["compile_glsl", "compile_glsl_library"]
 
 _COMMON = """
 float sylva_curve(float t, int interp) {
@@ -225,8 +225,9 @@ def _farr(name, vals, typ="float"):
 
 
 class _Glsl:
-    def __init__(self, graph, shape):
+    def __init__(self, graph, shape, tag=""):
         self.graph = graph
+        self.tag = tag  # prefixes the names of this graph's tables and functions
         self.shape = shape
         self.nz = shape[0] if len(shape) == 3 else 1
         self.ny, self.nx = shape[-2], shape[-1]
@@ -310,7 +311,7 @@ class _Glsl:
         pts = _points(node, "points", 2, 4)
         pts = pts[np.argsort(pts[:, 0], kind="stable")]
         self.n += 1
-        k, n = self.n, len(pts)
+        k, n = f"{self.tag}{self.n}", len(pts)
         self.decls.append(_farr(f"CX{k}", map(_fl, pts[:, 0])))
         self.decls.append(_farr(f"CY{k}", map(_fl, pts[:, 1])))
         self.decls.append(f"""
@@ -330,7 +331,7 @@ float sylva_curve{k}(float v) {{
     def terrace(self, node, a):
         pts = np.sort(_points(node, "points", 1, 2))
         self.n += 1
-        k, n = self.n, len(pts)
+        k, n = f"{self.tag}{self.n}", len(pts)
         inv = "true" if node.param("invert") else "false"
         self.decls.append(_farr(f"TP{k}", map(_fl, pts)))
         self.decls.append(f"""
@@ -367,7 +368,7 @@ float sylva_terrace{k}(float v) {{
                                      "4D are CPU-only)")
         s = plan.setup
         self.n += 1
-        k = self.n
+        k = f"{self.tag}{self.n}"
         t = s.tables
         self.decls.append(_farr(f"PERM{k}", map(str, t.perm.tolist()), "int"))
         if s.kind == _k.SIMPLEX:
@@ -446,7 +447,7 @@ float sylva_terrace{k}(float v) {{
             v = self.inp(node, "source", ctx)
             lo, hi = (_fl(_f(node.param(k), node, k)) for k in ("vmin", "vmax"))
             self.n += 1
-            k, n = self.n, len(cm.positions)
+            k, n = f"{self.tag}{self.n}", len(cm.positions)
             self.decls.append(_farr(f"GP{k}", map(_fl, cm.positions)))
             self.decls.append(_farr(f"GC{k}", [f"vec3({', '.join(map(_fl, c))})"
                                                for c in cm.colors], "vec3"))
@@ -479,6 +480,23 @@ vec4 sylva_gradient{k}(float v) {{
         return self.var(f"vec4({', '.join(ch)}, {a}.a + {kk} * (1.0 - {a}.a))", "vec4")
 
 
+def _function(graph, name, shape, tag):
+    """``(declarations and function text, needs the G3 tables)`` of one graph."""
+    import re
+
+    from ._nodes import GraphError
+
+    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
+        raise GraphError(f"a GLSL function name is letters, digits and _, got {name!r}")
+    shape = graph._shape(shape)
+    g = _Glsl(graph, shape, tag)
+    res = g.emit(graph.output, None)
+    typ = "vec4" if graph.output.spec.output == COLOUR else "float"
+    text = "\n".join([*g.decls, "", f"{typ} {name}(vec3 q) {{", *g.body,
+                      f"    return {res};", "}", ""])
+    return text, g.need_g3
+
+
 def compile_glsl(graph, *, name="sylva_texture", shape=None) -> str:
     """GLSL 3.30 source of ``graph`` as the function ``NAME(vec3 q)``.
 
@@ -497,18 +515,32 @@ def compile_glsl(graph, *, name="sylva_texture", shape=None) -> str:
         Declarations and the function (no ``#version`` line: prepend it, or include the
         text in a larger shader).
     """
-    import re
+    return compile_glsl_library({name: graph}, shape=shape)
 
-    from ._nodes import GraphError
 
-    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
-        raise GraphError(f"a GLSL function name is letters, digits and _, got {name!r}")
-    shape = graph._shape(shape)
-    walk(graph.output)  # raises nothing; keeps the order of declarations stable
-    g = _Glsl(graph, shape)
-    res = g.emit(graph.output, None)
-    colour = graph.output.spec.output == COLOUR
-    typ = "vec4" if colour else "float"
-    head = _COMMON + (_G3 if g.need_g3 else "")
-    return "\n".join([head, *g.decls, "", f"{typ} {name}(vec3 q) {{", *g.body,
-                      f"    return {res};", "}", ""])
+def compile_glsl_library(graphs, *, shape=None) -> str:
+    """GLSL 3.30 source of several graphs, one function ``NAME(vec3 q)`` each, sharing one
+    copy of the common helpers (each graph's tables are prefixed by its name, so the
+    functions sit side by side in one shader).
+
+    Parameters
+    ----------
+    graphs : dict
+        ``{function name: Graph}``.
+    shape : (H, W) or (D, H, W), optional
+        As :func:`compile_glsl` (default: each graph's size).
+
+    Examples
+    --------
+    >>> from sylva.texture import graph as tg
+    >>> src = compile_glsl_library({"a": tg.Graph(tg.improved(seed=1)),
+    ...                             "b": tg.Graph(tg.simplex(seed=2))}, shape=(8, 8))
+    >>> "float a(vec3 q)" in src and "float b(vec3 q)" in src
+    True
+    """
+    parts, g3 = [], False
+    for name, graph in graphs.items():
+        text, need = _function(graph, name, shape, "" if len(graphs) == 1 else name + "_")
+        parts.append(text)
+        g3 = g3 or need
+    return "\n".join([_COMMON + (_G3 if g3 else ""), *parts])
