@@ -14,6 +14,8 @@
 ``POST world``           ``{seed, size, plants}``: generate a world
 ``GET  grown.glb``       the last tree or world as binary glTF
 ``GET  world/biomes.png``  the last world's biome map
+``GET  surfaces.glsl``   the GLSL of the bark and leaf texture graphs, which the viewer
+                         calls on plant surfaces (the functions the exports bake)
 =======================  =============================================================
 """
 
@@ -183,6 +185,13 @@ async def biomes(request: Request) -> Response:
                     headers={"cache-control": "no-store"})
 
 
+async def surfaces_glsl(request: Request) -> Response:
+    from ..texture.graph.surface import surface_glsl
+
+    return Response(surface_glsl(), media_type="text/plain; charset=utf-8",
+                    headers={"cache-control": "no-cache"})
+
+
 def routes() -> list[Route]:
     """The routes of this module, mounted under ``/api`` by :func:`~.app.create_app`."""
     return [
@@ -196,4 +205,5 @@ def routes() -> list[Route]:
         Route("/world", world, methods=["POST"]),
         Route("/grown.glb", grown_glb),
         Route("/world/biomes.png", biomes),
+        Route("/surfaces.glsl", surfaces_glsl),
     ]

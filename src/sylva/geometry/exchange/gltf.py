@@ -112,6 +112,9 @@ def _material_json(mat, scales: dict[str, float]) -> dict:
         out["alphaMode"] = "BLEND"
     if getattr(mat, "billboard", False):  # glTF has no billboard: say it (seed 002)
         out["extras"] = {"billboard": True}
+    if getattr(mat, "texture", None) in ("bark", "leaf", "grass"):
+        # the procedural texture, for viewers that draw it (the studio runs its graph's GLSL)
+        out.setdefault("extras", {})["sylva_texture"] = mat.texture
     return out
 
 

@@ -11,6 +11,41 @@ import * as THREE from "./vendor/three.js";
 const FOV = 45;
 const ZOOM_BASE = 1.001;
 
+// Bark and leaf: the GLSL of their texture graphs (sylva.texture.graph.surface, served as
+// /api/surfaces.glsl), the functions the renderer calls and the exports bake, run on each
+// surface's (u, v).  The GLB names a material's procedural texture in extras.sylva_texture.
+const SURFACE_CHUNKS = {
+  bark: "{ vec4 sylvaT = sylva_bark_graph(vec3(vUv, 0.0)); diffuseColor.rgb *= sylvaT.r; }",
+  leaf: "{ vec4 sylvaT = sylva_leaf_graph(vec3(vUv, 0.0));\n" +
+    "  vec3 sylvaB = min(diffuseColor.rgb * 1.7 + vec3(0.06, 0.07, 0.03), vec3(1.0));\n" +
+    "  diffuseColor.rgb = mix(diffuseColor.rgb * sylvaT.r, sylvaB, sylvaT.g); }",
+};
+let surfaceGlsl = null;
+
+// The graphs' GLSL, fetched once ("" where the page has no server that serves it).
+export function surfaceSource() {
+  if (surfaceGlsl === null) {
+    surfaceGlsl = fetch("/api/surfaces.glsl")
+      .then((r) => (r.ok ? r.text() : ""))
+      .catch(() => "");
+  }
+  return surfaceGlsl;
+}
+
+// A glTF material drawing its procedural texture with the graph's GLSL (the base colour,
+// linear as in the renderer, times or mixed with the graph's channels, as textures.glsl does).
+export function surfaceMaterial(material, kind, glsl) {
+  material.defines = { ...(material.defines || {}), USE_UV: "" };
+  material.onBeforeCompile = (shader) => {
+    shader.fragmentShader = shader.fragmentShader
+      .replace("#include <common>", "#include <common>\n" + glsl)
+      .replace("#include <map_fragment>", "#include <map_fragment>\n" + SURFACE_CHUNKS[kind]);
+  };
+  material.customProgramCacheKey = () => "sylva-surface-" + kind;
+  material.userData.sylvaSurface = kind;
+  material.needsUpdate = true;
+}
+
 export class Viewer {
   constructor(canvas, { onPick, onCamera } = {}) {
     this.canvas = canvas;
@@ -135,6 +170,16 @@ export class Viewer {
     const { GLTFLoader } = THREE;
     const gltf = await new Promise((resolve, reject) =>
       new GLTFLoader().parse(buffer, "", resolve, reject));
+    const textured = [];
+    gltf.scene.traverse((o) => {
+      if (!o.isMesh || !o.geometry.attributes.uv) return;
+      for (const m of Array.isArray(o.material) ? o.material : [o.material]) {
+        const kind = m.userData && m.userData.sylva_texture;
+        if (SURFACE_CHUNKS[kind] && !m.map) textured.push([m, kind]);
+      }
+    });
+    const glsl = textured.length ? await surfaceSource() : "";
+    if (glsl) for (const [m, kind] of textured) surfaceMaterial(m, kind, glsl);
     this._disposePlant();
     let triangles = 0;
     gltf.scene.traverse((o) => {

@@ -42,7 +42,11 @@ float sylva_curve(float t, int interp) {
     return t;
 }
 int sylva_wrap(int i, int p) {
-    if (p > 0) i = ((i % p) + p) % p;
+    if (p > 0) {  // i mod p, >= 0 (GLSL leaves % of a negative operand undefined)
+        i -= p * int(floor(float(i) / float(p)));
+        if (i < 0) i += p;
+        if (i >= p) i -= p;
+    }
     return i & 255;
 }
 const float SYLVA_G16X[16] = float[16](1.,-1.,1.,-1.,1.,-1.,1.,-1.,0.,0.,0.,0.,1.,0.,-1.,0.);
