@@ -29,7 +29,27 @@ def _graphs():
                       tg.gradient(r, colors="fire"), mode="overlay", opacity=0.5)
     screen = tg.layer(tg.rgb(tg.x(), c * 0.5 + 0.5, 0.3), tg.color(value="#3366cc", alpha=0.7),
                       mode="soft-light")
+    perlin = tg.perlin(scale=5.0, octaves=3, seed=6)
+    worleys = [
+        ("worley f1", tg.worley(scale=6.0, seed=2), {}),
+        ("worley f2-f1 manhattan", tg.worley(scale=5.0, seed=3, output="f2-f1",
+                                             metric="manhattan", jitter=0.8), {}),
+        ("worley f3 chebyshev", tg.worley(scale=4.0, seed=4, output="f3",
+                                          metric="chebyshev"), {}),
+        ("worley cell", tg.worley(scale=3.0, seed=5, output="cell"), {}),
+        ("worley sqrt(f1*f2) squared", tg.worley(scale=4.0, seed=1, output="sqrt(f1*f2)",
+                                                 metric="euclidean2"), {}),
+        ("worley fbm tileable 3D", tg.fbm(kind="worley", scale=3.0, octaves=3, seed=7,
+                                          output="1-f2"), {"tileable": True, "time": 0.4}),
+        ("worley under warp", tg.warp(tg.worley(scale=5.0, seed=8, output="f1+f2"), dx=b,
+                                      dy=c, amount=0.05), {}),
+    ]
     return [
+        ("perlin", tg.Graph(perlin), 5e-5),
+        ("perlin 3D tileable", tg.Graph(tg.turbulence(kind="perlin", scale=4.0, octaves=3,
+                                                      seed=2), tileable=True, time=1.3), 5e-5),
+        ("perlin ridged", tg.Graph(tg.ridged(kind="perlin", scale=3.0, octaves=4)), 5e-5),
+        *[(name, tg.Graph(n, **props), 1e-4) for name, n, props in worleys],
         ("improved", tg.Graph(a), 5e-5),
         ("simplex", tg.Graph(b), 5e-5),
         ("value", tg.Graph(c), 5e-5),
@@ -69,7 +89,9 @@ def test_glsl_equals_cpu_within_float32_tolerance(cpu, name, graph, tol):
 
 
 def test_nodes_without_glsl_are_errors():
-    with pytest.raises(GraphError, match="no GLSL for worley"):
-        tg.Graph(tg.worley(scale=3.0)).glsl()
+    with pytest.raises(GraphError, match="no GLSL for worley orders above F3"):
+        tg.Graph(tg.worley_fn(scale=3.0, output="f5")).glsl()
+    with pytest.raises(GraphError, match="Poisson"):
+        tg.Graph(tg.worley(scale=3.0, density=2.0)).glsl()
     with pytest.raises(GraphError, match="no GLSL for marble"):
         tg.Graph(tg.marble()).glsl()

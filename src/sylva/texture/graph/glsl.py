@@ -5,11 +5,13 @@ the point ``q`` in image units (``x = i / W``, ``y = j / W``, ``z = k / W``).
 Every generator becomes a function with its own tables (the seed's permutation, value-noise
 lattice values) and its per-octave frequencies, offsets, lattice periods and amplitudes as
 constants, computed by the same planning code as :func:`~sylva.texture.noise_grid`; so the
-shader samples the CPU's lattice coordinates, in float32.  Supported: value, improved Perlin
-and simplex generators (2D and 3D, with ``time``; fBm, turbulence, ridged; tiling for the
-lattice kinds), every modifier, combiner, selector, transformer and colour node.  Classic
-Perlin, Worley, patterns, fractals and domain-warped generators raise a :class:`GraphError`
-naming the node.
+shader samples the CPU's lattice coordinates, in float32.  Supported: value, classic and
+improved Perlin, simplex and Worley generators (2D and 3D, with ``time``; fBm, turbulence,
+ridged; tiling for the lattice kinds and Worley; Worley F1-F3 and their combinations, every
+metric, on the jittered grid, with the kernel's 32-bit hashes), every modifier, combiner,
+selector, transformer and colour node.  Patterns, fractals, Worley orders above F3, Worley's
+Poisson density, 4D or tileable simplex and generators with their own ``warp`` raise a
+:class:`GraphError` naming the node.
 
 Examples
 --------
@@ -194,6 +196,112 @@ float sylva_noise{k}(float xin, float yin, float zin, ivec4 per, int nd) {{
 }}
 """
 
+_PERLIN = """
+float sylva_noise{k}(float x, float y, float z, ivec4 per, int nd) {{
+    int fx = int(floor(x)); int fy = int(floor(y)); int fz = int(floor(z));
+    x -= float(fx); y -= float(fy); z -= float(fz);
+    int x0 = sylva_wrap(fx, per.x); int x1 = sylva_wrap(fx + 1, per.x);
+    int y0 = sylva_wrap(fy, per.y); int y1 = sylva_wrap(fy + 1, per.y);
+    float u = sylva_curve(x, {interp}); float v = sylva_curve(y, {interp});
+    int a = PERM{k}[x0]; int b = PERM{k}[x1];
+    if (nd == 2) {{
+        int h00 = PERM{k}[a + y0]; int h10 = PERM{k}[b + y0];
+        int h01 = PERM{k}[a + y1]; int h11 = PERM{k}[b + y1];
+        float n00 = CG2{k}[h00].x * x + CG2{k}[h00].y * y;
+        float n10 = CG2{k}[h10].x * (x - 1.0) + CG2{k}[h10].y * y;
+        float n01 = CG2{k}[h01].x * x + CG2{k}[h01].y * (y - 1.0);
+        float n11 = CG2{k}[h11].x * (x - 1.0) + CG2{k}[h11].y * (y - 1.0);
+        return mix(mix(n00, n10, u), mix(n01, n11, u), v);
+    }}
+    int z0 = sylva_wrap(fz, per.z); int z1 = sylva_wrap(fz + 1, per.z);
+    float w = sylva_curve(z, {interp});
+    int b00 = PERM{k}[a + y0]; int b10 = PERM{k}[b + y0];
+    int b01 = PERM{k}[a + y1]; int b11 = PERM{k}[b + y1];
+    return mix(
+        mix(mix(dot(CG3{k}[PERM{k}[b00 + z0]], vec3(x, y, z)),
+                dot(CG3{k}[PERM{k}[b10 + z0]], vec3(x - 1.0, y, z)), u),
+            mix(dot(CG3{k}[PERM{k}[b01 + z0]], vec3(x, y - 1.0, z)),
+                dot(CG3{k}[PERM{k}[b11 + z0]], vec3(x - 1.0, y - 1.0, z)), u), v),
+        mix(mix(dot(CG3{k}[PERM{k}[b00 + z1]], vec3(x, y, z - 1.0)),
+                dot(CG3{k}[PERM{k}[b10 + z1]], vec3(x - 1.0, y, z - 1.0)), u),
+            mix(dot(CG3{k}[PERM{k}[b01 + z1]], vec3(x, y - 1.0, z - 1.0)),
+                dot(CG3{k}[PERM{k}[b11 + z1]], vec3(x - 1.0, y - 1.0, z - 1.0)), u), v),
+        w);
+}}
+"""
+
+# Worley on a jittered grid (texture._cellkernels.worley): the same 32-bit hashes (GLSL's
+# uint arithmetic wraps as the kernel's masks do), the ring-by-ring search up to ring 4.
+_WORLEY_COMMON = """
+uint sylva_hash32(uint a) {
+    a = (a ^ (a >> 16u)) * 0x7FEB352Du;
+    a = (a ^ (a >> 15u)) * 0x846CA68Bu;
+    return a ^ (a >> 16u);
+}
+int sylva_pmod(int i, int p) {
+    if (p > 0) {
+        i -= p * int(floor(float(i) / float(p)));
+        if (i < 0) i += p;
+        if (i >= p) i -= p;
+    }
+    return i;
+}
+"""
+
+_WORLEY = """
+float sylva_noise{k}(float x, float y, float z, ivec4 per, int nd) {{
+    float cx = floor(x); float cy = floor(y); float cz = nd == 3 ? floor(z) : 0.0;
+    int icx = int(cx); int icy = int(cy); int icz = int(cz);
+    float f1 = 3.4e38; float f2 = 3.4e38; float f3 = 3.4e38;
+    uint best = 0u;
+    uint hs = sylva_hash32({seed}u);
+    const float INV32 = 2.3283064365386963e-10;
+    for (int r = 1; r <= 4; r++) {{
+        int rz = nd == 3 ? r : 0;
+        for (int dz = -rz; dz <= rz; dz++) {{
+            for (int dy = -r; dy <= r; dy++) {{
+                for (int dx = -r; dx <= r; dx++) {{
+                    if (r > 1 && max(max(abs(dx), abs(dy)), abs(dz)) < r) continue;
+                    int ix = icx + dx; int iy = icy + dy; int iz = icz + dz;
+                    uint h = sylva_hash32(hs ^ uint(sylva_pmod(ix, per.x)));
+                    h = sylva_hash32(h ^ uint(sylva_pmod(iy, per.y)));
+                    if (nd == 3) h = sylva_hash32(h ^ uint(sylva_pmod(iz, per.z)));
+                    vec3 dd = vec3(
+                        float(ix) + 0.5 + {jitter} * (float(sylva_hash32(h ^ 0x68E31DA4u)) * INV32
+                                                      - 0.5) - x,
+                        float(iy) + 0.5 + {jitter} * (float(sylva_hash32(h ^ 0xB5297A4Du)) * INV32
+                                                      - 0.5) - y, 0.0);
+                    if (nd == 3) dd.z = float(iz) + 0.5 + {jitter} * (
+                        float(sylva_hash32(h ^ 0x1B56C4E9u)) * INV32 - 0.5) - z;
+                    float d;
+                    if ({metric} == 1) d = abs(dd.x) + abs(dd.y) + abs(dd.z);
+                    else if ({metric} == 2) d = max(max(abs(dd.x), abs(dd.y)), abs(dd.z));
+                    else if ({metric} == 3) d = dot(dd, dd);
+                    else d = sqrt(dot(dd, dd));
+                    if (d < f1) {{ f3 = f2; f2 = f1; f1 = d; best = h; }}
+                    else if (d < f2) {{ f3 = f2; f2 = d; }}
+                    else if (d < f3) {{ f3 = d; }}
+                }}
+            }}
+        }}
+        float fk = {needk} <= 1 ? f1 : ({needk} == 2 ? f2 : f3);
+        float fr = float(r);
+        float gx = x - cx; float gy = y - cy;
+        float gap = min(min(gx + fr, fr + 1.0 - gx), min(gy + fr, fr + 1.0 - gy));
+        if (nd == 3) {{ float gz = z - cz; gap = min(gap, min(gz + fr, fr + 1.0 - gz)); }}
+        if ({metric} == 3) gap *= gap;
+        if (fk <= gap) break;
+    }}
+    float cid = float(sylva_hash32(best ^ 0x2545F491u)) * INV32;
+    {combine}
+}}
+"""
+
+_WORLEY_COMBINE = ("return f1;", "return f2;", "return f3;", "return f2 - f1;",
+                   "return f1 + f2;", "return f1 * f2;", "return sqrt(f1 * f2);",
+                   "return sqrt(f2 - f1);", "return 1.0 - f1;", "return 1.0 - f2;",
+                   "return cid;")
+
 _FRACTAL = """
 float sylva_gen{k}(float x, float y, float z) {{
     float total = 0.0;
@@ -238,6 +346,7 @@ class _Glsl:
         self.decls, self.body, self.memo = [], [], {}
         self.n = 0
         self.need_g3 = False
+        self.need_worley = False
 
     def var(self, expr, typ="float"):
         self.n += 1
@@ -361,15 +470,15 @@ float sylva_terrace{k}(float v) {{
             kind, fractal = "worley", "fbm"
         else:
             kind, fractal = node.param("kind"), node.type
-        if kind not in ("value", "improved", "simplex"):
-            raise _err(node, "type", f"no GLSL for {kind} noise yet; GLSL covers value, "
-                                     "improved and simplex generators")
         if node.param("warp"):
             raise _err(node, "warp", "no GLSL for a generator's own warp; use a warp node")
         plan = _Emit(self.graph, self.shape, np.float32)._plan(node, kind, fractal)
         if plan.ndim > 3 or plan.torus:
             raise _err(node, "type", "GLSL covers 2D and 3D generators (tileable simplex and "
                                      "4D are CPU-only)")
+        if plan.norder or (plan.setup.kind == _k.WORLEY and plan.setup.wpar[7] > 0):
+            raise _err(node, "type", "no GLSL for worley orders above F3 or a Poisson point "
+                                     "density (CPU-only); GLSL covers F1-F3 on a jittered grid")
         s = plan.setup
         self.n += 1
         k = f"{self.tag}{self.n}"
@@ -382,6 +491,24 @@ float sylva_terrace{k}(float v) {{
         elif s.kind == _k.VALUE:
             self.decls.append(_farr(f"VALS{k}", map(_fl, t.values)))
             self.decls.append(_VALUE.format(k=k, interp=s.interp))
+        elif s.kind == _k.PERLIN:
+            g2, g3 = t.gradients[0], t.gradients[1]
+            self.decls.append(_farr(f"CG2{k}", [f"vec2({_fl(a)}, {_fl(b)})"
+                                                for a, b in g2[:, :2]], "vec2"))
+            self.decls.append(_farr(f"CG3{k}", [f"vec3({', '.join(map(_fl, r))})"
+                                                for r in g3[:, :3]], "vec3"))
+            self.decls.append(_PERLIN.format(k=k, interp=s.interp))
+        elif s.kind == _k.WORLEY:
+            from .._cellkernels import NEEDK
+
+            w = s.wpar
+            combo = int(w[1])
+            comb = (_WORLEY_COMBINE[combo] if combo < len(_WORLEY_COMBINE) else
+                    f"return {_fl(w[4])} * f1 + {_fl(w[5])} * f2 + {_fl(w[6])} * f3;")
+            self.need_worley = True
+            self.decls.append(_WORLEY.format(k=k, seed=int(w[3]), jitter=_fl(w[2]),
+                                             metric=int(w[0]), needk=NEEDK[combo],
+                                             combine=comb))
         else:
             self.decls.append(_IMPROVED.format(k=k, interp=s.interp))
         no = plan.freqs.shape[0]
@@ -498,7 +625,7 @@ def _function(graph, name, shape, tag):
     typ = "vec4" if graph.output.spec.output == COLOUR else "float"
     text = "\n".join([*g.decls, "", f"{typ} {name}(vec3 q) {{", *g.body,
                       f"    return {res};", "}", ""])
-    return text, g.need_g3
+    return text, (g.need_g3, g.need_worley)
 
 
 def compile_glsl(graph, *, name="sylva_texture", shape=None) -> str:
@@ -542,9 +669,10 @@ def compile_glsl_library(graphs, *, shape=None) -> str:
     >>> "float a(vec3 q)" in src and "float b(vec3 q)" in src
     True
     """
-    parts, g3 = [], False
+    parts, g3, worley = [], False, False
     for name, graph in graphs.items():
-        text, need = _function(graph, name, shape, "" if len(graphs) == 1 else name + "_")
+        text, (n3, nw) = _function(graph, name, shape, "" if len(graphs) == 1 else name + "_")
         parts.append(text)
-        g3 = g3 or need
-    return "\n".join([_COMMON + (_G3 if g3 else ""), *parts])
+        g3, worley = g3 or n3, worley or nw
+    head = _COMMON + (_G3 if g3 else "") + (_WORLEY_COMMON if worley else "")
+    return "\n".join([head, *parts])
