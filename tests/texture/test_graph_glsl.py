@@ -50,6 +50,7 @@ def _graphs():
                                                       seed=2), tileable=True, time=1.3), 5e-5),
         ("perlin ridged", tg.Graph(tg.ridged(kind="perlin", scale=3.0, octaves=4)), 5e-5),
         *[(name, tg.Graph(n, **props), 1e-4) for name, n, props in worleys],
+        *[(f"pattern {name}", tg.Graph(n, **props), 2e-4) for name, n, props in _patterns()],
         ("improved", tg.Graph(a), 5e-5),
         ("simplex", tg.Graph(b), 5e-5),
         ("value", tg.Graph(c), 5e-5),
@@ -60,6 +61,27 @@ def _graphs():
         ("transformers", tg.Graph(warp), 1e-4),
         ("colour layers", tg.Graph(colour), 1e-3),
         ("soft light", tg.Graph(screen), 1e-4),
+    ]
+
+
+def _patterns():
+    """Every pattern node GLSL covers (as a graph of primitives), plain, tiled and animated."""
+    return [
+        ("marble", tg.marble(seed=3, turbulence=1.5), {}),
+        ("marble tileable time", tg.marble(seed=4, stripes=3.4), {"tileable": True,
+                                                                  "time": 0.7}),
+        ("wood", tg.wood(seed=2), {}),
+        ("wood tileable", tg.wood(seed=5, rings=6.6), {"tileable": True}),
+        ("clouds", tg.clouds(seed=1, octaves=5, coverage=0.8), {}),
+        ("granite", tg.granite(seed=6, scale=8.0), {}),
+        ("granite tileable", tg.granite(seed=7, scale=6.0), {"tileable": True}),
+        ("bark", tg.bark(seed=5), {}),
+        ("bark unstretched", tg.bark(seed=2, stretch=0.0), {"time": 0.5}),
+        ("bark tileable", tg.bark(seed=3), {"tileable": True}),
+        ("leaf", tg.leaf(), {}),
+        ("leaf with noise", tg.leaf(noise=0.1, seed=2), {"time": 0.2}),
+        ("grass", tg.grass(seed=3), {}),
+        ("grass tileable", tg.grass(seed=4, octaves=2), {"tileable": True}),
     ]
 
 
@@ -93,5 +115,7 @@ def test_nodes_without_glsl_are_errors():
         tg.Graph(tg.worley_fn(scale=3.0, output="f5")).glsl()
     with pytest.raises(GraphError, match="Poisson"):
         tg.Graph(tg.worley(scale=3.0, density=2.0)).glsl()
-    with pytest.raises(GraphError, match="no GLSL for marble"):
-        tg.Graph(tg.marble()).glsl()
+    with pytest.raises(GraphError, match="no GLSL for ifs"):
+        tg.Graph(tg.ifs()).glsl()
+    with pytest.raises(GraphError, match="no GLSL for mandelbrot"):
+        tg.Graph(tg.mandelbrot()).glsl()

@@ -9,9 +9,11 @@ shader samples the CPU's lattice coordinates, in float32.  Supported: value, cla
 improved Perlin, simplex and Worley generators (2D and 3D, with ``time``; fBm, turbulence,
 ridged; tiling for the lattice kinds and Worley; Worley F1-F3 and their combinations, every
 metric, on the jittered grid, with the kernel's 32-bit hashes), every modifier, combiner,
-selector, transformer and colour node.  Patterns, fractals, Worley orders above F3, Worley's
-Poisson density, 4D or tileable simplex and generators with their own ``warp`` raise a
-:class:`GraphError` naming the node.
+selector, transformer and colour node, and the noise patterns (marble, wood, clouds,
+granite, bark, leaf, grass: written as graphs of primitives by :mod:`._glsl_patterns`).
+Escape-time fractals and formula nodes, IFS and L-system textures, Worley orders above F3,
+Worley's Poisson density, 4D or tileable simplex and generators with their own ``warp``
+raise a :class:`GraphError` naming the node.
 
 Examples
 --------
@@ -30,7 +32,7 @@ import numpy as np
 
 from .. import _kernels as _k
 from .. import colormap as _cm
-from ._compile import _err, _f, _points, _vec
+from ._compile import _Emit, _err, _f, _points, _vec
 from ._nodes import COLOUR, GENERATOR_KINDS, Node
 from ._ops import BLEND
 
@@ -347,6 +349,7 @@ class _Glsl:
         self.n = 0
         self.need_g3 = False
         self.need_worley = False
+        self.overrides, self.keep = {}, []  # pattern lowering: per-generator planning
 
     def var(self, expr, typ="float"):
         self.n += 1
@@ -372,7 +375,9 @@ class _Glsl:
         base = ctx or ("q.x", "q.y", "q.z")
         if cat == "generator":
             return self.generator(node, base)
-        if cat in ("pattern", "fractal"):
+        if cat == "pattern":
+            return self.pattern(node, ctx)
+        if cat == "fractal":
             raise _err(node, "type", f"no GLSL for {t} nodes (they are computed on the CPU "
                                      "image grid); use generators and modifiers")
         if cat == "transformer":
@@ -420,6 +425,44 @@ class _Glsl:
         lo, hi, fo = (_fl(_f(node.param(k), node, k)) for k in ("lower", "upper", "falloff"))
         return self.var(f"sylva_select({a}, {b}, {c}, {lo}, {hi}, {fo})")
 
+    def pattern(self, node, ctx):
+        from ._glsl_patterns import lower
+
+        if ctx is not None:
+            raise _err(node, "type", f"a {node.type} node is computed on the image grid and "
+                                     "cannot sit under a transformer")
+        if len(self.shape) != 2:
+            raise _err(node, "type", f"a {node.type} node needs a 2D image")
+        try:
+            low, over = lower(node, self.shape, self.graph.tileable, self.graph.time)
+        except KeyError:
+            raise _err(node, "type", f"no GLSL for {node.type} nodes (computed on the CPU); "
+                                     "GLSL covers the noise patterns") from None
+        except (TypeError, ValueError) as exc:
+            raise _err(node, "type", f"{node.type} node: {exc}") from None
+        self.overrides.update(over)
+        self.keep.append(low)  # the overrides are keyed by id: keep the nodes alive
+        return self.emit(low, ctx)
+
+    def _plan(self, node, kind, fractal):
+        em = _Emit(self.graph, self.shape, np.float32)
+        if id(node) not in self.overrides:
+            return em._plan(node, kind, fractal)
+        from .. import _gridplan as _gp
+        from .. import noise as _nz
+
+        tileable, time = self.overrides[id(node)]
+        prm = {k: node.param(k) for k in node.spec.params}
+        try:
+            return _gp.grid_plan(
+                self.shape, kind, fractal, prm["scale"], prm["octaves"], prm["persistence"],
+                prm["lacunarity"], prm["gain"], prm["seed"], prm["interpolation"], tileable,
+                time, prm["offset"], 0.0, prm["normalize"], prm.get("output", "f1"),
+                prm.get("metric", "euclidean"), prm.get("jitter", 1.0), None,
+                prm.get("density"))
+        except (_nz.NoiseError, TypeError, ValueError) as exc:
+            raise _err(node, "type", f"{node.type} node: {exc}") from None
+
     def curve(self, node, a):
         pts = _points(node, "points", 2, 4)
         pts = pts[np.argsort(pts[:, 0], kind="stable")]
@@ -462,8 +505,6 @@ float sylva_terrace{k}(float v) {{
         return self.var(f"sylva_terrace{k}({a})")
 
     def generator(self, node, base):
-        from ._compile import _Emit
-
         if node.type in GENERATOR_KINDS:
             kind, fractal = node.type, node.param("fractal")
         elif node.type == "worley-fn":
@@ -472,7 +513,7 @@ float sylva_terrace{k}(float v) {{
             kind, fractal = node.param("kind"), node.type
         if node.param("warp"):
             raise _err(node, "warp", "no GLSL for a generator's own warp; use a warp node")
-        plan = _Emit(self.graph, self.shape, np.float32)._plan(node, kind, fractal)
+        plan = self._plan(node, kind, fractal)
         if plan.ndim > 3 or plan.torus:
             raise _err(node, "type", "GLSL covers 2D and 3D generators (tileable simplex and "
                                      "4D are CPU-only)")
