@@ -34,9 +34,10 @@ def _raw(name: str) -> str:
         raise RenderError(f"shader {name!r} is missing from sylva/render/shaders") from exc
 
 
-def shader_source(name: str) -> str:
-    """The text of ``shaders/<name>`` with its ``#include`` lines expanded."""
-    seen: set[str] = set()
+def shader_source(name: str, skip=()) -> str:
+    """The text of ``shaders/<name>`` with its ``#include`` lines expanded (the names in
+    ``skip`` expand to nothing)."""
+    seen: set[str] = set(skip)
 
     def expand(n: str) -> str:
         if n in seen:
@@ -70,10 +71,13 @@ def compile_program(
     RenderError
         With the driver's log when compilation or linking fails.
     """
+    # the surface graphs' GLSL only where a variant draws bark or leaf (generating it imports
+    # the graph compiler; llvmpipe compiles its tables in about a second)
+    skip = () if {"TEXTURE_KIND 2", "TEXTURE_KIND 3"} & set(defines) else ("surfaces.glsl",)
     try:
         return ctx.program(
-            vertex_shader=_with_defines(shader_source(vertex), defines),
-            fragment_shader=_with_defines(shader_source(fragment), defines),
+            vertex_shader=_with_defines(shader_source(vertex, skip), defines),
+            fragment_shader=_with_defines(shader_source(fragment, skip), defines),
         )
     except moderngl.Error as exc:
         raise RenderError(

@@ -2,6 +2,7 @@
 // RGB) and returns the textured colour, writing a specular-map value in [0, 1] to `spec`.
 // `scale` converts world units to noise units (the renderer sets it from the scene's size).
 
+#if defined(TEXTURE_KIND) && (TEXTURE_KIND == 2 || TEXTURE_KIND == 3)
 #include "surfaces.glsl"
 
 // Bark and leaf are texture graphs (sylva.texture.graph.surface): surfaces.glsl is their GLSL,
@@ -42,6 +43,8 @@ vec3 sylva_leaf(vec3 base, vec2 uv, out float spec) {
 float sylva_leaf_height(vec2 uv) {
     return sylva_leaf_graph(vec3(uv, 0.0)).a;
 }
+
+#endif
 
 // Grass: two 2D Perlin noises (3D noise on the plane z = 0.37, off the lattice), the second at
 // a shifted position and another frequency.  The noise is signed, so no abs(position) is
