@@ -350,6 +350,17 @@ class _Glsl:
         self.need_g3 = False
         self.need_worley = False
         self.overrides, self.keep = {}, []  # pattern lowering: per-generator planning
+        self.tables = {}
+
+    def table(self, prefix, k, items, typ):
+        """The name of a constant table with ``items``: declared once per content (llvmpipe
+        spends about half a second compiling each 512-entry table)."""
+        key = (typ, tuple(items))
+        name = self.tables.get(key)
+        if name is None:
+            name = self.tables[key] = f"{prefix}{k}"
+            self.decls.append(_farr(name, items, typ))
+        return name
 
     def var(self, expr, typ="float"):
         self.n += 1
@@ -524,21 +535,25 @@ float sylva_terrace{k}(float v) {{
         self.n += 1
         k = f"{self.tag}{self.n}"
         t = s.tables
-        self.decls.append(_farr(f"PERM{k}", map(str, t.perm.tolist()), "int"))
+        names = {}  # the tables this generator reads, shared with equal ones before it
+
+        def table(prefix, items, typ="int"):
+            names[f"{prefix}{k}["] = self.table(prefix, k, list(items), typ) + "["
+
+        if s.kind != _k.WORLEY:
+            table("PERM", map(str, t.perm.tolist()))
         if s.kind == _k.SIMPLEX:
             self.need_g3 = True
-            self.decls.append(_farr(f"PERM12{k}", map(str, t.perm12.tolist()), "int"))
-            self.decls.append(_SIMPLEX.format(k=k))
+            table("PERM12", map(str, t.perm12.tolist()))
+            text = _SIMPLEX.format(k=k)
         elif s.kind == _k.VALUE:
-            self.decls.append(_farr(f"VALS{k}", map(_fl, t.values)))
-            self.decls.append(_VALUE.format(k=k, interp=s.interp))
+            table("VALS", map(_fl, t.values), "float")
+            text = _VALUE.format(k=k, interp=s.interp)
         elif s.kind == _k.PERLIN:
             g2, g3 = t.gradients[0], t.gradients[1]
-            self.decls.append(_farr(f"CG2{k}", [f"vec2({_fl(a)}, {_fl(b)})"
-                                                for a, b in g2[:, :2]], "vec2"))
-            self.decls.append(_farr(f"CG3{k}", [f"vec3({', '.join(map(_fl, r))})"
-                                                for r in g3[:, :3]], "vec3"))
-            self.decls.append(_PERLIN.format(k=k, interp=s.interp))
+            table("CG2", [f"vec2({_fl(a)}, {_fl(b)})" for a, b in g2[:, :2]], "vec2")
+            table("CG3", [f"vec3({', '.join(map(_fl, r))})" for r in g3[:, :3]], "vec3")
+            text = _PERLIN.format(k=k, interp=s.interp)
         elif s.kind == _k.WORLEY:
             from .._cellkernels import NEEDK
 
@@ -547,11 +562,13 @@ float sylva_terrace{k}(float v) {{
             comb = (_WORLEY_COMBINE[combo] if combo < len(_WORLEY_COMBINE) else
                     f"return {_fl(w[4])} * f1 + {_fl(w[5])} * f2 + {_fl(w[6])} * f3;")
             self.need_worley = True
-            self.decls.append(_WORLEY.format(k=k, seed=int(w[3]), jitter=_fl(w[2]),
-                                             metric=int(w[0]), needk=NEEDK[combo],
-                                             combine=comb))
+            text = _WORLEY.format(k=k, seed=int(w[3]), jitter=_fl(w[2]), metric=int(w[0]),
+                                  needk=NEEDK[combo], combine=comb)
         else:
-            self.decls.append(_IMPROVED.format(k=k, interp=s.interp))
+            text = _IMPROVED.format(k=k, interp=s.interp)
+        for old, new in names.items():
+            text = text.replace(old, new)
+        self.decls.append(text)
         no = plan.freqs.shape[0]
         vec = [f"vec4({', '.join(map(_fl, r))})" for r in plan.freqs]
         self.decls.append(_farr(f"FREQ{k}", vec, "vec4"))

@@ -58,8 +58,9 @@ def bark_graph(seed: int = 0):
 
     stripes = Node("improved", params={"scale": [24.0, 2.0], "octaves": 2, "persistence": 0.5,
                                        "normalize": False, "seed": seed})
+    # the same seed (one permutation table in the shader), at other lattice points
     breakup = Node("improved", params={"scale": [8.0, 4.0], "octaves": 3, "persistence": 0.5,
-                                       "seed": seed + 1})
+                                       "seed": seed, "offset": [17.31, 41.73, 0.0, 0.0]})
     crack = (1.0 - _smoothstep(abs(stripes), 0.03, 0.17)) * _smoothstep(breakup, -0.35, 0.05)
     tone = 0.78 + 0.5 * stripes * (0.6 + 0.4 * breakup)
     out = Node("rgb", {"r": tone * (1.0 - 0.75 * crack), "g": 0.25 * (1.0 - crack),
