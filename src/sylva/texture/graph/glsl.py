@@ -92,13 +92,16 @@ const float SYLVA_G3Y[12] = float[12](1.,1.,-1.,-1.,0.,0.,0.,0.,1.,-1.,1.,-1.);
 const float SYLVA_G3Z[12] = float[12](0.,0.,0.,0.,1.,1.,-1.,-1.,1.,1.,-1.,-1.);
 """
 
-_IMPROVED = """
+# the lattice kinds' common start: the cell, the position in it, the wrapped corners
+_LATTICE = """
 float sylva_noise{k}(float x, float y, float z, ivec4 per, int nd) {{
     int fx = int(floor(x)); int fy = int(floor(y)); int fz = int(floor(z));
     x -= float(fx); y -= float(fy); z -= float(fz);
     int x0 = sylva_wrap(fx, per.x); int x1 = sylva_wrap(fx + 1, per.x);
     int y0 = sylva_wrap(fy, per.y); int y1 = sylva_wrap(fy + 1, per.y);
-    if (nd == 2) z = 0.0;
+"""
+
+_IMPROVED = _LATTICE + """    if (nd == 2) z = 0.0;
     int z0 = nd == 3 ? sylva_wrap(fz, per.z) : 0;
     int z1 = nd == 3 ? sylva_wrap(fz + 1, per.z) : 0;
     float u = sylva_curve(x, {interp}); float v = sylva_curve(y, {interp});
@@ -119,13 +122,7 @@ float sylva_noise{k}(float x, float y, float z, ivec4 per, int nd) {{
 }}
 """
 
-_VALUE = """
-float sylva_noise{k}(float x, float y, float z, ivec4 per, int nd) {{
-    int fx = int(floor(x)); int fy = int(floor(y)); int fz = int(floor(z));
-    x -= float(fx); y -= float(fy); z -= float(fz);
-    int x0 = sylva_wrap(fx, per.x); int x1 = sylva_wrap(fx + 1, per.x);
-    int y0 = sylva_wrap(fy, per.y); int y1 = sylva_wrap(fy + 1, per.y);
-    float u = sylva_curve(x, {interp}); float v = sylva_curve(y, {interp});
+_VALUE = _LATTICE + """    float u = sylva_curve(x, {interp}); float v = sylva_curve(y, {interp});
     int a = PERM{k}[x0]; int b = PERM{k}[x1];
     if (nd == 2) {{
         return mix(mix(VALS{k}[PERM{k}[a + y0]], VALS{k}[PERM{k}[b + y0]], u),
@@ -198,13 +195,7 @@ float sylva_noise{k}(float xin, float yin, float zin, ivec4 per, int nd) {{
 }}
 """
 
-_PERLIN = """
-float sylva_noise{k}(float x, float y, float z, ivec4 per, int nd) {{
-    int fx = int(floor(x)); int fy = int(floor(y)); int fz = int(floor(z));
-    x -= float(fx); y -= float(fy); z -= float(fz);
-    int x0 = sylva_wrap(fx, per.x); int x1 = sylva_wrap(fx + 1, per.x);
-    int y0 = sylva_wrap(fy, per.y); int y1 = sylva_wrap(fy + 1, per.y);
-    float u = sylva_curve(x, {interp}); float v = sylva_curve(y, {interp});
+_PERLIN = _LATTICE + """    float u = sylva_curve(x, {interp}); float v = sylva_curve(y, {interp});
     int a = PERM{k}[x0]; int b = PERM{k}[x1];
     if (nd == 2) {{
         int h00 = PERM{k}[a + y0]; int h10 = PERM{k}[b + y0];
