@@ -37,8 +37,24 @@ CHROMIUM = "/usr/bin/chromium"
 ARGS = ["--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
         "--enable-unsafe-swiftshader", "--no-first-run", "--disable-background-networking"]
 
-# waits for the frame after the change at ``since``, forces it onto the canvas, and
-# returns the page's figures
+# waits for the preview drawn after the input event at ``since`` and returns its figures
+PREVIEW = """async (since) => {
+  const s = window.studio;
+  for (;;) {
+    const shown = s.previewShownAt > since && s.viewer.renderedAt > s.previewShownAt;
+    if (shown && !s.previewing && !s.previewPending) break;
+    await new Promise((ok) => setTimeout(ok, 2));
+  }
+  const gl = s.viewer.activeRenderer.getContext();
+  gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+  const now = performance.now(), p = s.timing.preview;
+  return { total: now - since, derive: p.derive_ms, mesh: p.turtle_ms + p.lines_ms,
+           roundtrip: p.roundtrip_ms, upload: p.upload_ms, frame: now - s.previewShownAt,
+           bytes: p.bytes, modules: p.modules, lines: s.viewer.lines,
+           kind: s.viewer.kind };
+}"""
+
+# waits for the full frame after the change at ``since`` and returns the page's figures
 FRAME = """async (since) => {
   const s = window.studio;
   for (;;) {
@@ -52,14 +68,23 @@ FRAME = """async (since) => {
   return { total: now - since, derive: s.state.timings.derive_ms, load: s.timing.load_ms,
            mesh: s.timing.mesh_ms, roundtrip: s.timing.roundtrip_ms, draw: s.timing.draw_ms,
            frame: now - s.meshShownAt, bytes: s.timing.mesh_bytes, modules: s.state.modules,
-           triangles: s.viewer.triangles };
+           triangles: s.viewer.triangles, kind: s.viewer.kind };
 }"""
 
-CHANGE = """(value) => {
+# the slider moved (an input event, as while it is dragged)
+INPUT = """(value) => {
   const el = document.querySelector('input[data-global=angle]');
   el.value = value;
   const at = performance.now();
   el.dispatchEvent(new Event('input'));
+  return at;
+}"""
+
+# the slider let go (a change event, as when the pointer is released)
+RELEASE = """() => {
+  const el = document.querySelector('input[data-global=angle]');
+  const at = performance.now();
+  el.dispatchEvent(new Event('change'));
   return at;
 }"""
 
@@ -103,30 +128,53 @@ def main() -> None:
                 page.wait_for_function(
                     f"window.studio.meshStep === {args.steps} && !window.studio.busy",
                     timeout=600_000, polling=100)
-                rows = []
+                pre, fin = [], []
                 for i in range(args.changes + 1):
-                    at = page.evaluate(CHANGE, 20.0 + 0.5 * (i + 1))
-                    r = page.evaluate(FRAME, at)
+                    at = page.evaluate(INPUT, 20.0 + 0.5 * (i + 1))
+                    p = page.evaluate(PREVIEW, at)
+                    let_go = page.evaluate(RELEASE)
+                    r = page.evaluate(FRAME, let_go)
+                    p["transfer"] = p["roundtrip"] - p["derive"] - p["mesh"]
+                    p["draw"] = p["upload"] + p["frame"]
+                    p["other"] = p["total"] - p["roundtrip"] - p["draw"]
                     r["upload"] = r["draw"]
                     r["transfer"] = r["roundtrip"] - r["mesh"]
                     r["draw"] = r["draw"] + r["frame"]
                     r["other"] = r["total"] - r["load"] - r["roundtrip"] - r["frame"]
+                    r["input"] = r["total"] + (let_go - at)
                     if i:  # the first change is the warm-up
-                        rows.append(r)
+                        pre.append(p)
+                        fin.append(r)
                 browser.close()
         finally:
             server.should_exit = True
             thread.join(30)
-    last = rows[-1]
-    print(f"studio slider -> frame, {last['modules']:,} modules, {last['triangles']:,} "
-          f"triangles, GLB {last['bytes'] / 1e6:.1f} MB; median of {len(rows)} changes")
-    for k in ("total", "derive", "load", "mesh", "transfer", "draw", "upload", "frame",
-              "other"):
+    _report(pre, fin)
+
+
+def _table(rows: list[dict], keys) -> None:
+    for k in keys:
         v = [r[k] for r in rows]
         print(f"  {k:9s} {statistics.median(v):9.1f} ms   (min {min(v):.1f}, "
               f"max {max(v):.1f})")
-    med = statistics.median(r["total"] for r in rows)
-    print(f"target <= 150 ms: {'met' if med <= 150 else 'not met'}")
+
+
+def _report(pre: list[dict], fin: list[dict]) -> None:
+    p, f = pre[-1], fin[-1]
+    assert all(r["kind"] == "preview" for r in pre), "the drag did not preview"
+    print(f"studio slider -> frame, {p['modules']:,} modules; median of {len(pre)} changes")
+    print(f"PREVIEW (while the slider is dragged): {p['lines']:,} branches as one-pixel "
+          f"lines, {p['bytes'] / 1e6:.2f} MB; from the input event to the lines on the canvas")
+    _table(pre, ("total", "derive", "mesh", "transfer", "draw", "upload", "frame", "other"))
+    med = statistics.median(r["total"] for r in pre)
+    print(f"  preview target <= 150 ms: {'met' if med <= 150 else 'not met'}")
+    print(f"FULL FRAME (the slider let go): {f['triangles']:,} triangles of instanced "
+          f"cylinders, {f['bytes'] / 1e6:.1f} MB; from the release to the frame on the "
+          "canvas (the derivation is the preview's, kept)")
+    _table(fin, ("total", "derive", "load", "mesh", "transfer", "draw", "upload", "frame",
+                 "other", "input"))
+    med = statistics.median(r["total"] for r in fin)
+    print(f"  full-frame target <= 150 ms: {'met' if med <= 150 else 'not met'}")
 
 
 if __name__ == "__main__":
