@@ -9,18 +9,23 @@ page does no work per branch:
 * ``n * 8`` uint8: the colour of each end point, linear RGB scaled to 0..255 and an alpha
   byte of 255 (both ends take the branch's colour).
 
-That is 32 bytes a branch, against the 44 of the instanced rows and about 300 of the mesh's
-glTF.  Nothing else of the plant (leaves, polygons, widths) is in the preview.
+That is 32 bytes a line, against the 44 a branch of the instanced rows and about 300 of
+the mesh's glTF.  Consecutive branches that continue each other (the next starts where the
+last ended, in the same direction and colour: ``F -> FF``'s chains) are one line: a
+one-pixel line looks the same drawn once or in pieces, and the page draws a third of the
+lines for ABOP's fig. 1.24d.  Nothing else of the plant (leaves, polygons, widths) is in
+the preview.
 
 Examples
 --------
 >>> import sylva
 >>> g = sylva.grow("axiom = F\\nF -> F[+F]F", 2).geometry
 >>> data = line_bytes(g)
->>> len(data) == 32 * g.n_segments
+>>> line_count(data) == g.n_segments == 9
 True
->>> line_count(data) == g.n_segments
-True
+>>> chain = sylva.grow("axiom = F\\nF -> FF", 3).geometry   # 8 branches in a row
+>>> line_count(line_bytes(chain)), line_count(line_bytes(chain, merge=False))
+(1, 8)
 """
 
 from __future__ import annotations
@@ -33,7 +38,7 @@ __all__ = ["BYTES_PER_LINE", "line_bytes", "line_count"]
 BYTES_PER_LINE = 32
 
 
-def line_bytes(geometry) -> bytes:
+def line_bytes(geometry, *, merge: bool = True) -> bytes:
     """The branches of a turtle :class:`~sylva.turtle.Geometry` as preview lines.
 
     Parameters
@@ -41,6 +46,8 @@ def line_bytes(geometry) -> bytes:
     geometry : Geometry
         What :func:`sylva.turtle.interpret` returned (``seg_start``, ``seg_end``,
         ``seg_color``).
+    merge : bool
+        Draw consecutive branches that continue each other as one line (see the module).
 
     Returns
     -------
@@ -48,16 +55,41 @@ def line_bytes(geometry) -> bytes:
         ``n * 6`` float32 end points, then ``n * 8`` uint8 RGBA colours (see the module).
     """
     g = geometry
-    n = int(g.n_segments)
+    m = int(g.n_segments)
+    start, end, color = g.seg_start[:m], g.seg_end[:m], g.seg_color[:m]
+    if merge and m > 1:
+        first = np.flatnonzero(~_continues(start, end, color))
+        last = np.empty_like(first)
+        last[:-1] = first[1:] - 1
+        last[-1] = m - 1
+        start, end, color = start[first], end[last], color[first]
+    n = len(start)
     out = np.empty(BYTES_PER_LINE * n, np.uint8)
     pos = out[: 24 * n].view(np.float32).reshape(n, 2, 3)
-    pos[:, 0] = g.seg_start[:n]
-    pos[:, 1] = g.seg_end[:n]
+    pos[:, 0] = start
+    pos[:, 1] = end
     col = out[24 * n:].reshape(n, 2, 4)
-    rgb = np.clip(np.asarray(g.seg_color[:n], np.float32), 0.0, 1.0)
+    rgb = np.clip(np.asarray(color, np.float32), 0.0, 1.0)
     col[:, :, :3] = (rgb * 255.0 + 0.5).astype(np.uint8)[:, None, :]
     col[:, :, 3] = 255
     return out.tobytes()
+
+
+def _continues(start: np.ndarray, end: np.ndarray, color: np.ndarray) -> np.ndarray:
+    """Per branch: it starts where the one before ended (to a millionth of the plant's
+    size), in the same direction (to 1e-4 rad) and colour."""
+    scale = float(np.abs(end).max(initial=0.0)) or 1.0
+    a, b = end[1:] - start[1:], end[:-1] - start[:-1]
+    touch = np.abs(start[1:] - end[:-1]).max(axis=1) <= 1e-6 * scale
+    cx = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
+    cy = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
+    cz = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    dot = (a * b).sum(axis=1)
+    parallel = (cx * cx + cy * cy + cz * cz <= 1e-8 * dot * dot) & (dot > 0)
+    same = (color[1:] == color[:-1]).all(axis=1)
+    out = np.zeros(len(start), bool)
+    out[1:] = touch & parallel & same
+    return out
 
 
 def line_count(data: bytes) -> int:
