@@ -84,7 +84,8 @@ def main() -> None:
             rows[k].append(v)
     segs = ex.view.segments
     lines = seen["lines"]
-    print(f"widget latency, {len(segs) // 44:,} branches after {args.steps} steps; "
+    print(f"widget latency, {len(segs) // 44:,} instanced rows (chains of branches) after "
+          f"{args.steps} steps; "
           f"sent {len(segs) / 1e6:.1f} MB "
           f"instanced (the glTF: {len(glb) / 1e6:.1f} MB, {scene.n_triangles:,} triangles); "
           f"median of {args.changes} slider changes")

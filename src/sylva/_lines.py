@@ -1,4 +1,7 @@
-"""The turtle's branches as lines: the compact binary of the studio's and the widget's preview.
+"""The turtle's branches as the compact binaries the studio's and the widget's pages draw.
+
+:func:`branch_rows` are the full frame of a large plant: one instanced cylinder a row.
+:func:`line_bytes` are the preview while a slider is dragged.
 
 While a slider is dragged, the studio and the notebook widget draw the plant's branches as
 one-pixel lines (a ``THREE.LineSegments``, no triangles), the full frame replacing them when
@@ -32,7 +35,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["BYTES_PER_LINE", "line_bytes", "line_count"]
+__all__ = ["BYTES_PER_LINE", "branch_rows", "line_bytes", "line_count"]
 
 #: Bytes a branch takes: 6 float32 end-point coordinates and 2 RGBA8 colours.
 BYTES_PER_LINE = 32
@@ -58,10 +61,7 @@ def line_bytes(geometry, *, merge: bool = True) -> bytes:
     m = int(g.n_segments)
     start, end, color = g.seg_start[:m], g.seg_end[:m], g.seg_color[:m]
     if merge and m > 1:
-        first = np.flatnonzero(~_continues(start, end, color))
-        last = np.empty_like(first)
-        last[:-1] = first[1:] - 1
-        last[-1] = m - 1
+        first, last = _runs(_continues(start, end, color))
         start, end, color = start[first], end[last], color[first]
     n = len(start)
     out = np.empty(BYTES_PER_LINE * n, np.uint8)
@@ -73,6 +73,52 @@ def line_bytes(geometry, *, merge: bool = True) -> bytes:
     col[:, :, :3] = (rgb * 255.0 + 0.5).astype(np.uint8)[:, None, :]
     col[:, :, 3] = 255
     return out.tobytes()
+
+
+def branch_rows(geometry, *, merge: bool = True) -> bytes:
+    """The branches as float32 rows ``start xyz, end xyz, r0, r1, linear rgb`` (11 floats
+    each): what the pages draw as instanced cylinders (seed 001 §6.7's shared prism with
+    per-segment instance data), a fraction of the bytes of their mesh.
+
+    With ``merge``, consecutive branches of one width that continue each other (as
+    :func:`line_bytes` merges them, and ``r0 == r1`` for both) are one row: the page draws
+    the same cylinder either way, from fewer instances.
+
+    Examples
+    --------
+    >>> import numpy as np, sylva
+    >>> chain = sylva.grow("axiom = F\\nF -> FF", 3).geometry
+    >>> rows = np.frombuffer(branch_rows(chain), np.float32).reshape(-1, 11)
+    >>> rows[:, :6].round(3).tolist()           # eight unit branches, one row
+    [[0.0, 0.0, 0.0, 0.0, 8.0, 0.0]]
+    >>> len(branch_rows(chain, merge=False)) // 44
+    8
+    """
+    g = geometry
+    m = int(g.n_segments)
+    start, end, radius, color = g.seg_start[:m], g.seg_end[:m], g.seg_radius[:m], g.seg_color[:m]
+    if merge and m > 1:
+        r = radius
+        even = (r[1:, 0] == r[1:, 1]) & (r[:-1, 0] == r[:-1, 1]) & (r[1:, 0] == r[:-1, 0])
+        cont = _continues(start, end, color)
+        cont[1:] &= even
+        first, last = _runs(cont)
+        start, end, radius, color = start[first], end[last], radius[first], color[first]
+    rows = np.empty((len(start), 11), np.float32)
+    rows[:, 0:3] = start
+    rows[:, 3:6] = end
+    rows[:, 6:8] = radius
+    rows[:, 8:11] = color
+    return rows.tobytes()
+
+
+def _runs(cont: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The first and last index of each run of branches continuing the one before."""
+    first = np.flatnonzero(~cont)
+    last = np.empty_like(first)
+    last[:-1] = first[1:] - 1
+    last[-1] = len(cont) - 1
+    return first, last
 
 
 def _continues(start: np.ndarray, end: np.ndarray, color: np.ndarray) -> np.ndarray:

@@ -91,15 +91,12 @@ def instanced(geometry) -> bool:
 
 def segment_rows(geometry) -> bytes:
     """The branches as float32 rows ``start xyz, end xyz, r0, r1, linear rgb`` (11 floats
-    each), the rows the notebook widget sends too: the page turns one shared cylinder per
+    each), the rows the notebook widget sends too (:func:`sylva._lines.branch_rows`: a
+    chain of branches of one width is one row): the page turns one shared cylinder per
     row (seed 001 §6.7's prism with per-segment instance data)."""
-    g = geometry
-    rows = np.empty((g.n_segments, 11), np.float32)
-    rows[:, 0:3] = g.seg_start
-    rows[:, 3:6] = g.seg_end
-    rows[:, 6:8] = g.seg_radius
-    rows[:, 8:11] = g.seg_color
-    return rows.tobytes()
+    from .._lines import branch_rows
+
+    return branch_rows(geometry)
 
 
 # --------------------------------------------------------------------------- loading
@@ -449,9 +446,9 @@ def meshing(session: Session, limits: Limits, clock=None, *, full: bool = True):
 def _instanced_drawn(session: Session, geometry, sources, t0) -> Drawn:
     rows = segment_rows(geometry)
     ms = (time.perf_counter() - t0) * 1e3
-    # the triangles the page draws: 8-sided open cylinders, 16 a branch
+    # the triangles the page draws: 8-sided open cylinders, 16 a row
     drawn = Drawn(session.derivation.step, geometry, sources, None, None,
-                  16 * geometry.n_segments, 8, ms, segments=rows)
+                  16 * (len(rows) // 44), 8, ms, segments=rows)
     session.drawn = drawn
     session.timings["mesh_ms"] = ms
     return drawn

@@ -12,7 +12,6 @@ from functools import cache
 from importlib.resources import files
 
 import anywidget
-import numpy as np
 import traitlets
 
 from ..errors import SylvaError
@@ -304,14 +303,11 @@ def _instanced(geometry, instanced) -> bool:
 def segment_bytes(geometry) -> bytes:
     """The branches as float32 rows ``start xyz, end xyz, r0, r1, linear rgb`` (11 floats
     each): what the front end draws as instanced cylinders (seed 001 §6.7's shared prism
-    with per-segment instance data), a fraction of the bytes of their mesh."""
-    g = geometry
-    rows = np.empty((g.n_segments, 11), np.float32)
-    rows[:, 0:3] = g.seg_start
-    rows[:, 3:6] = g.seg_end
-    rows[:, 6:8] = g.seg_radius
-    rows[:, 8:11] = g.seg_color
-    return rows.tobytes()
+    with per-segment instance data), a fraction of the bytes of their mesh; a chain of
+    branches of one width is one row (:func:`sylva._lines.branch_rows`)."""
+    from .._lines import branch_rows
+
+    return branch_rows(geometry)
 
 
 def _check_camera(camera) -> None:
