@@ -5,20 +5,35 @@
 A Studio server runs in this process (uvicorn on 127.0.0.1, a thread); the page runs in
 headless Chromium (Debian's ``/usr/bin/chromium``, driven by Playwright; WebGL on the CPU
 through SwiftShader, as in the tests).  The program is the widget benchmark's (ABOP fig.
-1.24d with its angle a global), derived to ``--steps`` (9: 126,912 modules).  Each of
-``--changes`` changes moves the ``angle`` slider (the page sets the number in the text,
-derives again to the same step and draws); after one warm-up change, the medians of:
+1.24d with its angle a global), derived to ``--steps`` (9: 126,912 modules, 38,342
+branches).  Each of ``--changes`` changes moves the ``angle`` slider (an ``input`` event,
+as while it is dragged), waits for the preview, then lets it go (a ``change`` event) and
+waits for the full frame; after one warm-up change, the medians of two sets of figures.
 
-* total — the slider's input event to the new frame drawn (the page then reads a pixel
-  back, so the frame is really on the canvas);
-* derive — the server's parse and derivation to the step (``state.timings.derive_ms``);
-* load — the page's round trip of that request (derive plus HTTP and JSON);
-* mesh — the server's render word, turtle, mesh and GLB (``x-sylva-mesh-ms``);
-* transfer — the page's round trip of the mesh request less ``mesh``: the GLB's bytes
-  from the server into the page;
-* draw — the mesh (or the instanced branches) taken into three.js (upload) and the frame
-  rendered (frame: from then until the pixel is read back);
-* other — total less the rest (the page's own work: the word page, the globals).
+PREVIEW — what the page shows while the slider is dragged: the server derives and runs the
+turtle and answers ``POST /api/preview`` with the branches as one-pixel lines
+(:mod:`sylva._lines`, no mesh), drawn on a canvas without multisampling:
+
+* total — the input event to the lines on the canvas (a pixel is read back, so the frame
+  is really drawn);
+* derive — the server's parse and derivation to the step;
+* mesh — the server's render word, turtle and lines;
+* transfer — the page's round trip of the request less ``derive`` and ``mesh``;
+* draw — the lines taken into three.js (upload) and the frame rendered (frame);
+* other — total less the rest (the page's own work: the number set in the text).
+
+FULL FRAME — what replaces the preview when the slider is let go, the studio's
+full-quality view: 8-sided cylinders, instanced, lit, multisampled.  The page loads the
+same request again (the server keeps the derivation and the turtle's geometry) and asks
+for the instanced rows (``GET /api/mesh?instanced=1``):
+
+* total — the change event to the full frame on the canvas; input — the same from the
+  drag's input event (the preview's time included);
+* derive — the preview's derivation (not done again); load — the page's round trip of
+  the load; mesh — the server's instanced rows (``x-sylva-mesh-ms``); transfer — the
+  mesh request's round trip less ``mesh``;
+* draw — upload (the rows into three.js) and frame (from then until the pixel is read);
+* other — total less the rest (the word page, the globals).
 
 Nothing leaves the machine; the server, the browser and the page are stopped at the end.
 """

@@ -642,6 +642,7 @@ async function preview() {
     }
     const buf = await r.res.arrayBuffer();
     const t1 = performance.now();
+    if (!buf.byteLength) return;  // no branches (polygons only): the frame before stays
     viewer.showLines(buf);
     app.previewShownAt = performance.now();
     viewer._render();  // now, not at the next animation frame
