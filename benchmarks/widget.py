@@ -56,7 +56,7 @@ def main() -> None:
             previewed.set()
 
     ex.view.observe(on_lines, names="lines")
-    angles = [20.0 + 0.5 * k for k in range(args.changes + 1)]
+    angles = [20.5 + 0.5 * k for k in range(args.changes + 1)]  # 20 is the start
     rows = {"derive": [], "serialise (lines)": [], "serialise": [], "widget (preview)": [],
             "widget (full)": [], "mesh (glb)": [], "serialise (glb)": []}
     for i, a in enumerate(angles):
