@@ -411,3 +411,46 @@ def test_long_derivation_blocks_nobody_and_stops(live):
         assert 0 < r.json()["state"]["step"] < 1000
         # b's session was untouched by a's stop
         assert b.get("/api/state").json()["step"] == 2
+
+
+def test_preview_is_the_branches_as_lines(client):
+    import sylva
+    from sylva._lines import line_count
+
+    r = client.post("/api/preview", json={"text": PARAMETRIC, "steps": 3,
+                                          "overrides": {"angle": 40}})
+    assert r.status_code == 200, r.text
+    assert r.headers["content-type"] == "application/octet-stream"
+    assert r.headers["x-sylva-kind"] == "lines" and r.headers["x-sylva-step"] == "3"
+    # the same branches as sylva's own turtle, at the slider's value
+    g = sylva.grow(PARAMETRIC.replace("angle = 30", "angle = 40"), 3).geometry
+    n = line_count(r.content)
+    assert n == g.n_segments > 4
+    ends = np.frombuffer(r.content[:24 * n], np.float32).reshape(n, 2, 3)
+    assert np.allclose(ends[:, 0], g.seg_start, atol=1e-5)
+    assert np.allclose(ends[:, 1], g.seg_end, atol=1e-5)
+    rgba = np.frombuffer(r.content[24 * n:], np.uint8).reshape(n, 2, 4)
+    assert np.allclose(rgba[:, 0, :3] / 255, g.seg_color, atol=0.5 / 255 + 1e-6)
+    assert (rgba[..., 3] == 255).all()
+    # the session holds what was derived: the full frame's load keeps it, and its mesh is
+    # of the same step and value
+    derive_ms = float(r.headers["x-sylva-derive-ms"])
+    s = load(client, PARAMETRIC, steps=3, overrides={"angle": 40}).json()
+    assert s["step"] == 3 and s["constants"]["angle"] == 40
+    assert s["timings"]["derive_ms"] == pytest.approx(derive_ms, abs=0.051)  # not again
+    m = client.get("/api/mesh")
+    assert m.status_code == 200 and m.headers["x-sylva-step"] == "3"
+    assert len(glb_scene(m.content).geometry) >= 1
+    # another value is derived again
+    r = client.post("/api/preview", json={"text": PARAMETRIC, "steps": 3,
+                                          "overrides": {"angle": 10}})
+    ends10 = np.frombuffer(r.content[:24 * n], np.float32).reshape(n, 2, 3)
+    assert not np.allclose(ends10, ends, atol=1e-3)
+
+
+def test_preview_errors_are_load_errors(client):
+    r = client.post("/api/preview", json={"text": "axiom = F\nF -> F[+F\n"})
+    assert r.status_code == 400 and r.json()["error"] == "syntax"
+    assert r.json()["line"] == 2
+    r = client.post("/api/preview", json={"text": PLANT, "steps": "x"})
+    assert r.status_code == 400

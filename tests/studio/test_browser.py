@@ -533,3 +533,63 @@ def test_jpg_export_decodes(page):
     assert dl.value.suggested_filename.endswith("-step2.jpg")
     with Image.open(dl.value.path()) as im:
         assert im.format == "JPEG" and im.size == (321, 123)
+
+
+DRAWN = """() => {
+    // the fraction of the shown canvas's pixels that are not the background
+    const v = window.studio.viewer;
+    v._render();
+    const gl = v.activeRenderer.getContext();
+    const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+    const px = new Uint8Array(w * h * 4);
+    gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);
+    let differ = 0;
+    for (let i = 0; i < px.length; i += 4) {
+        const d = Math.abs(px[i] - px[0]) + Math.abs(px[i + 1] - px[1])
+            + Math.abs(px[i + 2] - px[2]);
+        if (d > 24) differ++;
+    }
+    return differ / (w * h);
+}"""
+
+
+def test_a_dragged_slider_previews_lines_then_the_full_frame(page):
+    text = "angle = 30\naxiom = F\nF -> F[+(angle)F]F[-(angle)F]F\n"
+    type_definition(page, text)
+    page.fill("#steps", "3")
+    page.click("#btn-derive")
+    wait_idle(page, 3)
+    assert page.evaluate("window.studio.viewer.kind") == "glb"
+    full = page.evaluate(DRAWN)
+    # every plant previews (the page does it from 100,000 triangles), and the full frame
+    # waits for the slider to be let go
+    page.evaluate("window.studio.previewFrom = 0; window.studio.settleMs = 1e9")
+    try:
+        n = page.evaluate("window.studio.previews")
+        page.locator("input[data-global=angle]").evaluate(
+            "(el) => { el.value = 40; el.dispatchEvent(new Event('input')); }")
+        until(page, f"window.studio.previews > {n} && !window.studio.previewing")
+        v = page.evaluate("({kind: window.studio.viewer.kind, lines: window.studio.viewer.lines,"
+                          " tris: window.studio.viewer.triangles})")
+        assert v == {"kind": "preview", "lines": 125, "tris": 0}
+        angle = page.input_value("input[data-global-number=angle]")  # 40, to the step
+        assert 35 < float(angle) <= 40
+        assert page.evaluate("window.studio.editor.text").startswith(f"angle = {angle}\n")
+        # the lines are on the canvas laid over the main one, which is then hidden below
+        lines = page.evaluate(DRAWN)
+        assert 0 < lines < full  # one-pixel lines cover less than the tubes
+        assert page.evaluate("getComputedStyle(document.querySelector("
+                             "'canvas.sylva-preview')).visibility") == "visible"
+        shot = canvas_pixels(page)
+        assert (np.abs(shot - shot[0, 0]).sum(axis=2) > 24).mean() > 0
+        # let go: the full frame replaces the lines, at the slider's value
+        page.locator("input[data-global=angle]").evaluate(
+            "(el) => el.dispatchEvent(new Event('change'))")
+        until(page, "window.studio.viewer.kind === 'glb' && !window.studio.busy")
+        assert page.evaluate("window.studio.state.constants.angle") == float(angle)
+        assert page.evaluate(DRAWN) > lines
+        assert page.evaluate("getComputedStyle(document.querySelector("
+                             "'canvas.sylva-preview')).visibility") == "hidden"
+        assert page.evaluate("window.studio.viewer.triangles") > 0
+    finally:
+        page.evaluate("window.studio.previewFrom = 100000; window.studio.settleMs = 300")

@@ -14,6 +14,7 @@ pytest.importorskip("anywidget")
 sync_api = pytest.importorskip("playwright.sync_api")
 
 import sylva  # noqa: E402
+from sylva._lines import line_bytes  # noqa: E402
 from sylva.widgets import esm, glb_bytes  # noqa: E402
 from sylva.widgets._view import segment_bytes  # noqa: E402
 
@@ -27,7 +28,7 @@ PAGE = """<!doctype html><meta charset="utf-8">
 <div id="host" style="width: 400px"></div>
 <script type="module">
 const buffers = {};
-for (const name of ["step2", "step1", "tree", "segments"]) {
+for (const name of ["step2", "step1", "tree", "segments", "lines"]) {
   buffers[name] = new DataView(await (await fetch(name + ".glb")).arrayBuffer());
 }
 const state = { glb: buffers.step2, step: 2, max_steps: 2, camera: "2d", height: 300,
@@ -63,6 +64,7 @@ def page(tmp_path):
     tree = sylva.tree("fan_palm", age=3.0, leaves=False)
     (tmp_path / "tree.glb").write_bytes(sylva.widgets.view(tree).glb)
     (tmp_path / "segments.glb").write_bytes(segment_bytes(sylva.grow(bush, 2).geometry))
+    (tmp_path / "lines.glb").write_bytes(line_bytes(sylva.grow(bush, 2).geometry))
     (tmp_path / "index.html").write_text(PAGE, encoding="utf-8")
 
     class Quiet(http.server.SimpleHTTPRequestHandler):
@@ -152,3 +154,22 @@ def test_instanced_branches_draw_like_the_mesh(page):
     # the same 25 branches from the same camera: about the same pixels (tubes vs cylinders)
     assert instanced == pytest.approx(meshed, rel=0.35), (meshed, instanced)
     assert page.evaluate("window.sylva.state.frames") == 2  # the emptied glb drew nothing
+
+
+def test_a_preview_draws_lines_and_the_full_frame_replaces_it(page):
+    page.wait_for_function("window.sylva.state.frames >= 1", timeout=60_000)
+    meshed = page.evaluate("window.sylva.probe()")
+    # Python's order: the new trait first, then the others emptied
+    page.evaluate("window.sylva.model.set('lines', window.sylva.buffers.lines)")
+    page.evaluate("window.sylva.model.set('glb', new DataView(new ArrayBuffer(0)))")
+    page.wait_for_function("window.sylva.state.frames >= 2", timeout=60_000)
+    assert page.evaluate("window.sylva.state.shown") == "preview"
+    lines = page.evaluate("window.sylva.probe()")
+    assert 0 < lines < meshed, (meshed, lines)  # one-pixel lines: fewer pixels than tubes
+    # the full frame: instanced branches again where the lines were
+    page.evaluate("window.sylva.model.set('segments', window.sylva.buffers.segments)")
+    page.evaluate("window.sylva.model.set('lines', new DataView(new ArrayBuffer(0)))")
+    page.wait_for_function("window.sylva.state.frames >= 3", timeout=60_000)
+    assert page.evaluate("window.sylva.state.shown") == "segments"
+    assert page.evaluate("window.sylva.probe()") == pytest.approx(meshed, rel=0.35)
+    assert page.evaluate("window.sylva.state.frames") == 3  # the emptied lines drew nothing

@@ -142,6 +142,37 @@ def test_big_plants_go_as_instanced_branches():
     assert view(plant).segments == b""  # 25 branches: the mesh, as the studio draws it
 
 
+def test_a_dragged_slider_sends_lines_then_the_full_frame():
+    import numpy as np
+
+    program = "angle = 30\naxiom = F\nF -> F[+(angle)F]F[-(angle)F]F"
+    ex = explore(program, 2, max_steps=3)
+    assert ex.wait()
+    ex.view.instanced = True  # a big plant's way, on a small one
+    ex.view.request(2)
+    assert ex.wait()
+    assert ex.view.segments and not ex.view.lines
+    sent = []
+    ex.view.observe(lambda ch: sent.append((ch["name"], len(ch["new"]))),
+                    names=["lines", "segments"])
+    ex.view.settle = 0.2
+    ex.set(angle=40)  # a global's slider moved: the preview, then the full frame
+    assert ex.wait() and ex.view.error == ""
+    n = 25
+    assert [k for k, size in sent if size] == ["lines", "segments"]
+    assert ("lines", 32 * n) in sent and ("segments", 44 * n) in sent
+    assert ex.view.lines == b"" and len(ex.view.segments) == 44 * n
+    assert "(instanced)" in ex.view.status and not ex.view.busy
+    # the full frame is the preview's plant at the new angle
+    rows = np.frombuffer(ex.view.segments, np.float32).reshape(-1, 11)
+    want = sylva.grow(program.replace("30", "40"), 2).geometry
+    assert np.allclose(rows[:, 3:6], want.seg_end, atol=1e-5)
+    # the steps slider asks for the full frame at once
+    sent.clear()
+    ex.set(steps=3)
+    assert ex.wait() and [k for k, size in sent if size] == ["segments"]
+
+
 @pytest.mark.parametrize("module", ["sylva.widgets._view", "sylva.widgets._explore"])
 def test_doctests(module):
     import doctest

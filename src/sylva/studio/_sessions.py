@@ -54,6 +54,8 @@ class Session:
     text: str | None = None
     filename: str | None = None
     overrides: dict = field(default_factory=dict)
+    # the load request the derivation was made from (the same one again keeps it)
+    loaded: str | None = None
     # the last derivation step: (seconds, modules before, modules after), for estimates
     last_step: tuple[float, int, int] | None = None
     timings: dict = field(default_factory=dict)

@@ -40,6 +40,7 @@ __all__ = [
     "mesh",
     "meshing",
     "pick",
+    "previewing",
     "render_png",
     "trace_module",
     "state",
@@ -90,15 +91,12 @@ def instanced(geometry) -> bool:
 
 def segment_rows(geometry) -> bytes:
     """The branches as float32 rows ``start xyz, end xyz, r0, r1, linear rgb`` (11 floats
-    each), the rows the notebook widget sends too: the page turns one shared cylinder per
+    each), the rows the notebook widget sends too (:func:`sylva._lines.branch_rows`: a
+    chain of branches of one width is one row): the page turns one shared cylinder per
     row (seed 001 §6.7's prism with per-segment instance data)."""
-    g = geometry
-    rows = np.empty((g.n_segments, 11), np.float32)
-    rows[:, 0:3] = g.seg_start
-    rows[:, 3:6] = g.seg_end
-    rows[:, 6:8] = g.seg_radius
-    rows[:, 8:11] = g.seg_color
-    return rows.tobytes()
+    from .._lines import branch_rows
+
+    return branch_rows(geometry)
 
 
 # --------------------------------------------------------------------------- loading
@@ -292,7 +290,7 @@ def state(session: Session) -> dict:
         "rules": len(p.rules),
         "rule_list": _rule_list(p),
         "timings": dict(session.timings),
-        "triangles": drawn.triangles if drawn else None,
+        "triangles": drawn.triangles if drawn and drawn.triangles else None,
         "limits": {"modules": d.limit},
     }
 
@@ -372,29 +370,8 @@ def _sides(geometry, limits: Limits) -> int | None:
     return sides if sides != wanted else wanted
 
 
-def meshing(session: Session, limits: Limits, clock=None, *, full: bool = True):
-    """Interpret the current (render) word and build its mesh as GLB bytes (cached); a
-    generator that yields between the phases (render word, turtle, mesh, GLB).
-
-    With ``full=False`` a plant of many branches (:func:`instanced`) gets only its
-    instanced rows (``Drawn.segments``, no scene): what the page draws.  Exports, renders
-    and a later ``full`` call build the mesh from the same turtle geometry.
-
-    Between two phases it stops with :class:`CapError` when the client pressed Stop or
-    sent a newer request, or when ``clock()`` (seconds of work so far) passed the time cap.
-    """
-    from ..turtle import interpret
-
-    d, p = session.derivation, session.program
-    old = session.drawn
-    if old is not None and old.step == d.step and (old.scene is not None or not full):
-        return old
-    clock = clock or _clock()
-    step = d.step
-    t0 = time.perf_counter()
-    if old is not None and old.step == d.step:  # the instanced rows were sent: the mesh now
-        return (yield from _build(session, limits, clock, old.geometry, old.sources, t0))
-    session.drawn = None  # the old mesh goes before the new one is built
+def _meshing_turn(session: Session, limits: Limits, clock, step: int):
+    """The check between two phases of meshing: stopped, superseded or past the time cap."""
 
     def turn(done: str):
         if session.cancel.is_set():
@@ -404,8 +381,19 @@ def meshing(session: Session, limits: Limits, clock=None, *, full: bool = True):
                            f"{limits.time_cap:g} s per request after {done}; lower the "
                            "detail or derive fewer steps")
 
+    return turn
+
+
+def _interpreting(session: Session, limits: Limits, clock, *, sources: bool = True):
+    """The render word and the turtle's geometry of the current word (a generator that
+    yields between the two); returns ``(geometry, sources)`` (``sources`` ``None``
+    without rule tracing, or when not asked for)."""
+    from ..turtle import interpret
+
+    d, p = session.derivation, session.program
+    turn = _meshing_turn(session, limits, clock, d.step)
     try:
-        if d.trace:
+        if d.trace and sources:
             rw, sources = d.render_word_sources()
         else:
             rw, sources = d.render_word(), None
@@ -418,16 +406,78 @@ def meshing(session: Session, limits: Limits, clock=None, *, full: bool = True):
     session.progress["interpreted"] = len(rw)
     yield
     turn(f"the turtle ({geometry.n_segments:,} branches)")
+    return geometry, sources
+
+
+def meshing(session: Session, limits: Limits, clock=None, *, full: bool = True):
+    """Interpret the current (render) word and build its mesh as GLB bytes (cached); a
+    generator that yields between the phases (render word, turtle, mesh, GLB).
+
+    With ``full=False`` a plant of many branches (:func:`instanced`) gets only its
+    instanced rows (``Drawn.segments``, no scene): what the page draws.  Exports, renders
+    and a later ``full`` call build the mesh from the same turtle geometry.
+
+    Between two phases it stops with :class:`CapError` when the client pressed Stop or
+    sent a newer request, or when ``clock()`` (seconds of work so far) passed the time cap.
+    """
+    d = session.derivation
+    old = session.drawn
+    if old is not None and old.step == d.step and d.trace and old.sources is None:
+        old = None  # a preview's turtle, without the trace of its modules: again
+    if old is not None and old.step == d.step and (
+            old.scene is not None or (not full and old.segments is not None)):
+        return old
+    clock = clock or _clock()
+    t0 = time.perf_counter()
+    if old is not None and old.step == d.step:  # the turtle ran already: the mesh now
+        if not full and instanced(old.geometry):
+            drawn = _instanced_drawn(session, old.geometry, old.sources, t0)
+            drawn.mesh_ms += old.mesh_ms  # the turtle's share, spent by the preview
+            session.timings["mesh_ms"] = drawn.mesh_ms
+            return drawn
+        return (yield from _build(session, limits, clock, old.geometry, old.sources, t0))
+    session.drawn = None  # the old mesh goes before the new one is built
+    geometry, sources = yield from _interpreting(session, limits, clock)
     if not full and instanced(geometry):
-        rows = segment_rows(geometry)
-        ms = (time.perf_counter() - t0) * 1e3
-        # the triangles the page draws: 8-sided open cylinders, 16 a branch
-        drawn = Drawn(step, geometry, sources, None, None, 16 * geometry.n_segments, 8, ms,
-                      segments=rows)
-        session.drawn = drawn
-        session.timings["mesh_ms"] = ms
-        return drawn
+        return _instanced_drawn(session, geometry, sources, t0)
     return (yield from _build(session, limits, clock, geometry, sources, t0))
+
+
+def _instanced_drawn(session: Session, geometry, sources, t0) -> Drawn:
+    rows = segment_rows(geometry)
+    ms = (time.perf_counter() - t0) * 1e3
+    # the triangles the page draws: 8-sided open cylinders, 16 a row
+    drawn = Drawn(session.derivation.step, geometry, sources, None, None,
+                  16 * (len(rows) // 44), 8, ms, segments=rows)
+    session.drawn = drawn
+    session.timings["mesh_ms"] = ms
+    return drawn
+
+
+def previewing(session: Session, limits: Limits, clock=None):
+    """The preview of the current word: its branches as lines (:func:`sylva._lines.line_bytes`,
+    no mesh built); a generator as :func:`meshing`.  The turtle's geometry is kept
+    (``session.drawn``, without a mesh), so that the full frame asked for next, the
+    rule trace and exports start from it (without the modules' sources: the full frame
+    traces them when rule tracing is on).  Returns ``(bytes, turtle ms, lines ms)``."""
+    from .._lines import line_bytes
+
+    d = session.derivation
+    clock = clock or _clock()
+    t0 = time.perf_counter()
+    old = session.drawn
+    if old is not None and old.step == d.step:
+        geometry = old.geometry
+    else:
+        session.drawn = None
+        geometry, sources = yield from _interpreting(session, limits, clock, sources=False)
+        ms = (time.perf_counter() - t0) * 1e3
+        session.drawn = Drawn(d.step, geometry, sources, None, None, 0, None, ms)
+        session.timings["mesh_ms"] = ms
+    t1 = time.perf_counter()
+    data = line_bytes(geometry)
+    t2 = time.perf_counter()
+    return data, (t1 - t0) * 1e3, (t2 - t1) * 1e3
 
 
 def _build(session: Session, limits: Limits, clock, geometry, sources, t0):
@@ -436,15 +486,7 @@ def _build(session: Session, limits: Limits, clock, geometry, sources, t0):
     from ..geometry.exchange import write_glb
 
     step = session.derivation.step
-
-    def turn(done: str):
-        if session.cancel.is_set():
-            raise CapError("stopped", f"meshing step {step} was stopped after {done}")
-        if clock() > limits.time_cap:
-            raise CapError("time", f"meshing step {step} passed the time cap of "
-                           f"{limits.time_cap:g} s per request after {done}; lower the "
-                           "detail or derive fewer steps")
-
+    turn = _meshing_turn(session, limits, clock, step)
     sides = _sides(geometry, limits)
     scene = build_mesh(geometry, detail=sides)
     triangles = int(sum(m.n_triangles for m in scene.meshes))

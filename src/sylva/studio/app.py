@@ -12,6 +12,8 @@ API (all under ``/api``; JSON unless said otherwise; errors are ``{"error": kind
 ``GET  help?turtle=``    the symbol table and the special variables of a command table
 ``POST load``            ``{text, dialect?, seed?, filename?, overrides?, steps?, trace?}``:
                          parse, make the session's derivation (and derive ``steps``)
+``POST preview``         the body of ``load``, answered with the last step's branches as
+                         lines (:mod:`sylva._lines`): the preview while a slider moves
 ``POST step``            ``{n}``: derive ``n`` more steps under the caps
 ``POST back``            one step back
 ``POST reset``           back to the axiom
@@ -379,8 +381,8 @@ async def end_session(request: Request) -> JSONResponse:
     return JSONResponse({"ended": s is not None})
 
 
-async def load(request: Request) -> JSONResponse:
-    studio = _studio(request)
+async def _load_params(request: Request, studio: Studio) -> dict:
+    """The checked body of a load (or preview) request."""
     data = await _json(request)
     text = data.get("text")
     if not isinstance(text, str):
@@ -399,21 +401,41 @@ async def load(request: Request) -> JSONResponse:
     if not isinstance(overrides, dict):
         raise ApiError(400, "bad_request", "overrides must map global names to numbers")
     trace = bool(data.get("trace", True))
+    return {"text": text, "dialect": dialect, "seed": seed, "steps": steps,
+            "filename": filename, "overrides": overrides, "trace": trace}
+
+
+def _loading(session: Session, q: dict, limits: Limits, job):
+    """Parse, load and derive ``q`` (a :func:`_load_params`) into the session; a job's
+    generator.  The same request again, with the derivation still at its step (the full
+    frame after a slider's preview), keeps what is there: derivation and turtle."""
+    key = repr(sorted(q.items()))
+    d = session.derivation
+    if session.loaded == key and d is not None and d.step == q["steps"] \
+            and session.text == q["text"]:
+        return
+    overrides = q["overrides"]
+    program = _work.load_program(q["text"], dialect=q["dialect"], filename=q["filename"],
+                                 overrides=overrides)
+    d = _work.new_derivation(program, seed=q["seed"], limits=limits, trace=q["trace"])
+    session.program, session.derivation = program, d
+    session.text, session.filename = q["text"], q["filename"]
+    session.overrides = {k: v for k, v in overrides.items() if k in program.constants}
+    session.drawn, session.last_step, session.loaded = None, None, None
+    session.timings = {}
+    if q["steps"]:
+        yield
+        yield from _work.advancing(session, q["steps"], limits, job.used)
+    session.loaded = key
+
+
+async def load(request: Request) -> JSONResponse:
+    studio = _studio(request)
+    q = await _load_params(request, studio)
     session = studio.session(request)
-    limits = studio.limits
 
     def make(job):
-        program = _work.load_program(text, dialect=dialect, filename=filename,
-                                     overrides=overrides)
-        d = _work.new_derivation(program, seed=seed, limits=limits, trace=trace)
-        session.program, session.derivation = program, d
-        session.text, session.filename = text, filename
-        session.overrides = {k: v for k, v in overrides.items() if k in program.constants}
-        session.drawn, session.last_step = None, None
-        session.timings = {}
-        if steps:
-            yield
-            yield from _work.advancing(session, steps, limits, job.used)
+        yield from _loading(session, q, studio.limits, job)
 
     try:
         return await _derive(studio, session, make)
@@ -421,6 +443,41 @@ async def load(request: Request) -> JSONResponse:
         return JSONResponse(_work.syntax_error_payload(exc), status_code=400)
     except SylvaError as exc:
         return _error(400, "invalid", str(exc))
+
+
+async def preview(request: Request) -> Response:
+    """A load (the same body) answered with the preview of its last step: the branches as
+    lines (:mod:`sylva._lines`, ``application/octet-stream``) in one round trip, with the
+    step, modules and timings in ``x-sylva-*`` headers.  What the page draws while a
+    slider is dragged; the full frame follows with ``load`` (kept, not derived again) and
+    ``mesh``.  Errors are answered as ``load`` answers them (JSON)."""
+    studio = _studio(request)
+    q = await _load_params(request, studio)
+    session = studio.session(request)
+    limits = studio.limits
+
+    def make(job):
+        yield from _loading(session, q, limits, job)
+        return (yield from _work.previewing(session, limits, job.used))
+
+    try:
+        data, turtle_ms, lines_ms = await studio.run(session, make)
+    except _work.CapError as exc:
+        return JSONResponse({"error": exc.kind, "message": str(exc),
+                             "state": _work.state(session)}, status_code=422)
+    except LSystemSyntaxError as exc:
+        return JSONResponse(_work.syntax_error_payload(exc), status_code=400)
+    except SylvaError as exc:
+        return _error(400, "invalid", str(exc))
+    d = session.derivation
+    return _body(data, "application/octet-stream", {
+        "x-sylva-kind": "lines",
+        "x-sylva-step": str(d.step),
+        "x-sylva-modules": str(len(d.word)),
+        "x-sylva-derive-ms": f"{session.timings.get('derive_ms', 0.0):.1f}",
+        "x-sylva-turtle-ms": f"{turtle_ms:.1f}",
+        "x-sylva-lines-ms": f"{lines_ms:.1f}",
+    })
 
 
 async def step(request: Request) -> JSONResponse:
@@ -787,6 +844,7 @@ def create_app(
         Route("/info", info),
         Route("/help", help_),
         Route("/load", load, methods=["POST"]),
+        Route("/preview", preview, methods=["POST"]),
         Route("/step", step, methods=["POST"]),
         Route("/back", back, methods=["POST"]),
         Route("/reset", reset, methods=["POST"]),

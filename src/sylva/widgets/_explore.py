@@ -103,8 +103,11 @@ class Explorer(w.VBox):
     def _changed(self, change) -> None:
         wanted = (self.sliders["steps"].value, self.values())
         if wanted != self._last:
+            # a global's slider may be being dragged: a large plant previews as lines
+            drag = change is not None and change.get("owner") is not self.sliders["steps"]
             self._last = wanted
-            self.view.request(wanted[0], **wanted[1])
+            ask = self.view.request_preview if drag else self.view.request
+            ask(wanted[0], **wanted[1])
 
     def _follow_step(self, change) -> None:  # the view's own step slider moved
         if self.sliders["steps"].value != change["new"] and not self.view.busy:

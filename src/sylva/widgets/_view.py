@@ -12,7 +12,6 @@ from functools import cache
 from importlib.resources import files
 
 import anywidget
-import numpy as np
 import traitlets
 
 from ..errors import SylvaError
@@ -118,6 +117,8 @@ class PlantView(anywidget.AnyWidget):
     _esm = esm()
     glb = traitlets.Bytes(b"").tag(sync=True)
     segments = traitlets.Bytes(b"").tag(sync=True)
+    #: The preview while a slider is dragged: the branches as lines (:mod:`sylva._lines`).
+    lines = traitlets.Bytes(b"").tag(sync=True)
     step = traitlets.Int(0).tag(sync=True)
     max_steps = traitlets.Int(0).tag(sync=True)
     camera = traitlets.Unicode("perspective").tag(sync=True)
@@ -128,6 +129,10 @@ class PlantView(anywidget.AnyWidget):
     #: Filled by the front end: milliseconds from receiving a mesh to its frame, and frames.
     draw_ms = traitlets.Float(0.0).tag(sync=True)
     frames = traitlets.Int(0).tag(sync=True)
+    #: Filled by the front end: what the last frame drew ("glb", "segments", "preview").
+    shown = traitlets.Unicode("").tag(sync=True)
+    #: Seconds a preview rests before the full frame replaces it.
+    settle = 0.3
 
     def __init__(self, build: Callable | None = None, *, scene=None, step: int = 0,
                  max_steps: int = 0, camera: str = "perspective", height: int = 420,
@@ -143,6 +148,13 @@ class PlantView(anywidget.AnyWidget):
         self.instanced = instanced
         self._params: dict = {}
         self._worker = _Latest(self._work, self._finish)
+        # the previews: the newest request's number, the geometry the last preview drew (for
+        # its full frame) and whether no full frame is still to come
+        self._token = 0
+        self._previewed = None
+        self._settled = threading.Event()
+        self._settled.set()
+        self._tlock = threading.Lock()
         self.timings: dict[str, float] = {}
         self._shown_step = step
         if scene is not None:
@@ -164,23 +176,70 @@ class PlantView(anywidget.AnyWidget):
     def request(self, step: int | None = None, **params) -> None:
         """Ask for the scene at ``step`` (and ``params``, for :func:`explore`; they are kept
         for later requests) without waiting: the mesh changes when it is ready."""
+        self._submit(step, params, "full")
+
+    def request_preview(self, step: int | None = None, **params) -> None:
+        """As :meth:`request`, for a slider being dragged: a plant drawn as instanced
+        branches is sent first as its lines (the ``lines`` trait, drawn in a fraction of
+        the time), and its full frame follows when no newer request came for
+        :attr:`settle` seconds; anything else is sent as :meth:`request` sends it."""
+        self._submit(step, params, "preview")
+
+    def _submit(self, step, params, mode) -> None:
         self._params.update(params)
         self.busy = True
-        self._worker.submit((self.step if step is None else step, dict(self._params)))
+        self._settled.clear()
+        with self._tlock:
+            self._token += 1
+            self._worker.submit((self.step if step is None else step, dict(self._params),
+                                 mode, self._token))
+
+    def _settle_later(self, req) -> None:
+        def final():
+            with self._tlock:
+                if req[3] != self._token:
+                    return  # a newer request came: it brings its own full frame
+                self._worker.submit((req[0], req[1], "final", req[3]))
+
+        t = threading.Timer(self.settle, final)
+        t.daemon = True
+        t.start()
 
     def wait(self, timeout: float | None = 60.0) -> bool:
-        """Wait for the requests in flight (for scripts and tests)."""
-        return self._worker.wait(timeout)
+        """Wait for the requests in flight and the full frame after a preview (for scripts
+        and tests)."""
+        t0 = time.monotonic()
+        while True:
+            left = None if timeout is None else max(0.0, timeout - (time.monotonic() - t0))
+            if not self._worker.wait(left):
+                return False
+            left = None if timeout is None else max(0.0, timeout - (time.monotonic() - t0))
+            if not self._settled.wait(left):
+                return False
+            if self._worker.wait(0):  # nothing submitted meanwhile
+                return True
 
     def _work(self, req):
+        from .._lines import line_bytes
         from ..geometry.mesh import Scene
 
-        step, params = req
+        step, params, mode, _token = req
         t0 = time.perf_counter()
-        built = self._build(step, **params)
+        done = self._previewed
+        if mode == "final" and done is not None and done[0] == (step, params):
+            built = done[1]  # what the preview drew: no derivation again
+        else:
+            built = self._build(step, **params)
+        self._previewed = None
         t1 = time.perf_counter()
         timings = {"derive_ms": (t1 - t0) * 1e3}
         if not isinstance(built, Scene):  # a Geometry: instanced when big, else meshed
+            if mode == "preview" and _instanced(built, self.instanced):
+                data = line_bytes(built)
+                t2 = time.perf_counter()
+                self._previewed = ((step, params), built)
+                timings.update(mesh_ms=0.0, serialise_ms=(t2 - t1) * 1e3)
+                return step, built, ("lines", data), timings
             if _instanced(built, self.instanced):
                 data = segment_bytes(built)
                 t2 = time.perf_counter()
@@ -197,6 +256,7 @@ class PlantView(anywidget.AnyWidget):
         return step, built, ("glb", data), timings
 
     def _finish(self, req, result, error) -> None:
+        previewed = error is None and result[2][0] == "lines"
         if error is not None:
             self.error = error
             self.step = self._shown_step
@@ -207,20 +267,26 @@ class PlantView(anywidget.AnyWidget):
             self.step = step
             self.error = ""
             self._set_scene(scene, data)
-        self.busy = False
+        if previewed:
+            self._settle_later(req)  # busy until the full frame is sent
+        else:
+            self.busy = False
+            with self._tlock:
+                if req[3] == self._token:
+                    self._settled.set()
 
     def _set_scene(self, scene, data) -> None:
         kind, data = data if isinstance(data, tuple) else ("glb", data)
-        what = (f"{scene.n_triangles:,} triangles" if kind == "glb"
-                else f"{scene.n_segments:,} branches (instanced)")  # fmt: skip
+        what = {"glb": lambda: f"{scene.n_triangles:,} triangles",
+                "segments": lambda: f"{scene.n_segments:,} branches (instanced)",
+                "lines": lambda: f"{scene.n_segments:,} branches as lines (preview)"}[kind]()
         self.status = what + (f", step {self.step}" if self.max_steps else "")
-        # the new data first: the front end draws a trait that changes to non-empty
-        if kind == "glb":
-            self.glb = data
-            self.segments = b""
-        else:
-            self.segments = data
-            self.glb = b""
+        # the new data first: the front end draws a trait that changes to non-empty (and
+        # draws nothing for the others emptied after it)
+        setattr(self, kind, data)
+        for other in ("glb", "segments", "lines"):
+            if other != kind:
+                setattr(self, other, b"")
 
 
 #: Plants with more branches than this (and nothing but branches) are drawn instanced.
@@ -237,14 +303,11 @@ def _instanced(geometry, instanced) -> bool:
 def segment_bytes(geometry) -> bytes:
     """The branches as float32 rows ``start xyz, end xyz, r0, r1, linear rgb`` (11 floats
     each): what the front end draws as instanced cylinders (seed 001 §6.7's shared prism
-    with per-segment instance data), a fraction of the bytes of their mesh."""
-    g = geometry
-    rows = np.empty((g.n_segments, 11), np.float32)
-    rows[:, 0:3] = g.seg_start
-    rows[:, 3:6] = g.seg_end
-    rows[:, 6:8] = g.seg_radius
-    rows[:, 8:11] = g.seg_color
-    return rows.tobytes()
+    with per-segment instance data), a fraction of the bytes of their mesh; a chain of
+    branches of one width is one row (:func:`sylva._lines.branch_rows`)."""
+    from .._lines import branch_rows
+
+    return branch_rows(geometry)
 
 
 def _check_camera(camera) -> None:

@@ -1,7 +1,9 @@
 // The notebook view of sylva (an anywidget front end): the studio's own Viewer and three.js.
 //
 // The Python side (sylva/widgets/_view.py) sends the mesh as a binary glTF in the `glb`
-// trait (a binary buffer of the comm, no JSON); this module draws it with the studio's
+// trait (a binary buffer of the comm, no JSON), a large plant's branches as instanced rows
+// in `segments`, and while a slider is dragged their preview as lines in `lines` (the full
+// frame follows when it rests); this module draws them with the studio's
 // Viewer (static/viewer.js: the same lights, camera, orbit, pan and zoom) and three.js
 // bundle (static/vendor/three.js), both inlined below by Python when the widget is made,
 // so nothing is fetched from the network.  A step slider asks for another derivation
@@ -88,9 +90,14 @@ async function render({ model, el: host }) {
     const buffer = arrayBuffer(model.get(kind));
     const t0 = performance.now();
     if (!buffer || buffer.byteLength === 0) {
-      // the other trait carries the plant now (Python sets the new one first)
-      if (kind === "segments" || arrayBuffer(model.get("segments"))?.byteLength) return;
+      // another trait carries the plant now (Python sets the new one first)
+      if (["glb", "segments", "lines"].some((k) => arrayBuffer(model.get(k))?.byteLength)) return;
+      if (kind !== "glb") return;
       viewer.clear();
+    } else if (kind === "lines") {
+      viewer.showLines(buffer);  // the preview while a slider is dragged: one-pixel lines
+      mixer = null;
+      if (first) { viewer.setMode(model.get("camera")); viewer.resetCamera(); first = false; }
     } else if (kind === "segments") {
       viewer.showSegments(buffer);  // the studio Viewer's instanced branches
       mixer = null;
@@ -107,6 +114,7 @@ async function render({ model, el: host }) {
     viewer._render();  // draw now, so that draw_ms is the time to the new frame
     const ms = performance.now() - t0;
     model.set("draw_ms", ms);
+    model.set("shown", viewer.kind || "");
     model.set("frames", model.get("frames") + 1);
     model.save_changes();
     syncControls();
@@ -142,6 +150,7 @@ async function render({ model, el: host }) {
   });
   model.on("change:glb", () => showMesh("glb"));
   model.on("change:segments", () => showMesh("segments"));
+  model.on("change:lines", () => showMesh("lines"));
   for (const name of ["step", "max_steps", "error", "status", "busy"]) {
     model.on(`change:${name}`, syncControls);
   }
@@ -163,13 +172,14 @@ async function render({ model, el: host }) {
     viewer._render = () => {};
     viewer._disposePlant();
     viewer.renderer.dispose();
+    if (viewer._preview) viewer._preview.dispose();
   };
 }
 
 // The fraction of canvas pixels that differ from the background colour.
 export function drawnFraction(viewer) {
   viewer._render();
-  const gl = viewer.renderer.getContext();
+  const gl = viewer.activeRenderer.getContext();
   const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
   const px = new Uint8Array(w * h * 4);
   gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);

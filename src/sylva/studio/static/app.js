@@ -210,7 +210,9 @@ function showTiming() {
   if (app.timing.mesh_ms != null) parts.push(`mesh ${app.timing.mesh_ms.toFixed(0)} ms`);
   if (app.timing.draw_ms != null) parts.push(`draw ${app.timing.draw_ms.toFixed(0)} ms`);
   $("#st-timing").textContent = parts.join(" · ");
-  $("#st-triangles").textContent = `${viewer.triangles.toLocaleString("en")} triangles`;
+  $("#st-triangles").textContent = viewer.kind === "preview"
+    ? `preview: ${viewer.lines.toLocaleString("en")} branches as lines`
+    : `${viewer.triangles.toLocaleString("en")} triangles`;
 }
 
 async function drawMesh({ fit = false } = {}) {
@@ -521,7 +523,7 @@ function buildGlobals(constants) {
     box.appendChild(row);
     const range = row.querySelector("input[type=range]");
     const num = row.querySelector("input[type=number]");
-    const changed = (value) => {
+    const changed = (value, drag = false) => {
       app.changedAt = performance.now();
       if (editor.setNumber(name, value)) {
         const { [name]: _, ...rest } = app.overrides || {};
@@ -529,9 +531,18 @@ function buildGlobals(constants) {
       } else {
         app.overrides = { ...(app.overrides || {}), [name]: value };
       }
-      rerun();
+      if (drag && usePreview()) {
+        // a large plant while the slider moves: its lines now, the full frame when the
+        // slider is let go (or rests)
+        preview();
+        clearTimeout(app.settleTimer);
+        app.settleTimer = setTimeout(settle, app.settleMs);
+      } else {
+        rerun();
+      }
     };
-    range.oninput = () => { num.value = formatNumber(Number(range.value)); markOk(num); changed(Number(num.value)); };
+    range.oninput = () => { num.value = formatNumber(Number(range.value)); markOk(num); changed(Number(num.value), true); };
+    range.onchange = () => { if (app.settleTimer) settle(); };  // let go: the full frame now
     num.oninput = () => {
       const t = num.value.trim();
       if (t === "" || !Number.isFinite(Number(t))) markBad(num, "expected a finite number");
@@ -590,6 +601,65 @@ async function rerun() {
   } finally {
     setBusy(false);
     if (app.rerunPending) rerun();
+    else if (app.previewPending) preview();
+  }
+}
+
+// ------------------------------------------------------------------------- preview
+// While a slider of a large plant is dragged, each change is derived on the server and
+// answered with the branches as lines (POST /api/preview: one round trip, a compact
+// binary of end points and colours, no mesh built), drawn as one-pixel lines; when the
+// slider is let go, or rests for app.settleMs, the same request is loaded again (the
+// server keeps what it derived) and the full frame replaces the lines.
+const PREVIEW_FROM = 100_000;  // triangles of the frame shown from which a drag previews
+app.previewFrom = PREVIEW_FROM;  // tests lower it
+app.settleMs = 300;
+app.previews = 0;                // previews drawn (tests)
+
+function usePreview() {
+  if (app.mode && app.mode !== "lsystem") return false;
+  return viewer.kind === "preview" || viewer.triangles >= app.previewFrom;
+}
+
+function settle() {
+  clearTimeout(app.settleTimer);
+  app.settleTimer = null;
+  if (app.previewing || app.previewPending) { app.settleWanted = true; return; }
+  rerun();
+}
+
+async function preview() {
+  if (app.busy || app.previewing) { app.previewPending = true; return; }
+  app.previewPending = false;
+  app.previewing = true;
+  const steps = app.state ? app.state.step : 0;
+  const t0 = performance.now();
+  try {
+    const r = await api("preview", { method: "POST", json: loadRequest({ steps }), raw: true });
+    if (!r.ok) {
+      if (r.data && r.data.error !== "superseded") showError(r.data);
+      return;
+    }
+    const buf = await r.res.arrayBuffer();
+    const t1 = performance.now();
+    if (!buf.byteLength) return;  // no branches (polygons only): the frame before stays
+    viewer.showLines(buf);
+    app.previewShownAt = performance.now();
+    viewer._render();  // now, not at the next animation frame
+    viewer.renderedAt = performance.now();
+    const h = (k) => Number(r.res.headers.get("x-sylva-" + k));
+    app.timing.preview = {
+      derive_ms: h("derive-ms"), turtle_ms: h("turtle-ms"), lines_ms: h("lines-ms"),
+      roundtrip_ms: t1 - t0, upload_ms: app.previewShownAt - t1, bytes: buf.byteLength,
+      step: h("step"), modules: h("modules"),
+    };
+    app.previews += 1;
+    clearError();
+    showTiming();
+  } finally {
+    app.previewing = false;
+    if (app.previewPending) preview();
+    else if (app.settleWanted) { app.settleWanted = false; rerun(); }
   }
 }
 

@@ -74,6 +74,8 @@ export class Viewer {
     this.zoom = Math.log(10) / Math.log(ZOOM_BASE);
     this.bounds = null;
     this.triangles = 0;
+    this.lines = 0;  // branches drawn as the preview's lines
+    this.kind = null;  // what is shown: "glb", "segments" or "preview"
     this.drawMs = 0;
     this.raycaster = new THREE.Raycaster();
     this._dirty = true;
@@ -161,8 +163,44 @@ export class Viewer {
     this._dirty = false;
     this._place();
     const t0 = performance.now();
-    this.renderer.render(this.scene, this.camera);
+    if (this.kind === "preview") {
+      this._previewRenderer().render(this.scene, this.camera);
+      this._previewCanvas.style.visibility = "visible";
+    } else {
+      this.renderer.render(this.scene, this.camera);
+      if (this._previewCanvas) this._previewCanvas.style.visibility = "hidden";
+    }
     this.drawMs = performance.now() - t0;
+  }
+
+  // The renderer of the frame shown: the preview's or the main one.
+  get activeRenderer() { return this.kind === "preview" ? this._previewRenderer() : this.renderer; }
+
+  // The preview draws on a canvas of its own laid over the main one, without
+  // multisampling: in software WebGL a multisampled frame of lines costs three times as
+  // much, and a one-pixel line gains nothing from it.  The main canvas keeps its antialiased
+  // frame for the full-quality plant.
+  _previewRenderer() {
+    const m = this.canvas;
+    if (!this._preview) {
+      const c = document.createElement("canvas");
+      c.className = "sylva-preview";
+      Object.assign(c.style, { position: "absolute", margin: "0", border: "0", padding: "0",
+        pointerEvents: "none", visibility: "hidden" });
+      m.parentNode.insertBefore(c, m.nextSibling);
+      this._previewCanvas = c;
+      this._preview = new THREE.WebGLRenderer({ canvas: c, antialias: false, preserveDrawingBuffer: true });
+      this._preview.setPixelRatio(this.renderer.getPixelRatio());
+    }
+    const c = this._previewCanvas;
+    const w = Math.max(1, m.clientWidth), h = Math.max(1, m.clientHeight);
+    c.style.left = `${m.offsetLeft + m.clientLeft}px`;
+    c.style.top = `${m.offsetTop + m.clientTop}px`;
+    c.style.width = `${w}px`;
+    c.style.height = `${h}px`;
+    const size = this._preview.getSize(new THREE.Vector2());
+    if (size.x !== w || size.y !== h) this._preview.setSize(w, h, false);
+    return this._preview;
   }
 
   // -------------------------------------------------------------------- the plant
@@ -193,6 +231,7 @@ export class Viewer {
     });
     this.plant.add(gltf.scene);
     this.triangles = triangles;
+    this.kind = "glb";
     this.plant.updateMatrixWorld(true);
     const box = new THREE.Box3().setFromObject(this.plant);
     this.bounds = box.isEmpty() ? null : box;
@@ -209,10 +248,16 @@ export class Viewer {
     const f = new Float32Array(buffer);
     this._disposePlant();
     const n = Math.floor(f.length / 11);
-    const geo = new THREE.CylinderGeometry(1, 1, 1, 8, 1, true);
-    geo.translate(0, 0.5, 0);  // from the origin along +Y
-    const mat = new THREE.MeshStandardMaterial({ roughness: 0.8, metalness: 0, side: THREE.DoubleSide });
+    // one cylinder and one material for every plant: a new material each time would
+    // compile its shader program again
+    if (!this._cylinder) {
+      this._cylinder = new THREE.CylinderGeometry(1, 1, 1, 8, 1, true);
+      this._cylinder.translate(0, 0.5, 0);  // from the origin along +Y
+      this._cylinderMaterial = new THREE.MeshStandardMaterial({ roughness: 0.8, metalness: 0, side: THREE.DoubleSide });
+    }
+    const geo = this._cylinder, mat = this._cylinderMaterial;
     const mesh = new THREE.InstancedMesh(geo, mat, n);
+    mesh.userData.shared = true;  // its geometry and material outlive it
     const m = new THREE.Matrix4(), q = new THREE.Quaternion(), scale = new THREE.Vector3();
     const p = new THREE.Vector3(), d = new THREE.Vector3(), up = new THREE.Vector3(0, 1, 0);
     const c = new THREE.Color(), box = new THREE.Box3();
@@ -233,7 +278,35 @@ export class Viewer {
     mesh.computeBoundingSphere();
     this.plant.add(mesh);
     this.triangles = n * geo.index.count / 3;
+    this.kind = "segments";
     this.bounds = box.isEmpty() ? null : box;
+    if (fit) this.resetCamera();
+    this.clearHighlight();
+    this.invalidate();
+  }
+
+  // The preview while a slider moves: the branches as one-pixel lines, no triangles
+  // (sylva._lines: n * 6 float32 end points, then n * 8 uint8 RGBA colours, linear).  The
+  // bytes are the vertex buffers as they come; the full frame (showSegments or showGlb)
+  // replaces it.
+  showLines(buffer, { fit = false } = {}) {
+    const n = Math.floor(buffer.byteLength / 32);
+    this._disposePlant();
+    const geo = new THREE.BufferGeometry();
+    geo.setAttribute("position", new THREE.BufferAttribute(new Float32Array(buffer, 0, n * 6), 3));
+    geo.setAttribute("color", new THREE.BufferAttribute(new Uint8Array(buffer, n * 24, n * 8), 4, true));
+    geo.computeBoundingBox();
+    geo.computeBoundingSphere();
+    if (!this._lineMaterial) {
+      this._lineMaterial = new THREE.LineBasicMaterial({ vertexColors: true });
+    }
+    const lines = new THREE.LineSegments(geo, this._lineMaterial);
+    lines.userData.sharedMaterial = true;
+    this.plant.add(lines);
+    this.triangles = 0;
+    this.lines = n;
+    this.kind = "preview";
+    this.bounds = n ? geo.boundingBox.clone() : null;
     if (fit) this.resetCamera();
     this.clearHighlight();
     this.invalidate();
@@ -241,7 +314,11 @@ export class Viewer {
 
   _disposePlant() {
     this.plant.traverse((o) => {
-      if (o.isMesh) {
+      if (o.isLineSegments && o.userData.sharedMaterial) {
+        o.geometry.dispose();
+      } else if (o.isInstancedMesh && o.userData.shared) {
+        o.dispose();  // its instance buffers; the cylinder and material are kept
+      } else if (o.isMesh) {
         o.geometry.dispose();
         const mats = Array.isArray(o.material) ? o.material : [o.material];
         for (const m of mats) m.dispose();
@@ -250,7 +327,11 @@ export class Viewer {
     this.plant.clear();
   }
 
-  clear() { this._disposePlant(); this.bounds = null; this.triangles = 0; this.invalidate(); }
+  clear() {
+    this._disposePlant();
+    this.bounds = null; this.triangles = 0; this.lines = 0; this.kind = null;
+    this.invalidate();
+  }
 
   // Reset camera: frame the whole plant, looking at its centre.
   resetCamera() {
