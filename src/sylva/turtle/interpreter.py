@@ -44,6 +44,7 @@ from ..lsystem.ast import Program
 from ..lsystem.lstring import ModuleString
 from . import _surfaces
 from . import tables as T
+from ._subscale import scale_word
 from .tables import ARGS, DEFAULTS, PALETTE, TABLES, compile_table
 
 __all__ = ["DIALECTS", "Trace", "TurtleSettingsError", "interpret", "trace"]
@@ -340,6 +341,8 @@ def _run_word(word, program, dialect, seed, overrides, trace_on):
     dialect, s = _settings(program, dialect, overrides)
     cfg, palette, materials, vertex_colors, bg = _configure(dialect, s, seed)
     ops, arg = compile_table(TABLES[dialect], word.alphabet.names, ARGS.get(dialect))
+    if dialect == "abop":  # cpfg's ?(n, s): the sub-L-system drawn s times as large
+        word = scale_word(word, ops, arg, cfg[K.C_LEN], cfg[K.C_LEAF])
     has_at = "@" in word.alphabet
     if dialect in ("lsys", "abop") and (has_at or s.get("elasticity")):  # else nothing bends
         _tropism(cfg, s, program, ops)
