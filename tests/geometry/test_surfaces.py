@@ -129,6 +129,26 @@ def test_a_view_file_surface_is_drawn_at_the_turtle(tmp_path):
     assert np.allclose(np.abs(m.normals[:, 1]), 1.0, atol=1e-5)
 
 
+def test_three_parameters_scale_the_surface_axes_and_a_call_scales_all_three(tmp_path):
+    # a flat square lifted to z = 0.5: ~l(sx, sy, sz) scales x' (along L) by sx, y' (H) by
+    # sy and z' (U) by sz, as cpfg's ~id(sx, sy, sz) does
+    pts = np.array([[(x, y, 0.5) for x in np.linspace(0, 2, 4)] for y in np.linspace(0, 2, 4)])
+    write_surface(Surface((Patch(pts),), contact=(1.0, 0.0, 0.0), size=2.0),
+                  tmp_path / "sq.s")  # fmt: skip
+    program = _cpfg(tmp_path, "surface: l sq.s 3 1 1\n", "~l(1,2,4)")
+    m = build_leaves(interpret("~l(1,2,4)", program))
+    k = 3.0 / 2.0  # H = +Y, L = -X, U = +Z at the start
+    want = {(round(-k * 1 * (x - 1), 4), round(k * 2 * y, 4), round(k * 4 * 0.5, 4))
+            for x in (0.0, 2.0) for y in (0.0, 2.0)}  # fmt: skip
+    got = {tuple(r) for r in m.vertices.astype(np.float64).round(4)}
+    assert want <= got and len(got) == 4
+    assert np.allclose(np.abs(m.normals[:, 2]), 1.0, atol=1e-5)  # still facing U
+    # inside ?(1, 0.5) … $ all three halve (a word as the turtle reads it: $ silenced)
+    half = build_leaves(interpret("?(1,0.5)~l(1,2,4)?", program))
+    assert np.allclose(np.sort(half.vertices, axis=0), np.sort(m.vertices, axis=0) * 0.5,
+                       atol=1e-5)  # fmt: skip
+
+
 def test_view_surface_errors_and_a_missing_file(tmp_path):
     with pytest.raises(LSystemSyntaxError) as e:
         _cpfg(tmp_path, "surface: l leaf.s\n")

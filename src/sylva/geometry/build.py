@@ -322,8 +322,14 @@ def _leaves(geometry: Geometry, sel: np.ndarray, template, colors: bool | None) 
     fr = geometry.leaf_frame[sel]  # rows H, L, U
     basis = np.stack([-fr[:, 1], fr[:, 0], fr[:, 2]], axis=1)  # rows: x, y, z axes
     size = geometry.leaf_size[sel].astype(np.float64)[:, None, None]
-    verts = geometry.leaf_pos[sel][:, None, :] + np.einsum("mj,kjc->kmc", tv, basis) * size
-    nrm = np.einsum("mj,kjc->kmc", tn, basis)
+    if geometry.leaf_stretch is None:
+        verts = geometry.leaf_pos[sel][:, None, :] + np.einsum("mj,kjc->kmc", tv, basis) * size
+        nrm = np.einsum("mj,kjc->kmc", tn, basis)
+    else:  # ~X(sx, sy, sz): each axis of the template scaled; normals by the inverse
+        st = geometry.leaf_stretch[sel].astype(np.float64)[:, None, :]
+        verts = geometry.leaf_pos[sel][:, None, :] + np.einsum(
+            "kmj,kjc->kmc", tv[None] * st, basis) * size
+        nrm = np.einsum("kmj,kjc->kmc", tn[None] / np.where(st == 0.0, 1e-30, st), basis)
     nrm /= np.maximum(np.linalg.norm(nrm, axis=2, keepdims=True), 1e-30)
     m = tv.shape[0]
     front = tt[None, :, :] + (np.arange(k) * m)[:, None, None]

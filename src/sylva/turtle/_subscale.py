@@ -64,6 +64,7 @@ def scale_word(word: ModuleString, ops: np.ndarray, arg: np.ndarray, length: flo
     scaled = k != 1.0
     new_cnt = cnt.copy()
     first: list[np.ndarray] = []  # modules whose first parameter is multiplied by k
+    second: list[np.ndarray] = []  # modules whose 2nd, then 3rd parameter is too
     added: list[tuple[np.ndarray, np.ndarray]] = []  # (modules, their one new parameter)
     lengths = scaled & np.isin(op, _LENGTH)
     first.append(np.flatnonzero(lengths & (cnt > 0)))
@@ -76,6 +77,8 @@ def scale_word(word: ModuleString, ops: np.ndarray, arg: np.ndarray, length: flo
         named = (surf + 1 < n) & (op[nxt] == T.NOP) & (cnt[surf] == 0)
         target = np.where(named, nxt, surf)  # ~X(k): the name's parameter scales
         first.append(target[cnt[target] > 0])
+        three = target[cnt[target] >= 3]  # ~X(sx, sy, sz): all three
+        second.extend([three, three])
         bare = target[cnt[target] == 0]
         added.append((bare, leaf * k[bare]))
     at = np.flatnonzero(scaled & (op == T.AT) & (np.arange(n) + 1 < n))
@@ -94,6 +97,8 @@ def scale_word(word: ModuleString, ops: np.ndarray, arg: np.ndarray, length: flo
     out[new_off[owner] + (np.arange(values.size) - offsets[owner])] = values
     for mods in first:
         out[new_off[mods]] *= k[mods]
+    for j, mods in enumerate(second):
+        out[new_off[mods] + 1 + j % 2] *= k[mods]
     for mods, v in added:
         out[new_off[mods]] = v
     out[new_off[ends_a]] = 0.0

@@ -93,6 +93,7 @@ def table(surfaces: Mapping | None) -> dict[str, tuple]:
 
 def assign(geo: Geometry, word: ModuleString, surfaces: Mapping | None) -> None:
     """Set ``geo.leaf_surface`` and ``geo.surfaces`` from the names of the leaves' modules."""
+    _stretch(geo, word)
     names = word.alphabet.names
     ids = word.ids[geo.leaf_module]
     used = np.unique(ids)
@@ -109,3 +110,22 @@ def assign(geo: Geometry, word: ModuleString, surfaces: Mapping | None) -> None:
             chosen.append(entry)
     geo.leaf_surface = index[ids]
     geo.surfaces = tuple(chosen)
+
+
+def _stretch(geo: Geometry, word: ModuleString) -> None:
+    """``geo.leaf_stretch`` for the leaves drawn by ``~X(sx, sy, sz)`` (three parameters:
+    cpfg scales the surface's x, y, z by them; the walk took ``sx`` as the size)."""
+    if not word.has_params:
+        return
+    m = geo.leaf_module
+    off = word.offsets
+    three = (off[m + 1] - off[m]) >= 3
+    if not three.any():
+        return
+    st = np.ones((m.size, 3), np.float32)
+    a = off[m[three]]
+    sx = word.values[a]
+    safe = np.where(sx == 0.0, 1.0, sx)
+    st[three, 1] = word.values[a + 1] / safe
+    st[three, 2] = word.values[a + 2] / safe
+    geo.leaf_stretch = st
