@@ -57,6 +57,33 @@ def test_the_light_environment_answers_q_and_the_direction_in_the_modules():
     assert vals[1][1:] == (0.0, 1.0, 0.0)
 
 
+
+def test_a_leaf_above_a_bud_takes_its_light():
+    # the bud at voxel y = 0; a leaf of size 1 drawn from (0.5, 1.9, 0.5) up +Y has its
+    # centre at y = 2.4, voxel 2: two layers above the bud, 1/4 of a bud's shadow
+    light = Light(shadow=1, falloff=2, depth=3)
+    bud = np.array([[0.5, 0.5, 0.5]])
+    assert light.light(bud) == pytest.approx([1.0])
+    assert light.light(bud, np.array([[0.5, 2.4, 0.5]]), np.array([0])) == pytest.approx([0.75])
+    # weights: a leaf as half a bud; segments cast nothing unless asked
+    half = Light(shadow=1, falloff=2, depth=3, leaves=0.5, segments=0.0)
+    both = np.array([[0.5, 2.4, 0.5], [0.5, 1.4, 0.5]])
+    assert half.light(bud, both, np.array([0, 1])) == pytest.approx([1 - 0.5 / 4])
+    seg = Light(shadow=1, falloff=2, depth=3, leaves=0.0, segments=1.0)
+    assert seg.light(bud, both, np.array([0, 1])) == pytest.approx([0.5])
+    # in a derivation: the same bud under a leaf drawn above it, and without the leaf
+    p = loads("turtle = abop\naxiom = ?E(0) [ f(1.9) ~(1) ]")
+    env, locate = sylva.plant.environment_for(
+        p.replace(settings={**p.settings, "environment": "light(depth = 3)"}))
+    assert env.wants_organs
+    d = Derivation(p, environment=env, locate=locate)
+    assert [v for s, v in d.word if s == "?E"] == [(0.75,)]
+    bare = loads("turtle = abop\naxiom = ?E(0) [ f(1.9) ]")
+    d = Derivation(bare, environment=env, locate=locate)
+    assert [v for s, v in d.word if s == "?E"] == [(1.0,)]
+    with pytest.raises(SylvaError, match="'leaves' must be a number >= 0"):
+        Light(leaves=-1)
+
 HEDGE = """
 environment = obstacle(shape = box, y = 1.5, sx = 1.2, sy = 1.5, sz = 1.2)
 rot = 35

@@ -12,18 +12,22 @@ from numba import njit
 
 
 @njit(cache=True)
-def shadow_grid(cells, nx, ny, nz, shadow, falloff, depth):  # pragma: no cover - compiled
-    """``float64[nx, ny, nz]``: the shadow that the buds at ``cells`` (``int64[m, 3]``,
-    inside the grid) cast: each adds ``shadow · falloff**-q`` to the voxels ``(x ± p,
-    y − q, z ± p)``, ``0 <= p <= q <= depth`` (a pyramid below it)."""
+def shadow_grid(cells, weights, nx, ny, nz, shadow, falloff, depth):  # pragma: no cover
+    """``float64[nx, ny, nz]``: the shadow that the casters at ``cells`` (``int64[m, 3]``,
+    inside the grid: buds, leaves, segments) cast: each adds ``weights[b] · shadow ·
+    falloff**-q`` to the voxels ``(x ± p, y − q, z ± p)``, ``0 <= p <= q <= depth`` (a
+    pyramid below it)."""
     grid = np.zeros((nx, ny, nz), np.float64)
     for b in range(cells.shape[0]):
         x, y, z = cells[b, 0], cells[b, 1], cells[b, 2]
+        w = weights[b]
+        if w == 0.0:
+            continue
         for q in range(depth + 1):
             j = y - q
             if j < 0:
                 break
-            ds = shadow * falloff ** (-q)
+            ds = w * shadow * falloff ** (-q)
             for i in range(max(x - q, 0), min(x + q + 1, nx)):
                 for k in range(max(z - q, 0), min(z + q + 1, nz)):
                     grid[i, j, k] += ds

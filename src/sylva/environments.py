@@ -12,7 +12,8 @@ float64[m, k]`` is an environment; these are the ones a program can name
 ``light`` — :class:`Light`
     A shadow-propagation grid (Palubicki et al. 2009, "Self-organizing tree models for
     image synthesis", §4.2).  Each ``?E`` module is a bud that shades the voxels in a
-    pyramid below it; it gets ``?E(q, vx, vy, vz)``: its light ``q`` in [0, 1] and the unit
+    pyramid below it, and so does each leaf of the plant (and, when asked, each segment);
+    a bud gets ``?E(q, vx, vy, vz)``: its light ``q`` in [0, 1] and the unit
     direction ``v`` of the least shaded neighbouring voxel ahead of it, so trees compete
     and turn to the light.
 ``obstacle`` — :class:`Obstacle`
@@ -69,21 +70,30 @@ class Light:
 
     Space is cut into cubic voxels of edge ``voxel``.  Every ``?E`` module (a bud) adds
     ``shadow · falloff**-q`` to the voxels ``(x ± p, y − q, z ± p)`` for ``0 <= p <= q <=
-    depth``, a pyramid below it; a bud in a voxel of shadow ``s`` gets the light
-    ``max(full − s + shadow, 0) / full`` (its own shadow does not count) and the direction
-    of the least shaded of its 26 neighbouring voxels within ``cone`` degrees of its
-    heading (the tree's perception cone; ties go to the one nearest the heading).
+    depth``, a pyramid below it, and so does every organ of the plant that casts shadow:
+    each leaf (its centre) with the weight ``leaves`` (``leaves · shadow · falloff**-q``),
+    each segment (its midpoint) with the weight ``segments``, as the paper fills the grid
+    from the tree's organs.  A bud in a voxel of shadow ``s`` gets the light ``max(full −
+    s + shadow, 0) / full`` (its own shadow does not count) and the direction of the least
+    shaded of its 26 neighbouring voxels within ``cone`` degrees of its heading (the
+    tree's perception cone; ties go to the one nearest the heading).
 
     Parameters
     ----------
     voxel, shadow, falloff, depth, full, cone : float
         The paper's voxel size, ``a``, ``b``, ``q_max`` and ``C``, and the half-angle of
         the cone (90: the half-space ahead).
+    leaves, segments : float
+        The shadow of a leaf and of a segment, as a multiple of a bud's (0: none; default
+        1 and 0).
 
     Notes
     -----
     ``?E(q, vx, vy, vz)`` receives ``q`` and ``v``; a module with fewer parameters gets the
-    first ones.  ``y`` is up.
+    first ones.  ``y`` is up.  Leaves and segments cast shadow when the derivation's
+    ``locate`` gives the organs (:func:`sylva.plant.turtle_locate` with ``organs=True``,
+    which every front end passes for this environment: :attr:`wants_organs`); with a
+    plain ``locate`` only the buds do.
 
     Examples
     --------
@@ -96,7 +106,12 @@ class Light:
     name = "light"
 
     def __init__(self, voxel: float = 1.0, shadow: float = 1.0, falloff: float = 2.0,
-                 depth: float = 4, full: float = 1.0, cone: float = 90.0) -> None:  # fmt: skip
+                 depth: float = 4, full: float = 1.0, cone: float = 90.0,
+                 leaves: float = 1.0, segments: float = 0.0) -> None:  # fmt: skip
+        for key, v in (("leaves", leaves), ("segments", segments)):
+            if not (math.isfinite(v) and v >= 0):
+                raise SylvaError(f"light: {key!r} must be a number >= 0, got {v}")
+        self.leaves, self.segments = float(leaves), float(segments)
         for key, v in (("voxel", voxel), ("shadow", shadow), ("full", full)):
             if not (math.isfinite(v) and v > 0):
                 raise SylvaError(f"light: {key!r} must be a positive number, got {v}")
@@ -117,25 +132,47 @@ class Light:
         shape = hi - lo + 1
         return cells - lo, shape
 
-    def grid(self, positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The shadow grid of buds at ``positions`` (``float64[m, 3]``) and the voxel index
-        of each bud in it: ``(float64[nx, ny, nz], int64[m, 3])``."""
+    @property
+    def wants_organs(self) -> bool:
+        """Whether leaves or segments cast shadow (the ``locate`` should give the organs)."""
+        return self.leaves > 0.0 or self.segments > 0.0
+
+    def grid(self, positions: np.ndarray, organs: np.ndarray | None = None,
+             kinds: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+        """The shadow grid of buds at ``positions`` (``float64[m, 3]``) and of the
+        ``organs`` (``float64[n, 3]``, of ``kinds`` 0 leaf / 1 segment), and the voxel
+        index of each bud in it: ``(float64[nx, ny, nz], int64[m, 3])``."""
+        positions = np.asarray(positions, np.float64).reshape(-1, 3)
+        m = positions.shape[0]
+        weights = np.ones(m)
+        if organs is not None and len(organs):
+            organs = np.asarray(organs, np.float64).reshape(-1, 3)
+            kinds = np.zeros(len(organs), np.int8) if kinds is None else np.asarray(kinds)
+            w = np.where(kinds == 0, self.leaves, self.segments)
+            keep = (w > 0) & np.all(np.isfinite(organs), axis=1)
+            positions = np.concatenate([positions, organs[keep]])
+            weights = np.concatenate([weights, w[keep]])
         cells, shape = self._cells(positions)
-        g = K.shadow_grid(cells, int(shape[0]), int(shape[1]), int(shape[2]), self.shadow,
-                          self.falloff, self.depth)  # fmt: skip
-        return g, cells
+        g = K.shadow_grid(cells, weights, int(shape[0]), int(shape[1]), int(shape[2]),
+                          self.shadow, self.falloff, self.depth)  # fmt: skip
+        return g, np.ascontiguousarray(cells[:m])
 
-    def light(self, positions: np.ndarray) -> np.ndarray:
-        """``float64[m]``: the light of buds at ``positions``."""
-        return self.answer(np.asarray(positions, np.float64), None)[:, 0]
+    def light(self, positions: np.ndarray, organs: np.ndarray | None = None,
+              kinds: np.ndarray | None = None) -> np.ndarray:  # fmt: skip
+        """``float64[m]``: the light of buds at ``positions`` (with the shadow of
+        ``organs``, as in :meth:`grid`)."""
+        return self.answer(np.asarray(positions, np.float64), None, organs, kinds)[:, 0]
 
-    def answer(self, positions: np.ndarray, heading: np.ndarray | None) -> np.ndarray:
+    def answer(self, positions: np.ndarray, heading: np.ndarray | None,
+               organs: np.ndarray | None = None,
+               kinds: np.ndarray | None = None) -> np.ndarray:  # fmt: skip
         """``float64[m, 4]``: light and the least shaded direction of buds at
-        ``positions`` heading along ``heading`` (``None``: every neighbour counts)."""
+        ``positions`` heading along ``heading`` (``None``: every neighbour counts), in
+        the shadow of the buds and of ``organs``."""
         m = positions.shape[0]
         if m == 0:
             return np.zeros((0, 4))
-        g, cells = self.grid(positions)
+        g, cells = self.grid(positions, organs, kinds)
         if heading is None:
             heading = np.tile([0.0, 1.0, 0.0], (m, 1))
             cos_cone = -1.0
@@ -146,7 +183,7 @@ class Light:
 
     def __call__(self, comm: Communication) -> np.ndarray:
         pos = _positions(comm, "light")
-        out = self.answer(pos, comm.heading)
+        out = self.answer(pos, comm.heading, comm.organs, comm.organ_kinds)
         k = comm.params.shape[1]
         res = comm.params.copy()
         res[:, : min(k, 4)] = out[:, : min(k, 4)]

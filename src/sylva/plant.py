@@ -231,10 +231,25 @@ def _drawn(word: ModuleString, program: Program) -> ModuleString:
     return word
 
 
-def turtle_locate(program: Program, *, seed: int | None = None):
+def _has_leaves(word: ModuleString, program: Program) -> bool:
+    """Whether the turtle draws a leaf or surface anywhere in ``word``."""
+    from .turtle import TABLES
+    from .turtle import tables as T
+
+    table = TABLES.get(program.turtle, {})
+    ids = [word.alphabet.get(sym) for sym, op in table.items() if op in (T.SURFACE, T.LEAF)]
+    ids = [i for i in ids if i >= 0]
+    return bool(ids) and bool(np.isin(word.ids, ids).any())
+
+
+def turtle_locate(program: Program, *, seed: int | None = None, organs: bool | str = False):
     """The ``locate`` callback of :class:`~sylva.lsystem.Derivation`: the turtle's
     position and frame (rows H, L, U) at the communication modules ``?E`` of a word, for
     an open L-system's environment (the word as derived, like :func:`turtle_query`).
+    With ``organs``, also the plant's organs that cast shadow in the light environment:
+    each leaf's centre (half its size along its heading) and each segment's midpoint
+    (:attr:`~sylva.lsystem.environment.Communication.organs`); ``organs="leaves"`` skips
+    the drawing when the word has no leaf (its segments are then not wanted).
 
     Examples
     --------
@@ -246,9 +261,20 @@ def turtle_locate(program: Program, *, seed: int | None = None):
     ([[0.0, 2.0, 0.0]], [0.0, 1.0, 0.0])
     """
 
-    def locate(word: ModuleString, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        t = trace(_drawn(word, program), program, seed=seed)
-        return t.positions[index] + 0.0, t.frames[index] + 0.0
+    def locate(word: ModuleString, index: np.ndarray) -> tuple[np.ndarray, ...]:
+        drawn = _drawn(word, program)
+        t = trace(drawn, program, seed=seed)
+        if not organs:
+            return t.positions[index] + 0.0, t.frames[index] + 0.0
+        if organs == "leaves" and not _has_leaves(drawn, program):  # nothing to cast
+            return (t.positions[index] + 0.0, t.frames[index] + 0.0, np.zeros((0, 3)),
+                    np.zeros(0, np.int8))  # fmt: skip
+        g = interpret(drawn, program, seed=seed)
+        leaf = g.leaf_pos + g.leaf_frame[:, 0] * (0.5 * g.leaf_size.astype(np.float64))[:, None]
+        seg = 0.5 * (g.seg_start + g.seg_end)
+        kinds = np.concatenate([np.zeros(len(leaf), np.int8), np.ones(len(seg), np.int8)])
+        return (t.positions[index] + 0.0, t.frames[index] + 0.0,
+                np.concatenate([leaf, seg]), kinds)  # fmt: skip
 
     return locate
 
@@ -266,7 +292,12 @@ def environment_for(program: Program, seed: int | None = None, environment=None)
         return None, None
 
     env = resolve_environment(environment, program)
-    return env, (turtle_locate(program, seed=seed) if env is not None else None)
+    if env is None:
+        return None, None
+    organs: bool | str = False
+    if getattr(env, "wants_organs", False):
+        organs = True if getattr(env, "segments", 0.0) > 0.0 else "leaves"
+    return env, turtle_locate(program, seed=seed, organs=organs)
 
 
 def _derivation(program: Program, seed, environment=None, **kw) -> Derivation:

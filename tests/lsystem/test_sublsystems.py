@@ -124,3 +124,28 @@ def test_the_compound_inflorescence_example_keeps_each_rule_in_its_sub_lsystem()
     assert any(abs(x - 0.2 * 1.15**3) < 1e-9 for x in raceme)
     # flowers (sub-L-system 2) opened into five petals each
     assert sum(1 for s, _ in w if s == "~") % 5 == 0 and any(s == "~" for s, _ in w)
+
+
+def test_a_scaled_call_draws_its_sub_lsystem_s_times_as_large():
+    # cpfg: ?(n, s) multiplies lengths (with and without a parameter), widths set by !(w),
+    # surfaces and spheres by s up to its $, and the width at the call by s (back at $)
+    p = loads("turtle = abop\nrot = 90\nthick = 0.2\naxiom = F(1) ?(1, 0.5) A $ F(1)\n"
+              "lsystem 1:\nA -> F F(2) [ +F(2) ] [ ?(2, 0.5) B $ ] !(0.4) ~(2) @O(1)\n"
+              "lsystem 2:\nB -> F\n")  # fmt: skip
+    g = grow(p, 2).geometry
+    ends = g.seg_end.round(12).tolist()
+    # F(1): 0 -> 1; F: 1 -> 1.5; F(2): -> 2.5; [+F(2)]: 1 along -X; [?(2,0.5) F]: 0.25;
+    # after $: F(1) at full size from 2.5 -> 3.5
+    assert ends == [[0.0, 1.0, 0.0], [0.0, 1.5, 0.0], [0.0, 2.5, 0.0], [-1.0, 2.5, 0.0],
+                    [0.0, 2.75, 0.0], [0.0, 3.5, 0.0]]  # fmt: skip
+    radius = g.seg_radius[:, 0]
+    # width 0.2 (radius 0.1), x 0.5 in 1, x 0.25 in 2; !(0.4) in 1 sets 0.4 x 0.5 = 0.2,
+    # and the end of 1 gives it back x 2: the last F has radius 0.2
+    assert np.allclose(radius, [0.1, 0.05, 0.05, 0.05, 0.025, 0.2])
+    assert g.leaf_size.tolist() == [1.0] and g.leaf_pos.round(12).tolist() == [[0.0, 2.5, 0.0]]
+    # the sphere @O(1) in sub-L-system 1 has diameter 0.5
+    sphere = g.poly_vertices - [0.0, 2.5, 0.0]
+    assert np.isclose(np.linalg.norm(sphere, axis=1).max(), 0.25)
+    # a call without a scale, or with 1, draws as before
+    same = loads("turtle = abop\naxiom = F ?(1) F $ ?(1, 1) F $ F\n")
+    assert grow(same, 0).geometry.seg_end[:, 1].tolist() == [1.0, 2.0, 3.0, 4.0]

@@ -225,8 +225,13 @@ MEANINGS: dict[object, Command] = {
     "ANGLE_ADD": Command("``~(a)`` sets the angle", "Add ``rot_delta`` to the turning angle."),
     "LENGTH_ADD": Command("``_(l)`` sets the step length", "Add ``len_delta`` to the step "
                           "length (the thesis lost this glyph; sylva chose ``_``)."),
-    "SURFACE": Command("``~(s)`` or ``~l(s)``: size *s*", "Draw a predefined surface, a leaf, "
-                       "at the turtle's position, oriented by its frame."),
+    "SURFACE": Command("``~(s)`` or ``~l(s)``: size *s*", "Draw a predefined surface at the "
+                       "turtle's position, oriented by its frame: the Bézier patches of the "
+                       "view file's ``surface: l file.s`` (cpfg), sylva's ``~\"leaf\"`` or "
+                       "``~\"petal\"``, else sylva's leaf."),
+    "SUBCALL": Command("``?(n, s)``: scale *s*", "Call sub-L-system *n* (up to its ``$``); "
+                       "what it draws is *s* times as large: lengths, widths, surfaces, "
+                       "spheres (cpfg)."),
     "LEAF": Command("", "Draw a leaf at the turtle's pose, without moving."),
     "YAW_LEFT": Command("", "Yaw left by ``yaw`` degrees (the header's first number)."),
     "YAW_RIGHT": Command("", "Yaw right by ``yaw`` degrees."),
@@ -292,6 +297,7 @@ _DEMO = {
     "RESET_SCALE": "xxFF{s}FF",
     "BUFFER": "FF{s}FF",
     "AT": "FF{s}O(0.8)",
+    "SUBCALL": "!(0.3)F{s}(1,0.5)F+F+F",
 }
 #: Words for one table only (the engine's F steps sideways: its trunks are U).
 _DEMO_TABLE = {

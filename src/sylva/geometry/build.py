@@ -274,28 +274,71 @@ def leaf_template(
 def build_leaves(geometry: Geometry, *, template=None, colors: bool | None = None) -> Mesh:
     """Leaves as shaped, one-faced meshes with double-sided materials.
 
-    Each leaf is :func:`leaf_template` scaled by its size and placed in its frame.  A leaf
+    Each leaf is a template scaled by its size and placed in its frame: the one of its
+    predefined surface (:attr:`Geometry.leaf_surface` into :attr:`Geometry.surfaces`, cpfg's
+    ``~X``: the tessellated Bézier patches of :mod:`sylva.geometry.surfaces`, its contact
+    point at the turtle), else ``template`` (default :func:`leaf_template`).  A leaf
     is one surface, written once: its materials are marked ``double_sided``, which the
     renderer (no culling, the normal flipped on the back) and every format with such a flag
     (glTF ``doubleSided``) honour.  Two coincident opposite faces would be dropped as
     duplicates by Blender and make STL non-manifold.
     """
-    k = geometry.n_leaves
-    tv, tuv, tt = template if template is not None else leaf_template()
+    default = template if template is not None else leaf_template()
+    which = geometry.leaf_surface
+    kinds = np.unique(which) if which.size else np.zeros(0, np.int32)
+    if kinds.size <= 1:
+        t = default if not kinds.size or kinds[0] < 0 else geometry.surfaces[kinds[0]][1:]
+        return _leaves(geometry, np.arange(geometry.n_leaves), t, colors)
+    parts = []
+    for kind in kinds.tolist():
+        t = default if kind < 0 else geometry.surfaces[kind][1:]
+        parts.append(_leaves(geometry, np.flatnonzero(which == kind), t, colors))
+    return _concat_meshes(parts)
+
+
+def _concat_meshes(parts: list[Mesh]) -> Mesh:
+    """One mesh of ``parts`` (same materials, all with or all without colours)."""
+    base = np.cumsum([0] + [p.vertices.shape[0] for p in parts])[:-1]
+    colors = None
+    if parts[0].colors is not None:
+        colors = np.concatenate([p.colors for p in parts])
+    return Mesh(
+        np.concatenate([p.vertices for p in parts]),
+        np.concatenate([p.indices.astype(np.int64) + b for p, b in zip(parts, base)]),
+        normals=np.concatenate([p.normals for p in parts]),
+        uvs=np.concatenate([p.uvs for p in parts]),
+        colors=colors,
+        material_ids=np.concatenate([p.triangle_materials() for p in parts]),
+        materials=parts[0].materials,
+        name="leaves",
+    )
+
+
+def _leaves(geometry: Geometry, sel: np.ndarray, template, colors: bool | None) -> Mesh:
+    k = sel.size
+    tv, tuv, tt = template
+    tv = np.asarray(tv, np.float64)
     tn = Mesh(tv, tt).normals.astype(np.float64)
-    fr = geometry.leaf_frame  # rows H, L, U
+    fr = geometry.leaf_frame[sel]  # rows H, L, U
     basis = np.stack([-fr[:, 1], fr[:, 0], fr[:, 2]], axis=1)  # rows: x, y, z axes
-    size = geometry.leaf_size.astype(np.float64)[:, None, None]
-    verts = geometry.leaf_pos[:, None, :] + np.einsum("mj,kjc->kmc", tv, basis) * size
-    nrm = np.einsum("mj,kjc->kmc", tn, basis)
-    nrm /= np.linalg.norm(nrm, axis=2, keepdims=True)
+    size = geometry.leaf_size[sel].astype(np.float64)[:, None, None]
+    if geometry.leaf_stretch is None:
+        verts = geometry.leaf_pos[sel][:, None, :] + np.einsum("mj,kjc->kmc", tv, basis) * size
+        nrm = np.einsum("mj,kjc->kmc", tn, basis)
+    else:  # ~X(sx, sy, sz): each axis of the template scaled; normals by the inverse
+        st = geometry.leaf_stretch[sel].astype(np.float64)[:, None, :]
+        verts = geometry.leaf_pos[sel][:, None, :] + np.einsum(
+            "kmj,kjc->kmc", tv[None] * st, basis) * size
+        nrm = np.einsum("kmj,kjc->kmc", tn[None] / np.where(st == 0.0, 1e-30, st), basis)
+    nrm /= np.maximum(np.linalg.norm(nrm, axis=2, keepdims=True), 1e-30)
     m = tv.shape[0]
     front = tt[None, :, :] + (np.arange(k) * m)[:, None, None]
-    M = np.repeat(geometry.leaf_material, tt.shape[0])
+    M = np.repeat(geometry.leaf_material, tt.shape[0]) if k == geometry.n_leaves else \
+        np.repeat(geometry.leaf_material[sel], tt.shape[0])
     want = geometry.vertex_colors if colors is None else bool(colors)
     C = None
     if want:
-        c = np.concatenate([geometry.leaf_color, np.ones((k, 1), np.float32)], axis=1)
+        c = np.concatenate([geometry.leaf_color[sel], np.ones((k, 1), np.float32)], axis=1)
         C = np.repeat(c, m, axis=0)
     return Mesh(
         verts.reshape(-1, 3),
@@ -304,7 +347,7 @@ def build_leaves(geometry: Geometry, *, template=None, colors: bool | None = Non
         uvs=np.tile(tuv, (k, 1)),
         colors=C,
         material_ids=M,
-        materials=_double_sided(geometry.materials, M),
+        materials=_double_sided(geometry.materials, geometry.leaf_material),
         name="leaves",
     )
 

@@ -75,6 +75,16 @@ class Geometry:
     vertex_colors : bool
         True when colours vary per record within a material (seed 001's RGB turtle colour):
         meshes then carry vertex colours and the materials are white.
+    leaf_surface : int32[k] or None
+        The template of each leaf: an index into :attr:`surfaces`, or -1 for sylva's default
+        leaf (:func:`~sylva.geometry.build.leaf_template`); ``None``: -1 for all.
+    leaf_stretch : float32[k, 3] or None
+        Per leaf, the scale of its template's x, y, z relative to :attr:`leaf_size` (cpfg's
+        ``~X(sx, sy, sz)``: ``(1, sy/sx, sz/sx)``); ``None``: uniform.
+    surfaces : tuple
+        The leaf templates of predefined surfaces (cpfg's ``~X``; see
+        :mod:`sylva.geometry.surfaces`): ``(name, vertices, uvs, tris)`` each, in the frame of
+        :func:`~sylva.geometry.build.leaf_template`.
     """
 
     seg_start: np.ndarray
@@ -106,6 +116,9 @@ class Geometry:
     background: tuple[float, float, float] | None = None
     detail: int | None = None
     vertex_colors: bool = False
+    leaf_surface: np.ndarray | None = None
+    surfaces: tuple = ()
+    leaf_stretch: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         self.seg_start = _f64(self.seg_start)
@@ -125,6 +138,13 @@ class Geometry:
         self.leaf_color = np.ascontiguousarray(self.leaf_color, np.float32).reshape(k, 3)
         self.leaf_material = np.ascontiguousarray(self.leaf_material, np.int32).reshape(k)
         self.leaf_module = np.ascontiguousarray(self.leaf_module, np.int64).reshape(k)
+        if self.leaf_surface is None:
+            self.leaf_surface = np.full(k, -1, np.int32)
+        self.leaf_surface = np.ascontiguousarray(self.leaf_surface, np.int32).reshape(k)
+        self.surfaces = tuple(self.surfaces)
+        if self.leaf_stretch is not None:
+            self.leaf_stretch = np.ascontiguousarray(self.leaf_stretch,
+                                                     np.float32).reshape(k, 3)  # fmt: skip
         self.poly_vertices = _f64(self.poly_vertices)
         self.poly_offsets = np.ascontiguousarray(self.poly_offsets, np.int64).ravel()
         p = self.poly_offsets.shape[0] - 1

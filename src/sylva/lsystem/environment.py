@@ -156,7 +156,7 @@ COMMUNICATION = "?E"
 #: :mod:`sylva.world.environment` (world); :mod:`sylva.lsystem` only knows their names.
 ENVIRONMENTS: dict[str, dict[str, float | str]] = {
     "light": {"voxel": 1.0, "shadow": 1.0, "falloff": 2.0, "depth": 4.0, "full": 1.0,
-              "cone": 90.0},
+              "cone": 90.0, "leaves": 1.0, "segments": 0.0},
     "obstacle": {"shape": "sphere", "x": 0.0, "y": 0.0, "z": 0.0, "r": 1.0, "sx": 1.0,
                  "sy": 1.0, "sz": 1.0},
     "world": {"seed": 1.0, "x": 0.0, "z": 0.0, "size": 32.0, "scale": 1.0, "rock_x": 0.0,
@@ -186,6 +186,12 @@ class Communication:
         The turtle's position at each (None when the derivation has no turtle).
     frames : float64[m, 3, 3] or None
         The turtle's heading, left and up vectors at each (rows H, L, U).
+    organs : float64[n, 3] or None
+        Points of the plant's organs, for an environment that asks for them (the light's
+        shadow casters): each leaf's centre, then each segment's midpoint; None unless the
+        ``locate`` callback gives them (:func:`sylva.plant.turtle_locate` with ``organs``).
+    organ_kinds : int8[n] or None
+        0 for a leaf, 1 for a segment.
     """
 
     step: int
@@ -195,6 +201,8 @@ class Communication:
     counts: np.ndarray
     positions: np.ndarray | None = None
     frames: np.ndarray | None = None
+    organs: np.ndarray | None = None
+    organ_kinds: np.ndarray | None = None
 
     def __len__(self) -> int:
         return int(self.index.size)
@@ -209,7 +217,9 @@ class Communication:
 #: parameters of the ``?E`` modules, one row per module, one column per parameter.
 Environment = Callable[[Communication], np.ndarray]
 #: ``locate(word, index) -> (positions float64[m, 3], frames float64[m, 3, 3])``
-Locate = Callable[[ModuleString, np.ndarray], tuple[np.ndarray, np.ndarray]]
+#: ``locate(word, index) -> (positions, frames)`` of the ``?E`` modules at ``index``, or
+#: ``(positions, frames, organs, organ_kinds)`` (see :class:`Communication`).
+Locate = Callable[[ModuleString, np.ndarray], tuple[np.ndarray, ...]]
 
 
 def has_communication(program: Program) -> bool:
@@ -262,10 +272,13 @@ def apply_environment(
     for j in range(k):
         has = counts > j
         params[has, j] = word.values[start[has] + j]
-    positions = frames = None
+    positions = frames = organs = kinds = None
     if locate is not None:
-        positions, frames = locate(word, index)
-    comm = Communication(step, word, index, params, counts, positions, frames)
+        got = locate(word, index)
+        positions, frames = got[0], got[1]
+        if len(got) > 2:
+            organs, kinds = got[2], got[3]
+    comm = Communication(step, word, index, params, counts, positions, frames, organs, kinds)
     who = environment_name(environment)
     first = f"the first at word position {int(index[0])}"
     try:

@@ -35,6 +35,7 @@ _OPCODE_TEXT = {
     "ANGLE_ADD": "Add rot_delta to the turning angle (X(x): set the angle to x).",
     "LENGTH_ADD": "Add len_delta to the step length (X(x): set the length to x).",
     "SURFACE": "Draw a predefined surface, a leaf (X(s): scaled by s).",
+    "SUBCALL": "Call a sub-L-system up to its $ (X(n, s): drawn s times as large).",
     "LEAF": "Draw a leaf at the turtle, without moving.",
     "YAW_LEFT": "Yaw left by the yaw angle.",
     "YAW_RIGHT": "Yaw right by the yaw angle.",

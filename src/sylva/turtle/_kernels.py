@@ -749,6 +749,9 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                 st[S_RAD] = values[a] * cfg[C_WSCALE]
             else:
                 st[S_RAD] *= cfg[C_RAD_F]
+        elif op == T.SUBCALL:  # ?(n, s) of a sub-L-system, or its end ?(0, 1/s): width × s
+            if npar >= 2:
+                st[S_RAD] *= values[a + 1]
         elif op == T.COLOR_ADD:
             for k in range(3):
                 if npar >= 3:

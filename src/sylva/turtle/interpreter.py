@@ -37,11 +37,14 @@ import numpy as np
 from .. import _jit
 from ..errors import SylvaError
 from ..geometry.buffers import empty
+from ..geometry.colormaps import palette_materials, read_colormap, read_materials
 from ..geometry.mesh import Material
 from ..geometry.records import Geometry
 from ..lsystem.ast import Program
 from ..lsystem.lstring import ModuleString
+from . import _surfaces
 from . import tables as T
+from ._subscale import scale_word
 from .tables import ARGS, DEFAULTS, PALETTE, TABLES, compile_table
 
 __all__ = ["DIALECTS", "Trace", "TurtleSettingsError", "interpret", "trace"]
@@ -77,7 +80,8 @@ GRAVITY = (0.0, -1.0, 0.0)
 # Setting names each dialect understands (besides its DEFAULTS).
 _EXTRA = {
     "lsys": {"ignore", "axiom", "turtle", *_TROPISM},
-    "abop": {"palette", "color", "bg", "turtle", "angle", "delta", "width", *_TROPISM},
+    "abop": {"palette", "color", "bg", "turtle", "angle", "delta", "width", *_TROPISM,
+             "surfaces", "colormap", "materials"},
     "classic": {"angle", "thickness", "radius", "turtle", "iteration"},
     "engine": {"turtle", "seed", "noise_seed", "salt"},
 }
@@ -197,10 +201,15 @@ def _configure(dialect: str, s: dict, seed: int | None):
         ]
         bg = _clamp01(_rgb(s, "bg"))
     elif dialect == "abop":
+        table = None
         if "palette" in s:
             palette = np.asarray(s["palette"], np.float64).reshape(-1, 3)
             if palette.shape[0] == 0:
                 raise TurtleSettingsError("the palette needs at least one colour")
+        elif s.get("materials") is not None:  # cpfg -M file.mat
+            palette, table = palette_materials(read_materials(s["materials"]))
+        elif s.get("colormap") is not None:  # cpfg -m file.map
+            palette = read_colormap(s["colormap"])
         width = s.get("width", s["thick"])
         cfg[K.C_RAD] = float(width) / 2.0  # type: ignore[arg-type]
         cfg[K.C_RAD_F] = _num(s, "thick_factor")
@@ -212,7 +221,7 @@ def _configure(dialect: str, s: dict, seed: int | None):
         cfg[K.C_LEAF] = _num(s, "leaf_size")
         cfg[K.C_MAT_LEAF] = palette.shape[0]
         cfg[K.C_MAT_POLY] = -1  # polygons take the current colour index
-        materials = [
+        materials = table or [
             Material(f"color_{i}", (*map(float, c), 1.0), texture="bark" if i == 0 else None)
             for i, c in enumerate(palette)
         ]
@@ -332,6 +341,8 @@ def _run_word(word, program, dialect, seed, overrides, trace_on):
     dialect, s = _settings(program, dialect, overrides)
     cfg, palette, materials, vertex_colors, bg = _configure(dialect, s, seed)
     ops, arg = compile_table(TABLES[dialect], word.alphabet.names, ARGS.get(dialect))
+    if dialect == "abop":  # cpfg's ?(n, s): the sub-L-system drawn s times as large
+        word = scale_word(word, ops, arg, cfg[K.C_LEN], cfg[K.C_LEAF])
     has_at = "@" in word.alphabet
     if dialect in ("lsys", "abop") and (has_at or s.get("elasticity")):  # else nothing bends
         _tropism(cfg, s, program, ops)
@@ -487,6 +498,7 @@ def interpret(
     >>> g.seg_parent.tolist(), g.seg_module.tolist()
     ([-1, 0, 0], [0, 3, 5])
     """
+    word = _as_word(word, program)
     dialect, s, materials, vertex_colors, bg, out = _run(
         word, program, dialect, seed, overrides, False
     )
@@ -501,6 +513,8 @@ def interpret(
         detail=detail,
         vertex_colors=vertex_colors,
     )
+    if dialect == "abop" and geo.n_leaves:
+        _surfaces.assign(geo, word, s.get("surfaces"))
     return geo
 
 

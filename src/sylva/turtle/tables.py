@@ -8,21 +8,23 @@ buffer switches of seed 004, ``{symbol: argument}``.  :func:`compile_table` turn
 Tables
 ------
 ``abop`` (ABOP / cpfg)
-    ``F`` draw, ``f`` move (both record a polygon vertex inside ``{ }``), ``G`` draw and
-    ``g`` move without recording one, ``+ -`` turn left/right about U, ``& ^`` pitch
-    down/up about L, ``\\ /`` roll left/right about H, ``|`` turn around, ``$`` level
-    (``L = V×H/|V×H|``, ``U = H×L``, ``V`` up), ``[ ]`` push/pop, ``{ } .`` polygons, ``%``
-    cut the rest of the branch, ``!`` width ×``thick_factor`` (``!(w)`` sets the width),
-    ``; '`` next colour index (``;(i)`` sets it), ``,`` previous colour index, ``~`` a
-    predefined surface (a leaf; ``~(s)`` or ``~l(s)`` scales it).  Parameters override the
-    defaults: ``+(30)`` turns 30°, ``F(2)`` draws 2 units.  ``@`` calls one of cpfg's
-    functions, named by the modules after it: ``@O(d)`` a sphere of diameter ``d`` (default
-    the width), ``@v`` roll to vertical (``$``), ``@M(x, y[, z])`` move to a point,
-    ``@R(hx, hy[, hz[, ux, uy, uz]])`` set the heading (and up), ``@Ts @Ti @Td`` set,
-    increase, decrease the elasticity of tropism (ABOP §2.3: after every ``F f G g`` the
-    frame turns by ``e·|H × T|`` about ``H × T``; settings ``tropism``, ``elasticity``,
-    ``elasticity_step``).  Programs read from cpfg write ``@Ts(1, e)`` (the tropism's index
-    first, cpfg's spelling), the others ``@Ts(e)`` (L-Py's).
+    ``F`` draw, ``f`` move (both record a polygon vertex inside ``{ }``), ``G`` draw and ``g``
+    move without recording one, ``+ -`` turn left/right about U, ``& ^`` pitch down/up about L,
+    ``\\ /`` roll left/right about H, ``|`` turn around, ``$`` level (``L = V×H/|V×H|``, ``U =
+    H×L``, ``V`` up), ``[ ]`` push/pop, ``{ } .`` polygons, ``%`` cut the rest of the branch,
+    ``!`` width ×``thick_factor`` (``!(w)`` sets the width), ``; '`` next colour index (``;(i)``
+    sets it), ``,`` previous colour index, ``~`` a predefined surface (``~(s)`` or ``~l(s)``
+    scales it: the surface ``l`` of the view file, sylva's ``~"leaf"`` / ``~"petal"``, else
+    sylva's leaf; :mod:`sylva.geometry.surfaces`), ``?(n, s)`` a sub-L-system's call whose
+    drawing is scaled by ``s`` (lengths, widths, surfaces and spheres, until its ``$``; the
+    width at the call is multiplied by ``s``). Parameters override the defaults: ``+(30)`` turns
+    30°, ``F(2)`` draws 2 units. ``@`` calls one of cpfg's functions, named by the modules after
+    it: ``@O(d)`` a sphere of diameter ``d`` (default the width), ``@v`` roll to vertical
+    (``$``), ``@M(x,y[,z])`` move to a point, ``@R(hx, hy[, hz[, ux, uy, uz]])`` set the heading
+    (and up), ``@Ts @Ti @Td`` set, increase, decrease the elasticity of tropism (ABOP §2.3:
+    after every ``F f G g`` the frame turns by ``e·|H × T|`` about ``H × T``; settings
+    ``tropism``, ``elasticity``, ``elasticity_step``).  Programs read from cpfg write ``@Ts(1,
+    e)`` (the tropism's index first, cpfg's spelling), the others ``@Ts(e)`` (L-Py's).
 ``lsys`` (seed 001, LSysVis Table 3)
     ``F f [ ] + - ^ & \\ / | $`` as above (Table 3 calls ``+``/``-`` yaw, ``^``/``&`` pitch
     and ``\\``/``/`` roll; we keep ABOP's signs), ``!`` adds ``thick_delta`` (``!(x)`` sets
@@ -101,6 +103,7 @@ GROW = 35  # engine X
 RESET_SCALE = 36  # engine S
 BUFFER = 37  # engine 0-9 (argument: the buffer)
 AT = 38  # @ (abop, lsys): cpfg's functions, named by the next module (argument: AT_*)
+SUBCALL = 39  # ? (abop): a sub-L-system's call ?(n, s) or end: the width times s
 
 # the functions after ``@``: each is the argument of the letter that names it
 AT_SPHERE = 1  # @O(d): a sphere of diameter d (default: the width)
@@ -160,6 +163,7 @@ TABLES: Mapping[str, Mapping[str, int]] = {
         ",": COLOR_PREV,
         "~": SURFACE,
         "@": AT,
+        "?": SUBCALL,
     },
     "lsys": {
         "F": DRAW,

@@ -14,17 +14,26 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
     ABOP §2.3's tropism (``tropism``, ``elasticity``, ``elasticity_step``), as when these lines
     appear in the ``.l``.
 
+``surface: X file.s scale [s t [texture]]``
+    the predefined surface drawn by ``~X`` (the setting ``surfaces``: the Bézier patches of
+    the ``.s`` file, a path relative to the view file's folder, scaled by ``scale``, each
+    patch ``s × t`` quads; :mod:`sylva.geometry.surfaces`); a texture is not read (a
+    warning says so).
+``color map: f.map``, ``material: f.mat``, ``initial color: i``
+    the colours of the indices ``;(n)`` / ``,(n)`` (settings ``colormap`` and
+    ``materials``, read by the turtle; cpfg names these files on its command line, ``-m``
+    and ``-M``, which a program can pass as the same settings) and the first index
+    (``color_index``).
 ``function: f.func``, ``function set: f.fset``, ``curve: c.con``
     the functions ``func(k, x)`` and curves ``curveX(k, t)`` … of expressions and blocks
     (:mod:`._cpfg_functions`).
 
 Every other line (``projection``, ``viewpoint``, ``view reference point``, ``twist``,
 ``scale``, ``front distance``, ``back distance``, ``z buffer``, ``render mode``, ``light:``,
-``surface:``, ``texture:``, ``color map``, ``material``, ``initial color``, ``color
-increment``, ``line width increment``, ``contour:``, ``generalized cylinders`` …, and lines
-sylva does not know) is reported once as a :class:`~sylva.errors.SylvaWarning` naming the
-file and line, never dropped silently.  Settings of the ``.l`` itself win over the view
-file's.
+``texture:``, ``color increment``, ``line width increment``, ``contour:``, ``generalized
+cylinders`` …, and lines sylva does not know) is reported once as a
+:class:`~sylva.errors.SylvaWarning` naming the file and line, never dropped silently.
+Settings of the ``.l`` itself win over the view file's.
 """
 
 from __future__ import annotations
@@ -53,12 +62,7 @@ _UNHONOURED = {
     "z buffer": "the renderer always hides what is behind",
     "render mode": "the renderer's shading is its own",
     "light": "the renderer's lights are its own",
-    "surface": "predefined surfaces are sylva's own leaf",
     "texture": "textures of cpfg surfaces are not read",
-    "color map": "colour maps are not read; indices use sylva's palette",
-    "colormap": "colour maps are not read; indices use sylva's palette",
-    "material": "material files are not read; indices use sylva's palette",
-    "initial color": "colour indices start at 0",
     "color increment": "colour indices step by 1",
     "line width increment": "the width module '#' is not drawn",
     "contour": "contours of generalised cylinders are not read",
@@ -171,12 +175,16 @@ def read_view(text: str, filename: str | None = None) -> dict[str, object]:
             settings["elasticity"] = _numbers(value, 1, err)[0]
         elif key == "elasticity increment":
             settings["elasticity_step"] = _numbers(value, 1, err)[0]
+        elif key in _FILES_KEYS:
+            _files(settings, key, value, err, filename, number)
     return settings
 
 
 _HONOURED = frozenset({"angle increment", "angle factor", "initial line width", "line style",
                        "tropism direction", "initial elasticity",
-                       "elasticity increment", "function", "function set", "curve"})  # fmt: skip
+                       "elasticity increment", "function", "function set", "curve",
+                       "surface", "color map", "colormap", "material",
+                       "initial color"})  # fmt: skip
 
 
 def load_view(view, filename: str | None) -> dict[str, object]:
@@ -229,3 +237,50 @@ def read_camera(view, filename: str | None = None) -> dict[str, object]:
                 name = "scale" if key == "scale factor" else key
                 out[name] = tuple(nums) if len(nums) > 1 else nums[0]
     return out
+
+
+# --------------------------------------------------------------------------- files (surfaces)
+_FILES_KEYS = frozenset({"surface", "color map", "colormap", "material", "initial color"})
+
+
+def _beside(name: str, filename: str | None) -> str:
+    """``name`` relative to the folder of the view file ``filename``."""
+    path = Path(name)
+    if not path.is_absolute() and filename and not filename.startswith("<"):
+        path = Path(filename).parent / path
+    return str(path)
+
+
+def _files(settings: dict, key: str, value: str, err, filename: str | None,
+           number: int) -> None:  # fmt: skip
+    """The view lines that name files (``surface:``, ``color map:``, ``material:``) and
+    ``initial color:``, into ``settings``."""
+    if key == "initial color":
+        i = _numbers(value, 1, err)[0]
+        if not (i >= 0 and i == int(i)):
+            raise err(0, "initial color: expected a whole number >= 0")
+        settings["color_index"] = int(i)
+        return
+    words = [(m.group(), m.start()) for m in re.finditer(r"\S+", value)]
+    if key == "surface":
+        if len(words) < 3:
+            raise err(len(value), "surface: expected an id, a file name and a scale "
+                      "(surface: l leaf.s 1.0 [s t])")  # fmt: skip
+        (name, _), (file, _), (scale, at) = words[:3]
+        numbers = [_numbers(value[at:], 1, lambda p, _a=at: err(_a + p))[0]]
+        for text, pos in words[3:5]:
+            if _NUMBER.fullmatch(text) is None:
+                break
+            numbers.append(_numbers(text, 1, lambda p, _a=pos: err(_a + p))[0])
+        if len(words) > 2 + len(numbers):
+            warnings.warn(f"{filename or '<view>'}:{number}: the texture of surface "
+                          f"{name!r} is not read", SylvaWarning, stacklevel=5)  # fmt: skip
+        s, t = (int(numbers[1]), int(numbers[2])) if len(numbers) >= 3 else (None, None)
+        table = dict(settings.get("surfaces") or {})
+        table[name] = (_beside(file, filename), numbers[0], s, t)
+        settings["surfaces"] = table
+        return
+    if not words:
+        raise err(len(value), f"{key}: expected a file name")
+    settings["colormap" if key in ("color map", "colormap") else "materials"] = _beside(
+        words[0][0], filename)
