@@ -1,6 +1,7 @@
 """3D Tiles output: the tileset's structure, the Khronos validator on every tile, and a load
 of the whole tileset in headless Chromium with three.js' GLTFLoader (the loader 3D Tiles
-renderers for three.js use for glTF content), walking the tree as a tiles loader does."""
+renderers for three.js use for glTF content), walking the tree as a tiles loader does.
+The coarse tile holds coarser terrain and the larger plants as instanced impostors."""
 
 import json
 import shutil
@@ -10,8 +11,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from sylva._impostor import world_impostor
 from sylva.cli import main
 from sylva.world import World, WorldConfig
+from sylva.world.plants import PlantLibrary
 from sylva.world.tiles import plan_tiles, write_tileset
 
 NODE_DIR = Path(__file__).parents[1] / "geometry" / "_node"
@@ -24,7 +27,8 @@ def tileset(tmp_path_factory):
     root = tmp_path_factory.mktemp("tiles")
     store = World(WorldConfig(seed=21, chunk_size=16), size=(64, 48)).generate(
         root / "w.zarr", workers=1)
-    info = write_tileset(store, root / "out", leaf_columns=32, workers=1)
+    info = write_tileset(store, root / "out", leaf_columns=32, workers=1,
+                         impostor=world_impostor(size=32))
     doc = json.loads((root / "out" / "tileset.json").read_text())
     return store, root / "out", doc, info
 
@@ -87,8 +91,53 @@ def test_tileset_structure(tileset):
             assert np.all(np.abs(t - c) <= h + 1e-3), (uri, box)
             checked += len(p)
         assert checked
-        used = doc_glb.get("extensionsUsed", [])
-        assert ("EXT_mesh_gpu_instancing" in used) == (depth == 1)
+        assert "EXT_mesh_gpu_instancing" in doc_glb.get("extensionsUsed", [])
+
+
+def _instanced(doc) -> dict[str, int]:
+    return {n["name"]: doc["accessors"][
+        n["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"]]["count"]
+        for n in doc["nodes"] if "EXT_mesh_gpu_instancing" in n.get("extensions", {})}
+
+
+def test_coarse_tile_has_coarser_terrain_and_impostors(tileset):
+    """The root (2 columns a sample, geometric error 2): its terrain has fewer triangles
+    than the leaves' together, and every plant of at least 2 blocks is one instance of its
+    model's impostor (textured, alpha-tested crossed quads); grass and smaller plants are
+    left out, the leaves keep every plant."""
+    store, out, doc, info = tileset
+    root = doc["root"]
+    assert root["geometricError"] == 2.0
+    coarse, binary = _glb(out / root["content"]["uri"])
+    leaves = [_glb(out / k["content"]["uri"])[0] for k in root["children"]]
+
+    def terrain_triangles(d):
+        return sum(d["accessors"][p["indices"]]["count"] // 3 for n in d["nodes"]
+                   if "mesh" in n and "extensions" not in n
+                   for p in d["meshes"][n["mesh"]]["primitives"])  # fmt: skip
+
+    assert 0 < 2 * terrain_triangles(coarse) < sum(terrain_triangles(d) for d in leaves)
+    lib = PlantLibrary.for_config(store.config)
+    plants = store.plants().column("model").to_pylist()
+    sizes = {k: float(np.max(np.ptp(lib.model(k).bounds(), axis=0))) for k in set(plants)}
+    want: dict[str, int] = {}
+    for k in plants:
+        if not k.startswith("grass#") and sizes[k] >= 2.0:
+            want[f"{k}#impostor"] = want.get(f"{k}#impostor", 0) + 1
+    got = _instanced(coarse)
+    assert got == want and sum(want.values()) == info["impostors"] > 10
+    assert len(want) == len({k for k in plants if not k.startswith("grass#")
+                             and sizes[k] >= 2.0}) < len(set(plants))  # fmt: skip
+    for n in coarse["nodes"]:
+        if n["name"].endswith("#impostor"):
+            (prim,) = coarse["meshes"][n["mesh"]]["primitives"]
+            mat = coarse["materials"][prim["material"]]
+            assert mat["alphaMode"] == "MASK" and mat["doubleSided"]
+            assert "baseColorTexture" in mat["pbrMetallicRoughness"]
+            assert coarse["accessors"][prim["indices"]]["count"] == 3 * 4  # two quads
+    # the leaves: every plant at full detail, no impostor
+    assert sum(sum(_instanced(d).values()) for d in leaves) == store.n_plants
+    assert not any(k.endswith("#impostor") for d in leaves for k in _instanced(d))
 
 
 def _world_space_accessors(doc) -> list[int]:
@@ -179,8 +228,13 @@ def test_tileset_loads_in_chromium(tileset):
             browser.close()
     assert isinstance(result, list), result
     assert len(result) == info["tiles"] == 5
-    # the leaves hold every plant of the world, drawn as GPU instances
-    assert sum(r["instances"] for r in result) == store.n_plants == info["instances"]
+    # the leaves hold every plant of the world, drawn as GPU instances, the root the
+    # impostors of the larger ones
+    leaves = [r for r in result if r["depth"] == 1]
+    assert sum(r["instances"] for r in leaves) == store.n_plants
+    (root,) = [r for r in result if r["depth"] == 0]
+    assert root["instances"] == info["impostors"] > 0
+    assert store.n_plants + info["impostors"] == info["instances"]
     assert all(r["meshes"] >= 1 for r in result)
     assert {r["depth"] for r in result} == {0, 1}
 
