@@ -252,7 +252,7 @@ def write_tileset(store: WorldStore, out, *, leaf_columns: int | None = None,
     with using(runner, scheduler, workers=workers, tasks=len(tiles) + len(bake)) as run:
         if bake:
             make_folder(out / "textures")
-            for r in run.map(_impostor_task, bake, progress=progress, unit="impostor batch"):
+            for r in run.map(_impostor_task, bake, progress=progress, unit="bake"):
                 impostors.update(r)
         jobs = [(str(store.path), str(out), t, levels, grass, impostors) for t in tiles]
         for r in run.map(_tile_task, jobs, progress=progress, unit="tile"):
