@@ -149,3 +149,24 @@ def _check_depth(out, rows, plant):
         assert drawn.max() - drawn.min() > 0.2 * (box.max() - box.min())
         back = near + (png[z > 0] - 1) / 65534 * (far - near)
         np.testing.assert_allclose(back, drawn, atol=0.51 * (far - near) / 65534 + 1e-6)
+
+
+def test_tree_species_items(tmp_path):
+    """A Weber–Penn species in a plan: steps are its age in years, seeds its individuals;
+    a sweep (L-system constants) and --labels (organ masks) are refused for it."""
+    import sylva
+    from sylva.batch import run_batch
+
+    plan = parse_plan('[output]\nformats = ["glb"]\n[[plant]]\nsource = "quaking_aspen"\n'
+                      "seeds = [1, 2]\nsteps = [2, 4]\n")
+    out = tmp_path / "out"
+    assert run_batch(plan, out, workers=1)["items"] == 4
+    rows = pq.read_table(out / "manifest.parquet").to_pylist()
+    glb = {(r["seed"], r["steps"]): (out / r["path"]).read_bytes() for r in rows}
+    assert len(set(glb.values())) == 4 and all(v[:4] == b"glTF" for v in glb.values())
+    leaves = {(r["seed"], r["steps"]): r["leaves"] for r in rows}
+    assert leaves[(1, 4)] == sylva.tree("quaking_aspen", age=4, seed=1).stats["leaves"]
+    assert leaves[(1, 4)] > leaves[(1, 2)] > 0
+    bad = parse_plan('[[plant]]\nsource = "quaking_aspen"\n[plant.sweep]\nx = [1.0]\n')
+    with pytest.raises(SylvaError, match="tree species has none"):
+        run_batch(bad, tmp_path / "bad", workers=1)

@@ -14,8 +14,8 @@ A plan::
     size = [320, 240]          # render size; no cameras: no renders
 
     [[plant]]
-    source = "abop-1.24a-plant"   # an example name, a file (relative to the plan) or text
-    seeds = [1, 2, 3]
+    source = "abop-1.24a-plant"   # an example name, a file (relative to the plan), text,
+    seeds = [1, 2, 3]             # or a tree species ("quaking_aspen"; steps are years)
     steps = [3, 4]                # ages
     cameras = [{yaw = 30, pitch = 20}, {yaw = 120, pitch = 10}]
     [plant.sweep]                 # program constants, one run per value
@@ -163,19 +163,30 @@ def _source(item: Item, base: Path):
 
 def _item_task(job) -> list[dict]:
     """One Dask task: grow an item, export it, render it from each camera."""
+    from .grown import _is_species, tree
     from .plant import grow, resolve
     from .render import Camera
 
     item, formats, size, base, out, labels = job
     t0 = time.perf_counter()
-    program = resolve(_source(item, Path(base)))
-    if item.params:
-        unknown = [n for n, _ in item.params if n not in program.constants]
-        if unknown:
-            raise SylvaError(f"{item.source}: sweep of unknown constant(s) {unknown}; the "
-                             f"program has {sorted(program.constants)}")  # fmt: skip
-        program = program.replace(constants={**program.constants, **dict(item.params)})
-    plant = grow(program, item.steps, seed=item.seed)
+    source = _source(item, Path(base))
+    if _is_species(source):  # a Weber–Penn species or tree file: steps are years
+        if item.params:
+            raise SylvaError(f"{item.source}: a sweep sets an L-system's constants; a tree "
+                             "species has none")  # fmt: skip
+        if labels and item.cameras:
+            raise SylvaError(f"{item.source}: --labels needs an L-system plant (its organs); "
+                             "a tree species has no instance mask yet")  # fmt: skip
+        plant = tree(source, age=item.steps, seed=item.seed)
+    else:
+        program = resolve(source)
+        if item.params:
+            unknown = [n for n, _ in item.params if n not in program.constants]
+            if unknown:
+                raise SylvaError(f"{item.source}: sweep of unknown constant(s) {unknown}; the "
+                                 f"program has {sorted(program.constants)}")  # fmt: skip
+            program = program.replace(constants={**program.constants, **dict(item.params)})
+        plant = grow(program, item.steps, seed=item.seed)
     folder = Path(out) / "items" / f"{item.index:05d}"
     make_folder(folder)
     files = []
