@@ -83,3 +83,14 @@ def test_background_is_zero_and_msaa_is_refused():
     np.testing.assert_allclose(depth.values[drawn], 5.0, rtol=1e-5)
     with pytest.raises(ValueError, match="msaa"):
         Renderer.default().render(small, (W, H), cam, msaa=4, depth=True)
+
+
+def test_tiled_render_has_the_same_depth():
+    cam = Camera(mode="perspective", target=np.zeros(3), yaw=20, pitch=10, distance=6.0,
+                 fov=50, near=1.0, far=20.0)  # fmt: skip
+    scene = _plane([0.4, 0.2, 1.0], [0.0, 0.0, 0.0])
+    whole = _depth(scene, cam)[1].values
+    tiled = Renderer.default().render(scene, (W, H), cam, msaa=0, lit=False, ground=False,
+                                      shadows=False, depth=True, tile_size=20)[1].values
+    assert (whole > 0).all()
+    np.testing.assert_allclose(tiled, whole, rtol=1e-5)  # 24-bit depth, other frustums
