@@ -196,15 +196,15 @@ walk(ts.root, 0, out).then(() => { window.result = out; },
 </script>"""
 
 
-def test_tileset_loads_in_chromium(tileset):
+def _browse(out: Path, files: dict):
+    """Serve ``files`` and the tileset folder at http://tiles.test/, open index.html in
+    headless Chromium, and return its ``window.result``."""
     sync_api = pytest.importorskip("playwright.sync_api")
     if not Path(CHROMIUM).exists():
         pytest.skip(f"{CHROMIUM} is not installed")
-    store, out, doc, info = tileset
-    files = {"index.html": _PAGE.encode(), "three.js": THREE.read_bytes()}
 
     def serve(route):
-        name = route.request.url.split("://tiles.test/", 1)[1]
+        name = route.request.url.split("://tiles.test/", 1)[1].lstrip("/")
         body = files.get(name)
         if body is None and (out / name).is_file():
             body = (out / name).read_bytes()
@@ -223,9 +223,14 @@ def test_tileset_loads_in_chromium(tileset):
             page.route("http://tiles.test/**", serve)
             page.goto("http://tiles.test/index.html")
             page.wait_for_function("window.result !== undefined", timeout=60_000)
-            result = page.evaluate("window.result")
+            return page.evaluate("window.result")
         finally:
             browser.close()
+
+
+def test_tileset_loads_in_chromium(tileset):
+    store, out, doc, info = tileset
+    result = _browse(out, {"index.html": _PAGE.encode(), "three.js": THREE.read_bytes()})
     assert isinstance(result, list), result
     assert len(result) == info["tiles"] == 5
     # the leaves hold every plant of the world, drawn as GPU instances, the root the
@@ -237,6 +242,84 @@ def test_tileset_loads_in_chromium(tileset):
     assert store.n_plants + info["impostors"] == info["instances"]
     assert all(r["meshes"] >= 1 for r in result)
     assert {r["depth"] for r in result} == {0, 1}
+
+
+RENDERER = Path(__file__).parent / "_3dtiles"  # 3DTilesRendererJS, see VENDORED.txt
+
+_STREAM = """<!doctype html>
+<script type="importmap">{"imports": {"three": "./three.js",
+  "three/addons/loaders/GLTFLoader.js": "./gltf-shim.js",
+  "three/addons/utils/BufferGeometryUtils.js": "./bgu-shim.js"}}</script>
+<script type="module">
+import * as THREE from "three";
+import { TilesRenderer } from "./3dtr/index.three.js";
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+const errors = [];
+async function view(position, target) {
+  const tiles = new TilesRenderer(new URL("tileset.json", location.href).href);
+  const camera = new THREE.PerspectiveCamera(60, 4 / 3, 0.1, 100000);
+  camera.up.set(0, 0, 1);  // the tileset's frame is Z up
+  camera.position.set(...position);
+  camera.lookAt(new THREE.Vector3(...target));
+  camera.updateMatrixWorld();
+  tiles.setCamera(camera);
+  tiles.setResolution(camera, 800, 600);
+  const instances = {};
+  tiles.addEventListener("load-model", ({ scene, tile }) => {
+    const counts = {};  // a node of several primitives: one count for its group
+    scene.traverse((o) => {
+      if (o.isInstancedMesh) {
+        const p = o.parent;
+        counts[p && p.isGroup && p !== scene ? p.uuid : o.uuid] = o.count;
+      }
+    });
+    instances[tile.content.uri] = Object.values(counts).reduce((a, b) => a + b, 0);
+  });
+  tiles.addEventListener("load-error", (e) => errors.push(String(e.error) + " " + e.url));
+  for (let i = 0; i < 600; i++) {
+    tiles.update();
+    await sleep(25);
+    const s = tiles.stats;
+    if (i > 10 && s.downloading === 0 && s.parsing === 0 && s.queued === 0) break;
+  }
+  tiles.update();
+  const visible = [...tiles.visibleTiles].map((t) => t.content && t.content.uri).sort();
+  const out = { visible, instances, failed: tiles.stats.failed };
+  tiles.dispose();
+  return out;
+}
+try {
+  const [cx, cy] = FRAME;
+  const far = await view([cx, cy, 4000], [cx, cy, 0]);
+  const near = await view([cx, cy, 70], [cx, cy, 40]);
+  window.result = { far, near, errors };
+} catch (e) { window.result = String(e.stack || e); }
+</script>"""
+
+
+def test_tileset_streams_in_a_3d_tiles_renderer(tileset):
+    """NASA-AMMOS' 3DTilesRendererJS (a three.js 3D Tiles 1.1 loader, vendored) streams the
+    tileset in headless Chromium by screen-space error: from 4 km up it shows the root
+    alone (coarse terrain and impostors), from 70 m it replaces it by the four leaves."""
+    store, out, doc, info = tileset
+    box = doc["root"]["boundingVolume"]["box"]
+    page = _STREAM.replace("FRAME", json.dumps(box[:2]))
+    files = {"index.html": page.encode(), "three.js": THREE.read_bytes(),
+             "gltf-shim.js": b'export { GLTFLoader } from "three";',
+             "bgu-shim.js": b"export function estimateBytesUsed(g) { let n = 0; "
+                            b"for (const k in g.attributes) n += g.attributes[k].array"
+                            b".byteLength; return n + (g.index ? g.index.array.byteLength "
+                            b": 0); }"}  # fmt: skip
+    files |= {f"3dtr/{p.name}": p.read_bytes() for p in RENDERER.glob("*.js")}
+    result = _browse(out, files)
+    assert isinstance(result, dict), result
+    assert result["errors"] == [] and result["far"]["failed"] == result["near"]["failed"] == 0
+    root = doc["root"]["content"]["uri"]
+    leaves = sorted(k["content"]["uri"] for k in doc["root"]["children"])
+    assert result["far"]["visible"] == [root]
+    assert result["far"]["instances"] == {root: info["impostors"]}
+    assert result["near"]["visible"] == leaves
+    assert sum(result["near"]["instances"][u] for u in leaves) == store.n_plants
 
 
 def test_cli_3dtiles(tmp_path):
