@@ -171,20 +171,3 @@ def test_tree_species_items(tmp_path):
     with pytest.raises(SylvaError, match="tree species has none"):
         run_batch(bad, tmp_path / "bad", workers=1)
 
-
-def test_batch_renders_in_worker_processes(tmp_path):
-    """On a 2-process LocalCluster every worker renders with its own GL context (made in
-    that process); the files equal those of the in-process run, byte for byte."""
-    from sylva.batch import run_batch
-
-    plan = parse_plan('[output]\nformats = ["glb"]\nsize = [48, 32]\n[[plant]]\n'
-                      'source = "abop-1.24a-plant"\nseeds = [1]\nsteps = [1, 2, 3, 4]\n'
-                      'cameras = [{yaw = 30, pitch = 20}]\n')  # fmt: skip
-    a = run_batch(plan, tmp_path / "a", workers=1, labels=True)
-    b = run_batch(plan, tmp_path / "b", workers=2, labels=True)
-    assert a["files"] == b["files"] == 4 * 6  # glb, render, mask, 2 depths, coco
-    rows = pq.read_table(a["manifest"]).to_pylist()
-    for r in rows:
-        assert (tmp_path / "a" / r["path"]).read_bytes() == (tmp_path / "b" / r["path"]
-                                                             ).read_bytes(), r["path"]
-    assert len({r["seconds"] for r in rows}) == 4

@@ -231,3 +231,28 @@ def test_a_full_disk_leaves_a_store_that_resume_completes(serial, tmp_path, monk
     store = World(CFG, size=SIZE).generate(path, workers=1, block_columns=BLOCK, resume=True)
     assert store.complete
     _assert_same_store(serial, path)
+
+
+def test_batch_renders_in_the_worker_processes(cluster, tmp_path):
+    """``sylva batch`` on the 2-process cluster: every worker renders with its own GL
+    context (made in that process); the files (GLB, render, mask, depths, COCO) equal those
+    of the in-process run, byte for byte."""
+    import pyarrow.parquet as pq
+
+    from sylva.batch import parse_plan, run_batch
+
+    address, client = cluster
+    plan = parse_plan('[output]\nformats = ["glb"]\nsize = [48, 32]\n[[plant]]\n'
+                      'source = "abop-1.24a-plant"\nseeds = [1]\nsteps = [1, 2, 3, 4]\n'
+                      'cameras = [{yaw = 30, pitch = 20}]\n')  # fmt: skip
+    from distributed import get_task_stream
+
+    a = run_batch(plan, tmp_path / "a", workers=1, labels=True)
+    with get_task_stream(client) as ts:
+        b = run_batch(plan, tmp_path / "b", scheduler=address, labels=True)
+    assert a["files"] == b["files"] == 4 * 6  # glb, render, mask, 2 depths, coco
+    for r in pq.read_table(a["manifest"]).to_pylist():
+        assert (tmp_path / "a" / r["path"]).read_bytes() == (
+            tmp_path / "b" / r["path"]).read_bytes(), r["path"]
+    # both workers rendered (each in its own context)
+    assert len({t["worker"] for t in ts.data if "_item_task" in str(t["key"])}) == 2
