@@ -100,8 +100,8 @@ def test_labels_masks_and_coco(tmp_path):
     assert main(["batch", str(plan), "-o", str(out), "--workers", "1", "--quiet",
                  "--labels"]) == 0
     rows = pq.read_table(out / "manifest.parquet").to_pylist()
-    assert sorted(r["kind"] for r in rows) == ["labels", "labels", "mask", "mask",
-                                               "render", "render"]
+    assert sorted(r["kind"] for r in rows) == ["depth"] * 4 + ["labels", "labels", "mask",
+                                                             "mask", "render", "render"]
     leaves = sylva.grow("34-sylva-flowering-herb", seed=7).stats["leaves"]
     assert leaves == 39 and {r["leaves"] for r in rows} == {leaves}
     seen = set()
@@ -122,3 +122,52 @@ def test_labels_masks_and_coco(tmp_path):
         seen |= {a["organ"] for a in doc["annotations"] if a["category_id"] == 2}
     # from the side and from above, every leaf the turtle drew has its own id in a mask
     assert len(seen) == leaves
+    _check_depth(out, rows, sylva.grow("34-sylva-flowering-herb", seed=7))
+
+
+def _check_depth(out, rows, plant):
+    """Depth of each render: 0 exactly on the mask's background; elsewhere a view-axis
+    distance inside the plant's box as the camera sees it; the 16-bit PNG decodes to the
+    float image within half a step of its near..far scale."""
+    from sylva.render import Camera
+    from sylva.render.camera import box_corners
+
+    for r in (r for r in rows if r["kind"] == "depth" and r["format"] == "npy"):
+        z = np.load(out / r["path"])
+        png = np.asarray(Image.open(out / r["path"].replace(".npy", ".png"))).astype(float)
+        mask = np.asarray(Image.open(out / r["path"].replace(".depth.npy", ".mask.png")))
+        assert z.dtype == np.float32 and z.shape == mask.shape == png.shape
+        np.testing.assert_array_equal(z > 0, mask > 0)
+        np.testing.assert_array_equal(png > 0, mask > 0)
+        near, far = r["near"], r["far"]
+        cam = Camera.auto(plant.scene.bounds(), "perspective", yaw=r["yaw"], pitch=r["pitch"],
+                          aspect=240 / 180)  # the batch's camera
+        box = (box_corners(plant.scene.bounds()) - cam.eye) @ -cam.basis()[2]
+        drawn = z[z > 0]
+        assert near <= box.min() - 1e-6 and box.max() <= far
+        assert box.min() - 1e-4 <= drawn.min() and drawn.max() <= box.max() + 1e-4
+        assert drawn.max() - drawn.min() > 0.2 * (box.max() - box.min())
+        back = near + (png[z > 0] - 1) / 65534 * (far - near)
+        np.testing.assert_allclose(back, drawn, atol=0.51 * (far - near) / 65534 + 1e-6)
+
+
+def test_tree_species_items(tmp_path):
+    """A Weber–Penn species in a plan: steps are its age in years, seeds its individuals;
+    a sweep (L-system constants) and --labels (organ masks) are refused for it."""
+    import sylva
+    from sylva.batch import run_batch
+
+    plan = parse_plan('[output]\nformats = ["glb"]\n[[plant]]\nsource = "quaking_aspen"\n'
+                      "seeds = [1, 2]\nsteps = [2, 4]\n")
+    out = tmp_path / "out"
+    assert run_batch(plan, out, workers=1)["items"] == 4
+    rows = pq.read_table(out / "manifest.parquet").to_pylist()
+    glb = {(r["seed"], r["steps"]): (out / r["path"]).read_bytes() for r in rows}
+    assert len(set(glb.values())) == 4 and all(v[:4] == b"glTF" for v in glb.values())
+    leaves = {(r["seed"], r["steps"]): r["leaves"] for r in rows}
+    assert leaves[(1, 4)] == sylva.tree("quaking_aspen", age=4, seed=1).stats["leaves"]
+    assert leaves[(1, 4)] > leaves[(1, 2)] > 0
+    bad = parse_plan('[[plant]]\nsource = "quaking_aspen"\n[plant.sweep]\nx = [1.0]\n')
+    with pytest.raises(SylvaError, match="tree species has none"):
+        run_batch(bad, tmp_path / "bad", workers=1)
+

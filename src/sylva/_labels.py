@@ -1,4 +1,4 @@
-"""Training labels of a rendered plant: a per-organ instance mask and COCO annotations.
+"""Training labels of a rendered plant: a per-organ instance mask, depth and COCO annotations.
 
 Every leaf, every polygon (flowers, petals) and every branch — an axis of segments, a new
 one at each bracket — gets its own id.  The mask is an unlit render of the plant in which
@@ -6,6 +6,9 @@ each organ's vertices carry its id as a colour (ids on a grid of 16 levels per c
 that the sRGB output rounds back to the id), drawn without antialiasing, textures,
 shadows or ground, from the same camera as the image.  :func:`coco` turns a mask into a
 COCO detection/segmentation document (run-length encoded masks, bounding boxes, areas).
+:func:`label_images` also returns the depth of the same render: the distance from the eye
+along the view axis of each pixel, in the plant's units (metres for species sized in
+metres), 0 where the mask is background (:class:`sylva.render.offscreen.DepthImage`).
 
 Examples
 --------
@@ -19,7 +22,7 @@ import dataclasses
 
 import numpy as np
 
-__all__ = ["CATEGORIES", "branch_ids", "coco", "instance_mask"]
+__all__ = ["CATEGORIES", "branch_ids", "coco", "depth_png", "instance_mask", "label_images"]
 
 #: COCO categories of the organs.
 CATEGORIES = [{"id": 1, "name": "branch"}, {"id": 2, "name": "leaf"},
@@ -58,8 +61,20 @@ def instance_mask(plant, camera, size) -> tuple[np.ndarray, dict[int, int]]:
     (uint16[h, w], dict)
         The mask (0 background) and each id's category (:data:`CATEGORIES`).
     """
+    mask, cats, _ = label_images(plant, camera, size)
+    return mask, cats
+
+
+def label_images(plant, camera, size):
+    """The instance mask, its categories and the depth of one render of ``plant``.
+
+    Returns
+    -------
+    (uint16[h, w], dict, DepthImage)
+        As :func:`instance_mask`, and the depth of the same pixels (0 where the mask is 0).
+    """
     from .geometry.build import build_mesh
-    from .render import render
+    from .render.offscreen import Renderer
 
     g = plant.geometry
     nb = 0
@@ -87,13 +102,25 @@ def instance_mask(plant, camera, size) -> tuple[np.ndarray, dict[int, int]]:
     for m in scene.meshes:
         m.materials = [dataclasses.replace(x, color=(1.0, 1.0, 1.0, 1.0), texture=None,
                                            alpha_cutoff=None) for x in m.materials]
-    img = np.asarray(render(scene, size=size, camera=camera, lit=False, msaa=0,
-                            shadows=False, ground=False, bg="black", textures=False,
-                            sky=False), np.int64)  # fmt: skip
+    img, depth = Renderer.default().render(scene, size=size, camera=camera, lit=False,
+                                           msaa=0, shadows=False, ground=False, bg="black",
+                                           textures=False, sky=False, depth=True)  # fmt: skip
+    img = np.asarray(img, np.int64)
     q = np.minimum(np.rint(img / _STEP).astype(np.int64), _N - 1)
     mask = q[..., 0] * _N**2 + q[..., 1] * _N + q[..., 2]
     mask[~np.isin(mask, list(cats))] = 0
-    return mask.astype(np.uint16), cats
+    depth.values[mask == 0] = 0.0
+    return mask.astype(np.uint16), cats, depth
+
+
+def depth_png(depth) -> np.ndarray:
+    """``uint16[h, w]`` encoding of a :class:`~sylva.render.offscreen.DepthImage`: 0 is the
+    background, ``1 + round((d - near) / (far - near) · 65534)`` a drawn pixel (so
+    ``d = near + (v - 1) / 65534 · (far - near)``, within half a step of the float)."""
+    d = depth.values.astype(np.float64)
+    span = max(depth.far - depth.near, 1e-12)
+    v = 1.0 + np.rint(np.clip((d - depth.near) / span, 0.0, 1.0) * 65534.0)
+    return np.where(d > 0, v, 0).astype(np.uint16)
 
 
 def coco(masks: list[tuple[str, np.ndarray, dict[int, int]]]) -> dict:

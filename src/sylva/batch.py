@@ -14,8 +14,8 @@ A plan::
     size = [320, 240]          # render size; no cameras: no renders
 
     [[plant]]
-    source = "abop-1.24a-plant"   # an example name, a file (relative to the plan) or text
-    seeds = [1, 2, 3]
+    source = "abop-1.24a-plant"   # an example name, a file (relative to the plan), text,
+    seeds = [1, 2, 3]             # or a tree species ("quaking_aspen"; steps are years)
     steps = [3, 4]                # ages
     cameras = [{yaw = 30, pitch = 20}, {yaw = 120, pitch = 10}]
     [plant.sweep]                 # program constants, one run per value
@@ -163,24 +163,35 @@ def _source(item: Item, base: Path):
 
 def _item_task(job) -> list[dict]:
     """One Dask task: grow an item, export it, render it from each camera."""
+    from .grown import _is_species, tree
     from .plant import grow, resolve
     from .render import Camera
 
     item, formats, size, base, out, labels = job
     t0 = time.perf_counter()
-    program = resolve(_source(item, Path(base)))
-    if item.params:
-        unknown = [n for n, _ in item.params if n not in program.constants]
-        if unknown:
-            raise SylvaError(f"{item.source}: sweep of unknown constant(s) {unknown}; the "
-                             f"program has {sorted(program.constants)}")  # fmt: skip
-        program = program.replace(constants={**program.constants, **dict(item.params)})
-    plant = grow(program, item.steps, seed=item.seed)
+    source = _source(item, Path(base))
+    if _is_species(source):  # a Weber–Penn species or tree file: steps are years
+        if item.params:
+            raise SylvaError(f"{item.source}: a sweep sets an L-system's constants; a tree "
+                             "species has none")  # fmt: skip
+        if labels and item.cameras:
+            raise SylvaError(f"{item.source}: --labels needs an L-system plant (its organs); "
+                             "a tree species has no instance mask yet")  # fmt: skip
+        plant = tree(source, age=item.steps, seed=item.seed)
+    else:
+        program = resolve(source)
+        if item.params:
+            unknown = [n for n, _ in item.params if n not in program.constants]
+            if unknown:
+                raise SylvaError(f"{item.source}: sweep of unknown constant(s) {unknown}; the "
+                                 f"program has {sorted(program.constants)}")  # fmt: skip
+            program = program.replace(constants={**program.constants, **dict(item.params)})
+        plant = grow(program, item.steps, seed=item.seed)
     folder = Path(out) / "items" / f"{item.index:05d}"
     make_folder(folder)
     files = []
     for fmt in formats:
-        files.append(("asset", fmt, None, plant.save(folder / f"plant.{fmt}")))
+        files.append(("asset", fmt, None, plant.save(folder / f"plant.{fmt}"), None))
     scene = plant.scene
     for j, (yaw, pitch) in enumerate(item.cameras):
         cam = Camera.auto(scene.bounds(), "perspective", yaw=yaw, pitch=pitch,
@@ -189,7 +200,7 @@ def _item_task(job) -> list[dict]:
         path = folder / f"camera{j}.png"
         with atomic_path(path) as tmp:
             image.save(tmp, format="PNG")
-        files.append(("render", "png", (yaw, pitch), path))
+        files.append(("render", "png", (yaw, pitch), path, None))
         if labels:
             files += _labels(plant, cam, size, folder, j, (yaw, pitch))
     dt = time.perf_counter() - t0
@@ -202,25 +213,37 @@ def _item_task(job) -> list[dict]:
         "path": str(Path(p).relative_to(out)), "modules": int(stats.get("modules", 0)),
         "segments": int(stats.get("segments", 0)), "leaves": int(stats.get("leaves", 0)),
         "triangles": int(sum(m.n_triangles for m in scene.meshes)), "seconds": dt,
-    } for kind, fmt, cam, p in files]  # fmt: skip
+        "near": None if clip is None else clip[0], "far": None if clip is None else clip[1],
+    } for kind, fmt, cam, p, clip in files]  # fmt: skip
 
 
 def _labels(plant, cam, size, folder: Path, j: int, view) -> list:
-    """The instance mask (16-bit PNG of organ ids) and COCO JSON of camera ``j``."""
+    """The instance mask (16-bit PNG of organ ids), the depth (float32 NPY and 16-bit PNG)
+    and the COCO JSON of camera ``j``."""
     from PIL import Image
 
     from ._atomic import atomic_write
-    from ._labels import coco, instance_mask
+    from ._labels import coco, depth_png, label_images
 
-    mask, cats = instance_mask(plant, cam, size)
+    mask, cats, depth = label_images(plant, cam, size)
     mpath = folder / f"camera{j}.mask.png"
     with atomic_path(mpath) as tmp:
         Image.fromarray(mask.astype(np.uint16)).save(tmp, format="PNG")
+    npath = folder / f"camera{j}.depth.npy"
+    with atomic_write(npath, "wb") as fh:
+        np.save(fh, depth.values.astype(np.float32))
+    dpath = folder / f"camera{j}.depth.png"
+    with atomic_path(dpath) as tmp:
+        Image.fromarray(depth_png(depth)).save(tmp, format="PNG")
     doc = coco([(f"camera{j}.png", mask, cats)])
+    doc["images"][0].update(depth_file=dpath.name, depth_near=depth.near,
+                            depth_far=depth.far)  # fmt: skip
     cpath = folder / f"camera{j}.coco.json"
     with atomic_write(cpath, "w") as fh:
         fh.write(json.dumps(doc))
-    return [("mask", "png", view, mpath), ("labels", "coco", view, cpath)]
+    clip = (depth.near, depth.far)
+    return [("mask", "png", view, mpath, None), ("depth", "npy", view, npath, clip),
+            ("depth", "png", view, dpath, clip), ("labels", "coco", view, cpath, None)]
 
 
 def run_batch(plan: Plan, out, *, scheduler: str | None = None, workers: int | None = None,
@@ -228,9 +251,13 @@ def run_batch(plan: Plan, out, *, scheduler: str | None = None, workers: int | N
     """Run every item of ``plan`` as a Dask task; write ``out/manifest.parquet``.
 
     With ``labels``, every render also gets its per-organ instance mask
-    (``cameraJ.mask.png``, 16-bit organ ids, 0 the background) and a COCO annotation file
-    (``cameraJ.coco.json``: categories branch, leaf, flower; RLE masks), see
-    :mod:`sylva._labels`.
+    (``cameraJ.mask.png``, 16-bit organ ids, 0 the background), its depth and a COCO
+    annotation file (``cameraJ.coco.json``: categories branch, leaf, flower; RLE masks),
+    see :mod:`sylva._labels`.  The depth is the distance from the eye along the view axis
+    in the plant's units (metres for species sized in metres): ``cameraJ.depth.npy``
+    (float32, 0 the background) and ``cameraJ.depth.png`` (16-bit: 0 the background,
+    ``v`` → ``near + (v − 1) / 65534 · (far − near)``); the manifest rows of both (kind
+    ``depth``) and the COCO image entry (``depth_near``, ``depth_far``) give near and far.
 
     Returns
     -------
@@ -257,7 +284,7 @@ def run_batch(plan: Plan, out, *, scheduler: str | None = None, workers: int | N
         ("format", pa.string()), ("yaw", pa.float32()), ("pitch", pa.float32()),
         ("path", pa.string()), ("modules", pa.int64()), ("segments", pa.int64()),
         ("leaves", pa.int64()), ("triangles", pa.int64()),
-        ("seconds", pa.float64()),
+        ("seconds", pa.float64()), ("near", pa.float64()), ("far", pa.float64()),
     ]))  # fmt: skip
     manifest = out / "manifest.parquet"
     with atomic_path(manifest) as tmp:

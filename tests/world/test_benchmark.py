@@ -11,6 +11,8 @@ def test_benchmark_smoke(capsys):
     assert main(["--size", "48x32", "--chunk", "16", "--sample", "2", "--workers", "1",
                  "--block", "16"]) == 0
     out = capsys.readouterr().out
-    for label in ("serial :", "block  :", "sync   :", "dask 1 :", "speed-up", "overhead:"):
+    for label in ("before :", "serial :", "block  :", "sync   :", "dask 1 :", "speed-up",
+                  "overhead:"):
         assert label in out
     assert "chunks/s" in out and "M blocks/s" in out and "peak RSS" in out
+    assert "task " in out and "CPU " in out and "ms/chunk" in out

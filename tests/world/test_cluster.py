@@ -170,3 +170,89 @@ def test_bad_scheduler_address():
         pass
     with pytest.raises(SylvaError, match="at least 1"), connect(workers=0):
         pass
+
+
+def test_a_killed_client_leaves_a_store_that_resume_completes(serial, tmp_path):
+    """The generating process is SIGKILLed mid-run (no cleanup of any kind): the chunks it
+    finished stay, a half-written one is not counted, and --resume completes the store
+    into the serial one, byte for byte."""
+    import subprocess
+    import sys
+    import time
+
+    path = tmp_path / "w.zarr"
+    code = ("from sylva.world import World, WorldConfig; "
+            f"World(WorldConfig(seed={CFG.seed}, chunk_size={CFG.chunk_size}), "
+            f"size={SIZE}).generate({str(path)!r}, workers=1, block_columns={BLOCK})")
+    proc = subprocess.Popen([sys.executable, "-c", code], env={**os.environ,
+                            "PYTHONPATH": str(Path(__file__).parents[2] / "src")})  # fmt: skip
+    try:
+        deadline = time.monotonic() + 240
+        while time.monotonic() < deadline and proc.poll() is None:
+            if len(list((path / "done").glob("b_*.json"))) >= 4:
+                break
+            time.sleep(0.02)
+        assert proc.poll() is None, "the run ended before it could be killed"
+        os.kill(proc.pid, signal.SIGKILL)
+    finally:
+        proc.wait(timeout=60)
+    part = open_world(path)
+    left = len(part.missing())
+    assert not part.complete and 0 < left <= 12
+    store = World(CFG, size=SIZE).generate(path, workers=1, block_columns=BLOCK, resume=True)
+    assert store.complete
+    _assert_same_store(serial, path)
+
+
+def test_a_full_disk_leaves_a_store_that_resume_completes(serial, tmp_path, monkeypatch):
+    """The disk fills while the 6th block writes its tables (ENOSPC from the Parquet
+    writer): the run stops with that error, the block is not counted, and a resumed run
+    completes the store into the serial one."""
+    import errno
+
+    import pyarrow.parquet as pq
+
+    real = pq.write_table
+    calls = []
+
+    def full(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 11:  # two tables a block: the 6th block's first
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(pq, "write_table", full)
+    path = tmp_path / "w.zarr"
+    with pytest.raises(OSError, match="No space left"):
+        World(CFG, size=SIZE).generate(path, workers=1, block_columns=BLOCK)
+    monkeypatch.setattr(pq, "write_table", real)
+    part = open_world(path)
+    assert not part.complete and len(part.missing()) == 11
+    store = World(CFG, size=SIZE).generate(path, workers=1, block_columns=BLOCK, resume=True)
+    assert store.complete
+    _assert_same_store(serial, path)
+
+
+def test_batch_renders_in_the_worker_processes(cluster, tmp_path):
+    """``sylva batch`` on the 2-process cluster: every worker renders with its own GL
+    context (made in that process); the files (GLB, render, mask, depths, COCO) equal those
+    of the in-process run, byte for byte."""
+    import pyarrow.parquet as pq
+
+    from sylva.batch import parse_plan, run_batch
+
+    address, client = cluster
+    plan = parse_plan('[output]\nformats = ["glb"]\nsize = [48, 32]\n[[plant]]\n'
+                      'source = "abop-1.24a-plant"\nseeds = [1]\nsteps = [1, 2, 3, 4]\n'
+                      'cameras = [{yaw = 30, pitch = 20}]\n')  # fmt: skip
+    from distributed import get_task_stream
+
+    a = run_batch(plan, tmp_path / "a", workers=1, labels=True)
+    with get_task_stream(client) as ts:
+        b = run_batch(plan, tmp_path / "b", scheduler=address, labels=True)
+    assert a["files"] == b["files"] == 4 * 6  # glb, render, mask, 2 depths, coco
+    for r in pq.read_table(a["manifest"]).to_pylist():
+        assert (tmp_path / "a" / r["path"]).read_bytes() == (
+            tmp_path / "b" / r["path"]).read_bytes(), r["path"]
+    # both workers rendered (each in its own context)
+    assert len({t["worker"] for t in ts.data if "_item_task" in str(t["key"])}) == 2

@@ -1,6 +1,7 @@
 """3D Tiles output: the tileset's structure, the Khronos validator on every tile, and a load
 of the whole tileset in headless Chromium with three.js' GLTFLoader (the loader 3D Tiles
-renderers for three.js use for glTF content), walking the tree as a tiles loader does."""
+renderers for three.js use for glTF content), walking the tree as a tiles loader does.
+The coarse tile holds coarser terrain and the larger plants as instanced impostors."""
 
 import json
 import shutil
@@ -10,8 +11,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from sylva._impostor import world_impostor
 from sylva.cli import main
 from sylva.world import World, WorldConfig
+from sylva.world.plants import PlantLibrary
 from sylva.world.tiles import plan_tiles, write_tileset
 
 NODE_DIR = Path(__file__).parents[1] / "geometry" / "_node"
@@ -24,7 +27,8 @@ def tileset(tmp_path_factory):
     root = tmp_path_factory.mktemp("tiles")
     store = World(WorldConfig(seed=21, chunk_size=16), size=(64, 48)).generate(
         root / "w.zarr", workers=1)
-    info = write_tileset(store, root / "out", leaf_columns=32, workers=1)
+    info = write_tileset(store, root / "out", leaf_columns=32, workers=1,
+                         impostor=world_impostor(size=32))
     doc = json.loads((root / "out" / "tileset.json").read_text())
     return store, root / "out", doc, info
 
@@ -87,8 +91,53 @@ def test_tileset_structure(tileset):
             assert np.all(np.abs(t - c) <= h + 1e-3), (uri, box)
             checked += len(p)
         assert checked
-        used = doc_glb.get("extensionsUsed", [])
-        assert ("EXT_mesh_gpu_instancing" in used) == (depth == 1)
+        assert "EXT_mesh_gpu_instancing" in doc_glb.get("extensionsUsed", [])
+
+
+def _instanced(doc) -> dict[str, int]:
+    return {n["name"]: doc["accessors"][
+        n["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"]]["count"]
+        for n in doc["nodes"] if "EXT_mesh_gpu_instancing" in n.get("extensions", {})}
+
+
+def test_coarse_tile_has_coarser_terrain_and_impostors(tileset):
+    """The root (2 columns a sample, geometric error 2): its terrain has fewer triangles
+    than the leaves' together, and every plant of at least 2 blocks is one instance of its
+    model's impostor (textured, alpha-tested crossed quads); grass and smaller plants are
+    left out, the leaves keep every plant."""
+    store, out, doc, info = tileset
+    root = doc["root"]
+    assert root["geometricError"] == 2.0
+    coarse, binary = _glb(out / root["content"]["uri"])
+    leaves = [_glb(out / k["content"]["uri"])[0] for k in root["children"]]
+
+    def terrain_triangles(d):
+        return sum(d["accessors"][p["indices"]]["count"] // 3 for n in d["nodes"]
+                   if "mesh" in n and "extensions" not in n
+                   for p in d["meshes"][n["mesh"]]["primitives"])  # fmt: skip
+
+    assert 0 < 2 * terrain_triangles(coarse) < sum(terrain_triangles(d) for d in leaves)
+    lib = PlantLibrary.for_config(store.config)
+    plants = store.plants().column("model").to_pylist()
+    sizes = {k: float(np.max(np.ptp(lib.model(k).bounds(), axis=0))) for k in set(plants)}
+    want: dict[str, int] = {}
+    for k in plants:
+        if not k.startswith("grass#") and sizes[k] >= 2.0:
+            want[f"{k}#impostor"] = want.get(f"{k}#impostor", 0) + 1
+    got = _instanced(coarse)
+    assert got == want and sum(want.values()) == info["impostors"] > 10
+    assert len(want) == len({k for k in plants if not k.startswith("grass#")
+                             and sizes[k] >= 2.0}) < len(set(plants))  # fmt: skip
+    for n in coarse["nodes"]:
+        if n["name"].endswith("#impostor"):
+            (prim,) = coarse["meshes"][n["mesh"]]["primitives"]
+            mat = coarse["materials"][prim["material"]]
+            assert mat["alphaMode"] == "MASK" and mat["doubleSided"]
+            assert "baseColorTexture" in mat["pbrMetallicRoughness"]
+            assert coarse["accessors"][prim["indices"]]["count"] == 3 * 4  # two quads
+    # the leaves: every plant at full detail, no impostor
+    assert sum(sum(_instanced(d).values()) for d in leaves) == store.n_plants
+    assert not any(k.endswith("#impostor") for d in leaves for k in _instanced(d))
 
 
 def _world_space_accessors(doc) -> list[int]:
@@ -147,15 +196,15 @@ walk(ts.root, 0, out).then(() => { window.result = out; },
 </script>"""
 
 
-def test_tileset_loads_in_chromium(tileset):
+def _browse(out: Path, files: dict):
+    """Serve ``files`` and the tileset folder at http://tiles.test/, open index.html in
+    headless Chromium, and return its ``window.result``."""
     sync_api = pytest.importorskip("playwright.sync_api")
     if not Path(CHROMIUM).exists():
         pytest.skip(f"{CHROMIUM} is not installed")
-    store, out, doc, info = tileset
-    files = {"index.html": _PAGE.encode(), "three.js": THREE.read_bytes()}
 
     def serve(route):
-        name = route.request.url.split("://tiles.test/", 1)[1]
+        name = route.request.url.split("://tiles.test/", 1)[1].lstrip("/")
         body = files.get(name)
         if body is None and (out / name).is_file():
             body = (out / name).read_bytes()
@@ -174,15 +223,103 @@ def test_tileset_loads_in_chromium(tileset):
             page.route("http://tiles.test/**", serve)
             page.goto("http://tiles.test/index.html")
             page.wait_for_function("window.result !== undefined", timeout=60_000)
-            result = page.evaluate("window.result")
+            return page.evaluate("window.result")
         finally:
             browser.close()
+
+
+def test_tileset_loads_in_chromium(tileset):
+    store, out, doc, info = tileset
+    result = _browse(out, {"index.html": _PAGE.encode(), "three.js": THREE.read_bytes()})
     assert isinstance(result, list), result
     assert len(result) == info["tiles"] == 5
-    # the leaves hold every plant of the world, drawn as GPU instances
-    assert sum(r["instances"] for r in result) == store.n_plants == info["instances"]
+    # the leaves hold every plant of the world, drawn as GPU instances, the root the
+    # impostors of the larger ones
+    leaves = [r for r in result if r["depth"] == 1]
+    assert sum(r["instances"] for r in leaves) == store.n_plants
+    (root,) = [r for r in result if r["depth"] == 0]
+    assert root["instances"] == info["impostors"] > 0
+    assert store.n_plants + info["impostors"] == info["instances"]
     assert all(r["meshes"] >= 1 for r in result)
     assert {r["depth"] for r in result} == {0, 1}
+
+
+RENDERER = Path(__file__).parent / "_3dtiles"  # 3DTilesRendererJS, see VENDORED.txt
+
+_STREAM = """<!doctype html>
+<script type="importmap">{"imports": {"three": "./three.js",
+  "three/addons/loaders/GLTFLoader.js": "./gltf-shim.js",
+  "three/addons/utils/BufferGeometryUtils.js": "./bgu-shim.js"}}</script>
+<script type="module">
+import * as THREE from "three";
+import { TilesRenderer } from "./3dtr/index.three.js";
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+const errors = [];
+async function view(position, target) {
+  const tiles = new TilesRenderer(new URL("tileset.json", location.href).href);
+  const camera = new THREE.PerspectiveCamera(60, 4 / 3, 0.1, 100000);
+  camera.up.set(0, 0, 1);  // the tileset's frame is Z up
+  camera.position.set(...position);
+  camera.lookAt(new THREE.Vector3(...target));
+  camera.updateMatrixWorld();
+  tiles.setCamera(camera);
+  tiles.setResolution(camera, 800, 600);
+  const instances = {};
+  tiles.addEventListener("load-model", ({ scene, tile }) => {
+    const counts = {};  // a node of several primitives: one count for its group
+    scene.traverse((o) => {
+      if (o.isInstancedMesh) {
+        const p = o.parent;
+        counts[p && p.isGroup && p !== scene ? p.uuid : o.uuid] = o.count;
+      }
+    });
+    instances[tile.content.uri] = Object.values(counts).reduce((a, b) => a + b, 0);
+  });
+  tiles.addEventListener("load-error", (e) => errors.push(String(e.error) + " " + e.url));
+  for (let i = 0; i < 600; i++) {
+    tiles.update();
+    await sleep(25);
+    const s = tiles.stats;
+    if (i > 10 && s.downloading === 0 && s.parsing === 0 && s.queued === 0) break;
+  }
+  tiles.update();
+  const visible = [...tiles.visibleTiles].map((t) => t.content && t.content.uri).sort();
+  const out = { visible, instances, failed: tiles.stats.failed };
+  tiles.dispose();
+  return out;
+}
+try {
+  const [cx, cy] = FRAME;
+  const far = await view([cx, cy, 4000], [cx, cy, 0]);
+  const near = await view([cx, cy, 70], [cx, cy, 40]);
+  window.result = { far, near, errors };
+} catch (e) { window.result = String(e.stack || e); }
+</script>"""
+
+
+def test_tileset_streams_in_a_3d_tiles_renderer(tileset):
+    """NASA-AMMOS' 3DTilesRendererJS (a three.js 3D Tiles 1.1 loader, vendored) streams the
+    tileset in headless Chromium by screen-space error: from 4 km up it shows the root
+    alone (coarse terrain and impostors), from 70 m it replaces it by the four leaves."""
+    store, out, doc, info = tileset
+    box = doc["root"]["boundingVolume"]["box"]
+    page = _STREAM.replace("FRAME", json.dumps(box[:2]))
+    files = {"index.html": page.encode(), "three.js": THREE.read_bytes(),
+             "gltf-shim.js": b'export { GLTFLoader } from "three";',
+             "bgu-shim.js": b"export function estimateBytesUsed(g) { let n = 0; "
+                            b"for (const k in g.attributes) n += g.attributes[k].array"
+                            b".byteLength; return n + (g.index ? g.index.array.byteLength "
+                            b": 0); }"}  # fmt: skip
+    files |= {f"3dtr/{p.name}": p.read_bytes() for p in RENDERER.glob("*.js")}
+    result = _browse(out, files)
+    assert isinstance(result, dict), result
+    assert result["errors"] == [] and result["far"]["failed"] == result["near"]["failed"] == 0
+    root = doc["root"]["content"]["uri"]
+    leaves = sorted(k["content"]["uri"] for k in doc["root"]["children"])
+    assert result["far"]["visible"] == [root]
+    assert result["far"]["instances"] == {root: info["impostors"]}
+    assert result["near"]["visible"] == leaves
+    assert sum(result["near"]["instances"][u] for u in leaves) == store.n_plants
 
 
 def test_cli_3dtiles(tmp_path):

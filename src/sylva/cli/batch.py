@@ -35,7 +35,8 @@ def register(subparsers) -> None:
                    help="run on an existing Dask cluster (default $SYLVA_SCHEDULER)")
     p.add_argument("--labels", action="store_true",
                    help="also write, for every render, a per-organ instance mask (16-bit "
-                        "PNG) and COCO annotations (no depth images yet)")  # fmt: skip
+                        "PNG), its depth (metres along the view axis: float32 .npy and "
+                        "16-bit .png, near/far in the manifest) and COCO annotations")  # fmt: skip
     p.add_argument("--quiet", action="store_true", help="no progress output")
     p.set_defaults(func=run)
 

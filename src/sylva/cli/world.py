@@ -194,11 +194,14 @@ def _write(args, out: Path, kind: str, store, run, say, t0: float) -> None:
         say(f"wrote {out}: {len(store)} chunks, {store.n_plants} plant instances, "
             f"{n} plant models")  # fmt: skip
     elif kind == "3dtiles":
+        from .._impostor import world_impostor
         from ..world.tiles import write_tileset
 
         info = write_tileset(store, out, grass=not args.no_grass, progress=not args.quiet,
-                             runner=run)  # fmt: skip
-        say(f"wrote {out}/tileset.json: {info['tiles']} tiles in {info['levels']} levels")
+                             runner=run, impostor=world_impostor())  # fmt: skip
+        say(f"wrote {out}/tileset.json: {info['tiles']} tiles in {info['levels']} levels, "
+            f"{info['impostors']} far plants as impostors of {info['impostor_models']} "
+            "models")  # fmt: skip
     elif kind == "glb":
         from ..world.export import write_world_glb
 

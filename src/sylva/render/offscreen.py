@@ -48,7 +48,8 @@ from sylva.render.scene import (
 )
 from sylva.render.shadows import ShadowMap
 
-__all__ = ["DEFAULT_TILE", "Renderer", "parse_color", "render", "render_array", "save_image"]
+__all__ = ["DEFAULT_TILE", "DepthImage", "Renderer", "parse_color", "render", "render_array",
+           "save_image"]
 
 #: Where a sky's ground fade starts, as a fraction of the ground's half side (it ends at the
 #: edge, which is then exactly the horizon colour).
@@ -126,6 +127,36 @@ class _Frame:
     sky: Sky | None = None
     ground: GpuScene | None = None  # the ground plane, when the sky fades it
     fade: tuple[float, float, float, float] | None = None  # centre x, z; fade start, end
+    clip: tuple[float, float] = (0.0, 1.0)  # near and far planes
+
+
+@dataclass
+class DepthImage:
+    """The depth of each pixel of a render (``Renderer.render(..., depth=True)``).
+
+    Attributes
+    ----------
+    values : float32[h, w]
+        Distance from the eye along the view axis (the camera's backward axis reversed),
+        in scene units (metres for worlds and for species sized in metres), row 0 at the
+        top; 0 where nothing was drawn (the background).
+    near, far : float
+        The clip planes the image was drawn with (every drawn value lies between them).
+    """
+
+    values: np.ndarray
+    near: float
+    far: float
+
+
+def _linear_depth(d: np.ndarray, near: float, far: float, orthographic: bool) -> np.ndarray:
+    """View-axis distance of depth-buffer values ``d`` in [0, 1] (OpenGL's default range)."""
+    d = d.astype(np.float64)
+    if orthographic:
+        z = near + d * (far - near)
+    else:
+        z = 2.0 * far * near / ((far + near) - (2.0 * d - 1.0) * (far - near))
+    return np.where(d >= 1.0, 0.0, z).astype(np.float32)
 
 
 class Renderer:
@@ -276,10 +307,12 @@ class Renderer:
         tile_size: int | None = None,
         shadow_size: int = 2048,
         sky: Sky | bool | None = None,
+        depth: bool = False,
     ) -> np.ndarray:
         """Render to a ``uint8[h, w, 3]`` array (``[h, w, 4]`` when ``transparent``).
 
-        Parameters are those of :func:`render`.
+        Parameters are those of :func:`render`; ``depth=True`` (which needs ``msaa`` 0 or
+        1: a multisampled pixel has no one depth) returns ``(array, DepthImage)``.
         """
         w, h = _size(size)
         gpu = self.upload(scene)
@@ -301,6 +334,7 @@ class Renderer:
                 tile_size,
                 shadow_size,
                 sky,
+                depth,
             )
         finally:
             if owned:
@@ -323,8 +357,11 @@ class Renderer:
         tile_size,
         shadow_size,
         sky=None,
+        depth=False,
     ) -> np.ndarray:
         aspect = w / h
+        if depth and msaa > 1:
+            raise ValueError(f"depth=True needs msaa 0 or 1, got {msaa}")
         sky = _sky(sky)
         if camera is None or isinstance(camera, str):
             camera = Camera.auto(gpu.bounds, camera or "perspective", aspect=aspect)
@@ -364,6 +401,7 @@ class Renderer:
             extent = max(float(np.max(gpu.bounds[1] - gpu.bounds[0])), 1e-6)
             frame = _Frame(view_proj, camera, sun, points, shadow, lit, textures, 20.0 / extent)
             frame.aspect, frame.sky = aspect, sky
+            frame.clip = (near, far)
             if fading and ground_gpu is not None:
                 gb = ground_gpu.bounds
                 half = 0.5 * float(max(gb[1, 0] - gb[0, 0], gb[1, 2] - gb[0, 2]))
@@ -376,7 +414,8 @@ class Renderer:
             limit = min(int(tile_size or DEFAULT_TILE), self.max_size)
             if limit < 1:
                 raise ValueError(f"tile_size must be ≥ 1, got {tile_size}")
-            return self._tiles(frame, [gpu, ground_gpu], w, h, limit, samples, clear, transparent)
+            return self._tiles(frame, [gpu, ground_gpu], w, h, limit, samples, clear, transparent,
+                               depth)
         finally:
             if ground_gpu is not None:
                 ground_gpu.release()
@@ -409,11 +448,13 @@ class Renderer:
         gpu._shadow_cache["sun"] = shadow
         return shadow
 
-    def _tiles(self, frame, gpus, w, h, limit, samples, clear, transparent) -> np.ndarray:
+    def _tiles(self, frame, gpus, w, h, limit, samples, clear, transparent,
+               depth=False) -> np.ndarray:  # fmt: skip
         tw, th = min(w, limit), min(h, limit)
         fbo, _, _, resolve = self._target(tw, th, samples)
         comps = 4 if transparent else 3
         out = np.empty((h, w, comps), np.uint8)
+        zbuf = np.empty((h, w), np.float32) if depth else None
         for y0 in range(0, h, th):
             for x0 in range(0, w, tw):
                 cw, ch = min(tw, w - x0), min(th, h - y0)
@@ -432,7 +473,17 @@ class Renderer:
                 pixels = np.frombuffer(data, np.uint8).reshape(ch, cw, comps)
                 # GL rows run bottom-up: flip each tile into its place
                 out[h - y0 - ch : h - y0, x0 : x0 + cw] = pixels[::-1]
-        return _unpremultiply(out) if transparent else out
+                if zbuf is not None:  # the tile frustum shifts x and y only: depth is kept
+                    z = fbo.read(viewport=(0, 0, cw, ch), components=1, attachment=-1, alignment=1,
+                                 dtype="f4")  # fmt: skip
+                    zbuf[h - y0 - ch : h - y0, x0 : x0 + cw] = np.frombuffer(
+                        z, np.float32).reshape(ch, cw)[::-1]
+        image = _unpremultiply(out) if transparent else out
+        if zbuf is None:
+            return image
+        near, far = frame.clip
+        return image, DepthImage(_linear_depth(zbuf, near, far, frame.camera.orthographic),
+                                 float(near), float(far))
 
     def _draw_sky(self, frame: _Frame, tile: np.ndarray) -> None:
         """Fill the tile with the sky gradient (no depth: the scene is drawn over it)."""

@@ -9,8 +9,14 @@
 * each **coarser level** halves the resolution: a tile of level ``L`` (``f = 2^(leaf − L)``
   columns per sample) holds the skin of the store's voxels sampled every ``f`` voxels on
   each axis, scaled back by ``f`` — the same number of voxels as a leaf, over ``f²`` times
-  the area — and no plants (impostors will come with the LOD work); its
-  ``geometricError`` is ``f`` (blocks, i.e. metres), and children ``REPLACE`` it.
+  the area — and, given an ``impostor`` baker, the plants at least ``f`` blocks in size
+  (their largest extent) as **impostors**: crossed quads textured with the plant baked
+  from two sides (:func:`sylva._impostor.world_impostor`; colour and alpha, alpha-tested),
+  one ``EXT_mesh_gpu_instancing`` mesh per plant model, baked once per model (a Dask task
+  each) and embedded in each tile that shows it; grass and smaller plants are left out.
+  Its ``geometricError`` is ``f`` (blocks, i.e. metres): the terrain sampled every ``f``
+  blocks is off by less than ``f``, and so is a left-out plant (smaller than ``f``); the
+  impostor's parallax is not counted.  Children ``REPLACE`` it.
 
 Tile content is glTF 2.0 binary (3D Tiles 1.1 takes glTF directly): +Y up, as glTF
 wants; the tileset's bounding boxes are in the tileset's Z-up frame (the glTF ``y`` is the
@@ -86,6 +92,29 @@ def _materials(folder: Path):
     return tile_materials({t: str(folder / "textures" / f"{t}.png") for t in TEXTURES})
 
 
+def _impostor_task(job) -> dict:
+    """One Dask task: bake the impostors of some plant models; ``{key: (size, quads)}``."""
+    from .plants import PlantLibrary
+
+    path, out, keys, impostor = job
+    store = WorldStore(path)
+    lib = PlantLibrary.for_config(store.config)
+    lib.materials = _materials(Path(out))
+    res = {}
+    for key in keys:
+        mesh = lib.model(key)
+        if mesh.n_triangles == 0:
+            continue
+        b = mesh.bounds()
+        size = float(np.max(b[1] - b[0]))
+        if size < 2:  # too small for the finest coarse level (f = 2)
+            continue
+        quads = impostor(key, mesh, Path(out) / "textures")
+        if quads is not None:
+            res[key] = (size, quads)
+    return res
+
+
 def _leaf(store: WorldStore, t: dict, materials, grass: bool):
     from .plants import PlantLibrary
 
@@ -100,6 +129,16 @@ def _leaf(store: WorldStore, t: dict, materials, grass: bool):
         rot = group.rotation() if key.startswith("grass#") else None
         inst.append(InstancedMesh(lib.model(key), group.translation, rot, name=key))
     return terrain, inst
+
+
+def _far_plants(store: WorldStore, t: dict, f: int, impostors: dict) -> list:
+    """The impostors of the plants of at least ``f`` blocks standing in the tile."""
+    keep = {k: q for k, (size, q) in impostors.items() if size >= f}
+    if not keep:
+        return []
+    region = store[t["x0"] : t["x1"], t["z0"] : t["z1"]]
+    return [InstancedMesh(keep[key], group.translation, None, name=f"{key}#impostor")
+            for key, group in region.instances().items() if key in keep]  # fmt: skip
 
 
 def _coarse(store: WorldStore, t: dict, f: int, materials):
@@ -122,7 +161,7 @@ def _coarse(store: WorldStore, t: dict, f: int, materials):
 
 def _tile_task(job) -> dict:
     """One Dask task: the content of one tile."""
-    path, out, t, levels, grass = job
+    path, out, t, levels, grass, impostors = job
     store = WorldStore(path)
     out = Path(out)
     materials = _materials(out)
@@ -130,11 +169,15 @@ def _tile_task(job) -> dict:
     if f == 1:
         terrain, inst = _leaf(store, t, materials, grass)
     else:
-        terrain, inst = _coarse(store, t, f, materials), []
+        terrain, inst = _coarse(store, t, f, materials), _far_plants(store, t, f, impostors)
     n_inst = sum(len(i) for i in inst)
-    res = {**t, "triangles": int(terrain.n_triangles), "instances": n_inst, "uri": None}
+    res = {**t, "triangles": int(terrain.n_triangles), "instances": n_inst, "uri": None,
+           "impostors": n_inst if f > 1 else 0}  # fmt: skip
     pts = [terrain.vertices] if terrain.n_triangles else []
-    pts += [i.translation for i in inst if len(i)]
+    for i in inst:  # each instance's model box (a crown reaches past its column)
+        if len(i) and i.mesh.n_vertices:
+            b = i.mesh.bounds().astype(np.float64)
+            pts += [i.translation + b[0], i.translation + b[1]]
     if pts:  # the content's extent (coarse samples may pass the world's edge)
         p = np.concatenate([np.asarray(q, np.float64).reshape(-1, 3) for q in pts])
         lo, hi = p.min(0), p.max(0)
@@ -160,7 +203,8 @@ def _box(t: dict, height: float) -> list[float]:
 
 def write_tileset(store: WorldStore, out, *, leaf_columns: int | None = None,
                   scheduler: str | None = None, workers: int | None = None,
-                  grass: bool = True, progress=False, runner=None) -> dict:  # fmt: skip
+                  grass: bool = True, progress=False, runner=None,
+                  impostor=None) -> dict:  # fmt: skip
     """Write ``store`` as a 3D Tiles 1.1 tileset in the folder ``out``.
 
     Parameters
@@ -177,11 +221,18 @@ def write_tileset(store: WorldStore, out, *, leaf_columns: int | None = None,
     progress : bool or callable
     runner : sylva.cluster.Runner, optional
         Run on this runner instead of connecting for this call.
+    impostor : callable, optional
+        ``impostor(key, mesh, folder) -> Mesh or None``: the impostor of a plant model
+        (crossed quads whose material's ``texture`` is an image file in ``folder``), made
+        above this package (it renders: :func:`sylva._impostor.world_impostor`; the CLI
+        passes it).  Without it the coarse levels hold terrain only.
 
     Returns
     -------
     dict
-        ``levels``, ``tiles`` (with content), ``triangles``, ``instances``.
+        ``levels``, ``tiles`` (with content), ``triangles``, ``instances`` (impostors
+        included), ``impostors`` (instances drawn as impostors in the coarse levels) and
+        ``impostor_models``.
     """
     from ..cluster import using
     from .atlas import make_atlas
@@ -193,9 +244,17 @@ def write_tileset(store: WorldStore, out, *, leaf_columns: int | None = None,
     levels, tiles = plan_tiles(store, leaf)
     make_folder(out)
     make_atlas(32, store.config.seed).save_tiles(out / "textures")
-    jobs = [(str(store.path), str(out), t, levels, grass) for t in tiles]
+    keys = [k for k in store.manifest.get("models", []) if not k.startswith("grass#")]
+    bake = [] if impostor is None or levels < 2 else [
+        (str(store.path), str(out), keys[i : i + 4], impostor) for i in range(0, len(keys), 4)]
     results = {}
-    with using(runner, scheduler, workers=workers, tasks=len(jobs)) as run:
+    impostors: dict = {}
+    with using(runner, scheduler, workers=workers, tasks=len(tiles) + len(bake)) as run:
+        if bake:
+            make_folder(out / "textures")
+            for r in run.map(_impostor_task, bake, progress=progress, unit="bake"):
+                impostors.update(r)
+        jobs = [(str(store.path), str(out), t, levels, grass, impostors) for t in tiles]
         for r in run.map(_tile_task, jobs, progress=progress, unit="tile"):
             results[(r["level"], r["i"], r["j"])] = r
     height = float(store.config.height + PLANT_HEADROOM)
@@ -227,4 +286,6 @@ def write_tileset(store: WorldStore, out, *, leaf_columns: int | None = None,
     with_content = [r for r in results.values() if r["uri"]]
     return {"levels": levels, "tiles": len(with_content),
             "triangles": sum(r["triangles"] for r in with_content),
-            "instances": sum(r["instances"] for r in with_content)}  # fmt: skip
+            "instances": sum(r["instances"] for r in with_content),
+            "impostors": sum(r["impostors"] for r in with_content),
+            "impostor_models": len(impostors)}  # fmt: skip

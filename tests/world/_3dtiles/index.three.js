@@ -1,0 +1,2 @@
+import { _ as e, a as t, c as n, d as r, f as i, g as a, h as o, i as s, l as c, m as l, n as u, p as d, r as f, s as p, t as m, u as h, v as g } from "./renderer-CUfHAmYW.js";
+export { g as B3DMLoader, i as CAMERA_FRAME, c as CMPTLoader, m as CameraTransitionManager, d as ENU_FRAME, l as Ellipsoid, p as EllipsoidRegion, f as EnvironmentControls, a as GeoUtils, u as GlobeControls, h as I3DMLoader, t as MemoryUtils, n as OBB, o as OBJECT_FRAME, e as PNTSLoader, s as TilesRenderer, r as WGS84_ELLIPSOID };
