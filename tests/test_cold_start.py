@@ -255,3 +255,129 @@ def test_a_road_runs_small_calls_interpreted_until_the_kernel_compiles(tmp_path,
     with _jit.small(False):
         assert k3.total(np.ones(4)) == 4.0 and real3.total.signatures
         assert not _jit.interpreting(k3, "total")
+
+
+# ------------------------------------------------------------ noise and worlds (issue 25)
+_COLD_WORLD = (
+    "import json, collections\n"
+    "from numba.core import event\n"
+    "seen = collections.Counter()\n"
+    "class L(event.Listener):\n"
+    "    def on_start(self, ev):\n"
+    "        f = ev.data['dispatcher'].py_func\n"
+    "        seen[f.__module__ + '.' + f.__name__] += 1\n"
+    "    def on_end(self, ev):\n"
+    "        pass\n"
+    "event.register('numba:compile', L())\n"
+    "import numpy as np\n"
+    "from sylva.texture import fbm, marble, noise_grid\n"
+    "from sylva.world import World, WorldConfig, tile_image\n"
+    "store = World(WorldConfig(seed=3, vegetation=False), size=(32, 32)).generate()\n"
+    "quads = store.n_quads\n"
+    "store.close()\n"
+    "m = marble((64, 64), seed=2)\n"
+    "tiles = [tile_image(n, 32, 3) for n in ('stone', 'water', 'leaves', 'gravel', 'dirt')]\n"
+    "v = fbm(np.arange(50.0) / 7, np.arange(50.0) / 9, kind='perlin', octaves=3)\n"
+    "print(json.dumps({'compiled': sorted(k for k in seen if k.startswith('sylva')),\n"
+    "                  'quads': quads, 'ptp': float(np.ptp(m)),\n"
+    "                  'tiles': [int(t[..., :3].std() > 1) for t in tiles]}))\n"
+)
+
+
+def test_a_first_small_world_and_noise_on_a_cold_cache_compile_only_the_mesher(tmp_path):
+    # the noise grids, the lattice fBm at points, the atlas's Worley and simplex tiles and
+    # the terrain kernels take the interpreted roads; greedy meshing alone compiles (a
+    # voxel loop too long for Python); it was 60 s of compiling (issue 25)
+    proc = _python(_COLD_WORLD, NUMBA_CACHE_DIR=str(tmp_path / "numba-cache"))
+    assert proc.returncode == 0, proc.stderr
+    got = json.loads(proc.stdout)
+    assert got["compiled"] == ["sylva.world._kernels._face_tex",
+                               "sylva.world._kernels._visible",
+                               "sylva.world._kernels.greedy_quads"]  # fmt: skip
+    assert got["quads"] > 100 and got["ptp"] > 0.5 and got["tiles"] == [1] * 5
+
+
+def _noise_cases():
+    import numpy as np
+
+    from sylva.texture import fbm, noise_grid, ridged, turbulence
+
+    rng = np.random.default_rng(1)
+    p = [rng.uniform(-40, 40, 300) for _ in range(4)]
+    out = []
+    for kind in ("value", "perlin", "improved"):
+        for f, interp, nd, period in [(fbm, None, 2, None), (turbulence, "cosine", 3, 8),
+                                      (ridged, "linear", 4, None), (fbm, "quintic", 2, 5),
+                                      (ridged, "cubic", 3, None)]:  # fmt: skip
+            per = None if period is None else (period,) * nd
+            out.append(f(*p[:nd], kind=kind, octaves=4, seed=5, interpolation=interp,
+                         period=per, dtype=np.float64))  # fmt: skip
+        out.append(fbm(0.3, 0.7, kind=kind, octaves=3))  # a scalar
+        for shape, tile, fractal in [((33, 47), True, "fbm"), ((5, 9, 11), False, "ridged")]:
+            out.append(noise_grid(shape, kind=kind, fractal=fractal, octaves=3, seed=2,
+                                  tileable=tile, dtype=np.float64))  # fmt: skip
+    for kind, shape, tile, output in [("worley", (17, 23), True, "f2-f1"),
+                                      ("worley", (4, 5, 6), False, "cell"),
+                                      ("simplex", (19, 21), True, "f1"),
+                                      ("simplex", (4, 5, 6), False, "f1"),
+                                      ("value", (2, 3, 4, 5), False, "f1")]:  # fmt: skip
+        out.append(noise_grid(shape, kind=kind, octaves=2, seed=4, tileable=tile,
+                              output=output, dtype=np.float64))  # fmt: skip
+    return out
+
+
+def test_the_cold_noise_roads_equal_the_compiled_ones(monkeypatch):
+    # lattice noise by its source on whole arrays, simplex and Worley grids by their source
+    # sample by sample: the compiled kernels' values bit for bit (float64)
+    import numpy as np
+
+    from sylva.texture import noise_grid
+
+    monkeypatch.setenv("SYLVA_JIT", "never")
+    cold = _noise_cases()
+    cold32 = noise_grid((20, 30), kind="improved", octaves=3, seed=1)
+    monkeypatch.setenv("SYLVA_JIT", "always")
+    warm = _noise_cases()
+    warm32 = noise_grid((20, 30), kind="improved", octaves=3, seed=1)
+    assert len(cold) == len(warm) == 29
+    for i, (a, b) in enumerate(zip(cold, warm, strict=True)):
+        np.testing.assert_array_equal(a, b, err_msg=str(i))
+    # float32 output: the float64 road rounded once against the float32 kernels
+    assert cold32.dtype == warm32.dtype == np.float32
+    np.testing.assert_allclose(cold32, warm32, rtol=0, atol=5e-7)
+
+
+def test_a_small_world_is_the_same_on_both_roads(monkeypatch):
+    import numpy as np
+
+    from sylva import _jit
+    from sylva.data import find
+    from sylva.lsystem import load
+    from sylva.world import WorldConfig, tile_image
+    from sylva.world.chunks import generate_chunks
+    from sylva.world.executor import grow
+
+    def make():
+        cfg = WorldConfig(seed=3, chunk_size=16)
+        with _jit.small(True):  # as World.generate of a small world
+            chunks = generate_chunks(cfg, 0, 0, 2, 2, keep_voxels=True)
+        tiles = [tile_image(n, 16, 3) for n in ("stone", "water", "leaves_birch")]
+        acacia = load(find("acacia").path, dialect="engine")  # blocks' containment test
+        blocks = grow(acacia, 1234, derivations=4, optimize=True)
+        return chunks, tiles, blocks
+
+    monkeypatch.setenv("SYLVA_JIT", "never")
+    cold = make()
+    monkeypatch.setenv("SYLVA_JIT", "always")
+    warm = make()
+    for a, b in zip(cold[0], warm[0], strict=True):
+        for attr in ("height", "humidity", "temperature", "biome", "quads", "voxels"):
+            np.testing.assert_array_equal(getattr(a, attr), getattr(b, attr), err_msg=attr)
+        for attr in ("keys", "position", "yaw", "column"):
+            np.testing.assert_array_equal(getattr(a.plants, attr), getattr(b.plants, attr))
+    assert sum(len(c.plants.keys) for c in warm[0]) > 0
+    for a, b in zip(cold[1], warm[1], strict=True):
+        np.testing.assert_array_equal(a, b)
+    assert len(warm[2]) > 10
+    for attr in ("center", "size", "buffer"):
+        np.testing.assert_array_equal(getattr(cold[2], attr), getattr(warm[2], attr))

@@ -32,6 +32,7 @@ from types import ModuleType
 __all__ = [
     "KERNEL_MODULES",
     "announce",
+    "cold",
     "compiled",
     "interpreted",
     "interpreting",
@@ -242,26 +243,33 @@ def interpreted(name: str, deps: tuple[str, ...] = ()) -> ModuleType:
 
     The copy executes the module's source with numba's ``DISABLE_JIT`` on (``njit`` then
     returns the function it decorates), while the sylva kernel modules in ``deps`` that it
-    imports are themselves interpreted copies.  A module may name, in ``_INTERPRETED``,
-    Python stand-ins for kernels that cannot run as Python (numba intrinsics): ``{kernel:
-    stand-in}``.  The real module is not touched; copies are made once per process.
+    imports are themselves interpreted copies (each dep's copy with the deps listed before
+    it).  A module may name, in ``_INTERPRETED``, Python stand-ins for kernels or names
+    that cannot run as Python, or not on whole arrays (numba intrinsics, ``math``):
+    ``{name: stand-in}``.  The real module is not touched; copies are made once per
+    process.
     """
     with _copy_lock:
         mod = _copies.get(name)
         if mod is not None:
             return mod
-        for dep in deps:
-            interpreted(dep)
+        for i, dep in enumerate(deps):  # a dep may import those before it (in that order)
+            interpreted(dep, deps[:i])
         from numba.core import config
 
         spec = importlib.util.find_spec(name)
         mod = importlib.util.module_from_spec(spec)
         saved = {d: sys.modules.get(d) for d in deps}
+        # ``from . import dep`` reads the package's attribute, not sys.modules
+        parents = {d: sys.modules.get(d.rpartition(".")[0]) for d in deps}
+        attrs = {d: vars(p).get(d.rpartition(".")[2]) for d, p in parents.items() if p}
         old = config.DISABLE_JIT
         config.DISABLE_JIT = True
         try:
             for d in deps:
                 sys.modules[d] = _copies[d]
+                if parents[d] is not None:
+                    setattr(parents[d], d.rpartition(".")[2], _copies[d])
             spec.loader.exec_module(mod)
         finally:
             config.DISABLE_JIT = old
@@ -270,6 +278,14 @@ def interpreted(name: str, deps: tuple[str, ...] = ()) -> ModuleType:
                     sys.modules.pop(d, None)
                 else:
                     sys.modules[d] = m
+            for d, p in parents.items():
+                if p is None:
+                    continue
+                leaf = d.rpartition(".")[2]
+                if attrs.get(d) is None:
+                    p.__dict__.pop(leaf, None)
+                else:
+                    setattr(p, leaf, attrs[d])
         for kernel, stand_in in getattr(mod, "_INTERPRETED", {}).items():
             setattr(mod, kernel, getattr(mod, stand_in))
         _copies[name] = mod
@@ -408,6 +424,27 @@ def interpreting(kernels: ModuleType, *attrs: str) -> bool:
         return False
     real = importlib.import_module(kernels.__name__)
     return any(kernels._pick(a) is not getattr(real, a) for a in attrs)
+
+
+_warm: dict[int, bool] = {}
+
+
+def cold(kernel, work: int, size: int) -> bool:
+    """Whether a call that would run ``kernel`` (a numba dispatcher) on ``work`` units
+    should take an interpreted road instead: while the kernel is neither compiled in this
+    process nor in numba's disk cache and ``work`` is at most ``size`` (outside
+    :func:`compiled`); always under ``SYLVA_JIT=never``, never under ``SYLVA_JIT=always``.
+    For callers that run a kernel module's source on whole arrays (the lattice noises)
+    rather than through :func:`road`."""
+    env, mode = os.environ.get("SYLVA_JIT", ""), _small.get()
+    if env == "never" or mode == "all":
+        return True
+    if env == "always" or mode == "off" or work > size:
+        return False
+    warm = _warm.get(id(kernel))
+    if warm is None or (not warm and kernel.signatures):
+        warm = _warm[id(kernel)] = _kernel_cached(kernel)
+    return not warm
 
 
 def _is_kernel(fn) -> bool:

@@ -1,6 +1,14 @@
 """The plan of a noise grid: what :func:`~sylva.texture.noise_grid` derives from its arguments
 before it samples (private; shared with the texture graph, whose generator nodes sample
-exactly these coordinates)."""
+exactly these coordinates), and the cold road of lattice noise on whole arrays.
+
+The cold road: while the compiled noise drivers are not cached (a fresh install), a
+fractal sum of value, classic or improved Perlin noise of at most :data:`ARRAY_WORK`
+samples × octaves runs the kernels' own Python source (:func:`sylva._jit.interpreted`) on
+NumPy arrays of all the coordinates at once (:func:`fractal_arrays`) instead of waiting
+tens of seconds for numba: the source is arithmetic, ``math.floor`` and table indexing,
+which NumPy evaluates element-wise in the same IEEE operations, so the values are the
+compiled road's bit for bit (``tests/test_cold_start.py``)."""
 
 from __future__ import annotations
 
@@ -8,6 +16,24 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from .. import _jit
+
+#: The base noise kinds (``_kernels.VALUE, PERLIN, IMPROVED``) whose source runs on arrays.
+ARRAY_KINDS = (0, 1, 2)
+#: The most samples × octaves a call runs on the cold road (about a second of NumPy, against
+#: 10–25 s of compiling the drivers).
+ARRAY_WORK = 1 << 23
+#: Points evaluated together (bounds the temporaries: about 40 arrays of this many floats).
+ARRAY_BLOCK = 1 << 15
+_DEPS = ("sylva.texture._kernels", "sylva.texture._cellkernels")
+#: The most samples a grid kernel that cannot run on arrays (simplex, Worley, 4D, tileable
+#: simplex) runs by its Python source, sample by sample, while it is not compiled: 32²
+#: Worley takes about 30 ms so, against 10–20 s of compiling (the blocks of a world's atlas).
+SCALAR_WORK = 1 << 14
+#: The grid kernels and the noise drivers, on the interpreted road for small grids.
+GRID = _jit.road("sylva.texture._gridkernels", _DEPS, size=SCALAR_WORK)
+SAMPLING = _jit.road("sylva.texture._sampling", _DEPS, size=SCALAR_WORK)
 
 
 def grid_plan(shape, kind, fractal, scale, octaves, persistence, lacunarity, gain, seed,
@@ -116,3 +142,40 @@ class _GridPlan:
     gain: float
     cells: list
     offset: list
+
+
+def by_arrays(kind: int, work: int, kernel) -> bool:
+    """Whether ``work`` samples × octaves of noise ``kind``, which would run the compiled
+    ``kernel``, take the cold road of :func:`fractal_arrays`."""
+    return kind in ARRAY_KINDS and _jit.cold(kernel, work, ARRAY_WORK)
+
+
+def fractal_arrays(kind, mode, ndim, px, py, pz, pw, freqs, amps, offs, pers, interp, perm,
+                   perm12, vals, cg, wpar, norm, gain):
+    """:func:`sylva.texture._sampling.run_points` (the fractal sum at ``n`` points) by the
+    interpreted ``fractal_at`` on whole arrays, :data:`ARRAY_BLOCK` points at a time."""
+    fractal_at = _jit.interpreted("sylva.texture._sampling", _DEPS).fractal_at
+    n = px.shape[0]
+    out = np.empty(n)
+    with _jit._quiet():
+        for a in range(0, n, ARRAY_BLOCK):
+            b = min(n, a + ARRAY_BLOCK)
+            out[a:b] = fractal_at(kind, mode, ndim, px[a:b], py[a:b], pz[a:b], pw[a:b],
+                                  False, freqs, amps, offs, pers, interp, perm, perm12, vals,
+                                  cg, wpar, norm, gain)  # fmt: skip
+    return out
+
+
+def grid_arrays(plan: _GridPlan) -> np.ndarray:
+    """The float64 grid of ``plan`` (no warp, no torus) on the cold road: the grid's points
+    (those of the compiled grid kernels, which equal the point-wise ones) through
+    :func:`fractal_arrays`."""
+    s, t = plan.setup, plan.setup.tables
+    grids = np.meshgrid(*plan.axes[: plan.ndim][::-1], indexing="ij")[::-1]
+    pts = [g.ravel() for g in grids]
+    while len(pts) < 4:
+        pts.append(np.zeros(pts[0].shape[0]))
+    out = fractal_arrays(s.kind, plan.mode, plan.ndim, *pts, plan.freqs, plan.amps, plan.offs,
+                         plan.pers, s.interp, t.perm, t.perm12, t.values, t.gradients, s.wpar,
+                         plan.norm, plan.gain)  # fmt: skip
+    return out.reshape(plan.shape)

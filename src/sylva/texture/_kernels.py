@@ -550,3 +550,22 @@ def simplex4(x, y, z, w, perm):
     n += _s4corner(x0 - 1.0 + 4.0 * G4, y0 - 1.0 + 4.0 * G4, z0 - 1.0 + 4.0 * G4,
                    w0 - 1.0 + 4.0 * G4, g4)
     return 27.0 * n
+
+
+class _ArrayMath:
+    """``math`` as the lattice noises above use it (``floor``, ``cos``, ``pi``), on NumPy
+    arrays: with it in place of ``math`` (:data:`_INTERPRETED`), their Python source,
+    which is otherwise arithmetic and table indexing, evaluates whole arrays of coordinates
+    at once (:func:`sylva.texture._gridplan.fractal_arrays`; value, classic and improved
+    Perlin only: simplex branches on each coordinate)."""
+
+    pi = math.pi
+    cos = staticmethod(np.cos)
+
+    @staticmethod
+    def floor(x):
+        return np.floor(x).astype(np.int64)
+
+
+#: What :func:`sylva._jit.interpreted` puts in this module's copy.
+_INTERPRETED = {"math": "_ArrayMath"}

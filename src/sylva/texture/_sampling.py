@@ -204,6 +204,13 @@ def generic_kernel(
             )
 
 
+#: What :func:`sylva._jit.interpreted` puts in this module's copy: :func:`fractal_at`'s
+#: ridged weight, ``min(max(s * gain, 0.0), 1.0)``, on whole arrays
+#: (:func:`sylva.texture._gridplan.fractal_arrays`).
+_INTERPRETED = {"min": "_array_min", "max": "_array_max"}
+_array_min = np.minimum
+_array_max = np.maximum
+
 CHUNK = 2048  # points per parallel row, at most
 
 

@@ -44,9 +44,11 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from .. import _jit
 from ..errors import SylvaError
 from . import _gridkernels as _gk
 from . import _gridkernels32 as _gk32
+from . import _gridplan as _gp
 from . import _kernels as _k
 from . import _sampling as _s
 from . import _worleyfn as _wf
@@ -415,6 +417,11 @@ def _run_points(
     norm = 1.0 / amps.sum() if (normalize and mode != -1) else 1.0
     dt = np.float64 if scalar else _dtype(dtype)
     t = setup.tables
+    if _gp.by_arrays(setup.kind, flat[0].shape[0] * octaves, _s.generic_kernel):
+        out = _gp.fractal_arrays(setup.kind, max(mode, 0), ndim, *flat, freqs, amps, offs, pers,
+                                 setup.interp, t.perm, t.perm12, t.values, t.gradients,
+                                 setup.wpar, norm, float(gain))  # fmt: skip
+        return float(out[0]) if scalar else out.astype(dt, copy=False).reshape(shape)
     with _threads(flat[0].shape[0] * octaves):
         out = _s.run_points(
             setup.kind,
@@ -972,6 +979,9 @@ def noise_grid(
               plan.sizes, plan.axes, plan.freqs, plan.amps, plan.offs, plan.pers, plan.norm,
               plan.gain)
     t = setup.tables
+    if (not warp and not torus and not norder
+            and _gp.by_arrays(setup.kind, math.prod(shape) * len(amps), _gk.lattice_grid)):
+        return _gp.grid_arrays(plan).astype(dt, copy=False)
 
     if norder:
         if warp:
@@ -1044,8 +1054,12 @@ def noise_grid(
             return out.astype(dt, copy=False).reshape(shape)
 
         full = tuple(len(a) for a in axes[:4])  # nx, ny, nz, nw
-        if dt == np.float32 and (o32 := _gk32.grid32(setup, ndim, axes, freqs, amps, offs, pers,
-                                                    mode, norm, gain, torus, full)) is not None:
+        # on a cold cache, small float32 grids take the float64 road (interpreted) and round
+        if dt == np.float32 and not _jit.cold(
+            _gk32.lattice_grid32, math.prod(shape), _gp.SCALAR_WORK
+        ) and (o32 := _gk32.grid32(
+                setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, full
+        )) is not None:
             return o32.reshape(shape)
         if setup.kind in (_k.VALUE, _k.PERLIN, _k.IMPROVED) and ndim in (2, 3):
             tabs = [
@@ -1079,7 +1093,7 @@ def noise_grid(
             return out.reshape(shape)
         if setup.kind == _k.SIMPLEX and ndim in (2, 3) and not torus:
             out, outs = _grid_out((full[2], full[1], full[0]), dt)
-            _gk.simplex_grid(
+            _gp.GRID.simplex_grid(
                 ndim,
                 mode,
                 axes[0],
@@ -1097,7 +1111,7 @@ def noise_grid(
             return out.reshape(shape)
         if setup.kind == _k.WORLEY and ndim in (2, 3):
             out, outs = _grid_out((full[2], full[1], full[0]), dt)
-            _gk.worley_grid(
+            _gp.GRID.worley_grid(
                 ndim,
                 mode,
                 axes[0],
@@ -1118,7 +1132,7 @@ def noise_grid(
             axes[0] = 2.0 * np.pi * np.arange(sizes[0], dtype=np.float64) / sizes[0]
             axes[1] = 2.0 * np.pi * np.arange(sizes[1], dtype=np.float64) / sizes[1]
         out = np.empty((full[3], full[2], full[1], full[0]), dtype=np.float64)
-        _s.generic_kernel(
+        _gp.SAMPLING.generic_kernel(
             False,
             setup.kind,
             mode,

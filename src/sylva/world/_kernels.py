@@ -218,7 +218,11 @@ def greedy_quads(vox, face_tex, opaque, lo, hi, greedy):  # pragma: no cover - c
                     if nq == cap:
                         cap *= 2
                         grown = np.empty((cap, 7), np.int32)
-                        grown[:nq] = quads[:nq]
+                        # element by element: a slice assignment compiles numba's
+                        # shape-mismatch message (string formatting, seconds of compiling)
+                        for r in range(nq):
+                            for j in range(7):
+                                grown[r, j] = quads[r, j]
                         quads = grown
                     quads[nq, 0] = direction
                     quads[nq, 1] = layer

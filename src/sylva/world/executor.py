@@ -36,13 +36,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _jit
 from ..errors import SylvaError
 from ..lsystem import ModuleString, Program
 from ..turtle import interpret
-from . import _kernels as K
 from .hashing import hash01, hash1d
+from .terrain import K  # the world kernels' road
 
 __all__ = ["PlantBlocks", "derive", "grow", "scale_derivations", "step"]
+
+#: Pairs of blocks up to which the containment test of a cold cache runs its Python source
+#: (about a microsecond a pair, against a second of compiling).
+SMALL_PAIRS = 1 << 16
 
 
 class _Table:
@@ -291,7 +296,8 @@ def grow(
     if optimize and center.shape[0] and (buffer == 1).any():
         b0 = np.flatnonzero(buffer == 0)
         b1 = buffer == 1
-        hidden = K.contained(center[b0], size[b0], center[b1], size[b1], 1e-6)
+        with _jit.small(b0.shape[0] * int(b1.sum()) <= SMALL_PAIRS):
+            hidden = K.contained(center[b0], size[b0], center[b1], size[b1], 1e-6)
         keep = np.ones(center.shape[0], np.bool_)
         keep[b0[hidden]] = False
         center, size, buffer = center[keep], size[keep], buffer[keep]

@@ -26,9 +26,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import _jit
 from ..geometry.mesh import Material, Mesh
-from . import _kernels as K
 from .blocks import FACE_TEXTURES, OPAQUE, TEXTURES
+
+# compiled whatever the work: greedy meshing visits every voxel six times, too slow for Python
+K = _jit.lazy("sylva.world._kernels")
 
 __all__ = ["QUAD_FIELDS", "skin_quads", "quad_area", "quads_to_mesh"]
 

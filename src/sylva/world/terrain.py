@@ -32,12 +32,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import _jit
 from ..errors import SylvaError
 from ..texture import fbm
-from . import _kernels as K
 from .biomes import SURFACE_BLOCKS, Biome, select
 from .blocks import Block
 from .hashing import hash2d, limited
+
+#: The world kernels; inside :meth:`World.generate` of a small world on a cold cache, their
+#: Python source (:func:`sylva._jit.road`: a 64² world's heights and columns take some
+#: 50 ms so, against seconds of compiling).  Caves are carved compiled (``_compiled``): a
+#: voxel loop is too long for Python.
+K = _jit.road("sylva.world._kernels", ("sylva.turtle._state", "sylva.turtle._kernels"))
+_compiled = _jit.lazy("sylva.world._kernels")
 
 __all__ = ["ColumnFields", "WorldConfig", "WorldConfigError", "columns", "voxels"]
 
@@ -274,5 +281,5 @@ def voxels(cfg: WorldConfig, fields: ColumnFields) -> np.ndarray:
         xs, ys, zs = np.broadcast_arrays(xs, ys, zs)
         dens = fbm(xs / 24.0, ys / 16.0, zs / 24.0, kind="improved", octaves=2,
                    seed=cfg.sub_seed(7), dtype=np.float64)
-        vox = K.carve(vox, dens, h, 0.22, 2)
+        vox = _compiled.carve(vox, dens, h, 0.22, 2)
     return vox

@@ -25,12 +25,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..texture import fbm
-from . import _kernels as K
 from .biomes import GRASS_DENSITY, TREE_DENSITY, Biome
 from .blocks import SOLID
 from .hashing import UINT_MAX, hash2d, hash3d
 from .plants import PlantLibrary
-from .terrain import ColumnFields, WorldConfig, columns, voxels
+from .terrain import ColumnFields, K, WorldConfig, columns, voxels  # K: the kernels' road
 
 __all__ = ["BIOME_PLANTS", "MARGIN", "Placement", "place", "place_in", "tree_candidates"]
 

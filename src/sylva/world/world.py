@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import _jit
 from ..errors import SylvaError
 from .chunks import Chunk, generate_chunk, generate_chunks
 from .plants import PlantLibrary
@@ -48,6 +49,9 @@ __all__ = [
 #: Columns per side of the blocks of chunks a task generates at once (noise calls have a
 #: fixed cost, so bigger blocks are faster; memory per block stays small).
 BLOCK_COLUMNS = 128
+#: Columns up to which a world is small: on a cold cache its terrain kernels run their
+#: Python source (:data:`sylva.world.terrain.K`) instead of compiling.
+SMALL_COLUMNS = 128 * 128
 
 
 def _block_task(job) -> dict:
@@ -169,7 +173,8 @@ class World:
             report = progress
             progress = lambda d, t: report(d + done, total)  # noqa: E731
         try:
-            with using(runner, scheduler, workers=workers, tasks=len(jobs)) as run:
+            with (_jit.small(total <= SMALL_COLUMNS),
+                  using(runner, scheduler, workers=workers, tasks=len(jobs)) as run):
                 for _ in run.map(_block_task, jobs, progress=bool(progress) and progress,
                                  weight=lambda j: j[2][2] * j[2][3], unit="chunk"):  # fmt: skip
                     pass
