@@ -264,6 +264,12 @@ def _juvenile_leaves(branch):
         return None
     if plan.level == 0 and not tree.juvenile_trunk_leaves:
         return None
+    # leaves that are all gone by the time the simulation is heading for are never seen
+    # (time only moves on; growing back regrows from the start): a mature tree plans none
+    sim = getattr(tree, "simulation", None)
+    target = sim.target if sim is not None else -math.inf
+    if target >= tree.default_age - 1.0:
+        return None
     lv = plan.level + 1
     scale = tree.pf("LeafScale", level=lv, default=0.2)
     spacing = max(tree.juvenile_leaf_spacing * scale.value, 1e-3)
@@ -280,7 +286,7 @@ def _juvenile_leaves(branch):
     birth = np.asarray(plan.time_at_length(arcs), np.float64) + tree.leaf_delay
     death = np.minimum(birth + tree.juvenile_leaf_life, tree.default_age - 1.0)
     keep = death > birth + 0.5 * tree.leaf_unfold
-    if not np.any(keep):
+    if not np.any(keep) or np.all(death[keep] <= target):
         return None
     arcs, birth, death = arcs[keep], birth[keep], death[keep]
     n = len(arcs)

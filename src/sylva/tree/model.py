@@ -225,6 +225,7 @@ class Tree:
     def reset(self) -> None:
         """Back to time 0: a fresh trunk bud and simulation."""
         self._pcache: dict = {}
+        self.simulation = None  # the old one's target is not this one's (leaves.py reads it)
         rng = np.random.default_rng([self.seed & 0xFFFFFFFF, 0])
         self.root = make_trunk(self, rng)
         self.simulation = Simulation(self.root)
