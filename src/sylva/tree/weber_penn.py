@@ -85,6 +85,7 @@ import math
 import numpy as np
 
 from ._kernels import bend_stem
+from ._streams import stream
 from .components import Component
 from .leaves import LEAF_FALL, Leaves, plan_leaves
 
@@ -475,7 +476,7 @@ class Branch(Component):
         self.clone = clone
         self.share = share  # this run's share of the stem's children and leaves (split clones)
         tree = plan.tree
-        self.rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *key])
+        self.rng = stream(tree.seed & 0xFFFFFFFF, *key)
         rng = self.rng
         self._clearance = tree.pf("GroundClearance", default=0.15).value
         k1, n_split, err, F, P = _run_curve(plan, k0, frame, split_error, parent_world,
@@ -588,7 +589,7 @@ class Branch(Component):
         if plan.level != 0 or tree.levels < 2 or tree.juvenile_branches <= 0 \
                 or plan.base_length <= 0 or plan.n_children <= 0:
             return []
-        rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *self.key, 11])
+        rng = stream(tree.seed & 0xFFFFFFFF, *self.key, 11)
         per_len = tree.juvenile_branches * self.share * plan.n_children / max(
             plan.length - plan.base_length, 1e-9)
         lo = max(self.arc0, 0.04 * plan.length)
@@ -686,7 +687,7 @@ class Branch(Component):
         slot.space(tree.seed).set_int("Ordinal", i)
         lv = plan.level + 1
         key = (*self.key, 1, i)
-        rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *key, 7])
+        rng = stream(tree.seed & 0xFFFFFFFF, *key, 7)
         lmax = tree.pf("Length", level=lv, default=0.5).sample(rng)
         shed = plan.shed
         if i >= self.n_lasting:
@@ -945,7 +946,7 @@ def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray) -> float | Non
         if k1 < res and (keep is None or arc1 < keep):
             m = k1 - k0
             nxt = w @ Branch._matrix(P[m], F[m])
-            rng = np.random.default_rng([seed, *bkey])
+            rng = stream(seed, *bkey)
             _skip_run_draws(plan, arc0, arc1, k1, share, rng)
             for c, fc in enumerate(_split_frames(plan, n_split, rng)):
                 stack.append((k1, fc, (*bkey, 2, c), err, nxt, share / (n_split + 1)))
