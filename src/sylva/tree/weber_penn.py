@@ -814,18 +814,17 @@ class Branch(Component):
         m = self.k1 - self.k0
         arcs = self.arc0 + np.arange(m + 1) * seg
         full = int(min(m, math.floor(vis / seg + 1e-9)))
-        idx = list(range(full + 1))
-        P = [self.points[i] for i in idx]
-        F = [self.frames[i] for i in idx]
-        A = [arcs[i] for i in idx]
+        idx = np.arange(full + 1)
+        P = self.points[:full + 1].copy()
+        F = self.frames[:full + 1].copy()
+        A = arcs[:full + 1]
         if vis - full * seg > 1e-6 * seg and full < m:
             i = full
-            P.append(self.points[i] + self.frames[i + 1][:, 1] * (vis - i * seg))
-            F.append(self.frames[i + 1])
-            A.append(self.arc0 + vis)
-            idx.append(i + 1)
-        A = np.array(A)
-        P, F, idx = np.array(P), np.array(F), np.array(idx)
+            tip = self.points[i] + self.frames[i + 1][:, 1] * (vis - i * seg)
+            P = np.concatenate([P, tip[None]])
+            F = np.concatenate([F, self.frames[i + 1][None]])
+            A = np.append(A, self.arc0 + vis)
+            idx = np.append(idx, i + 1)
         self._mature_rows = np.arange(len(A))
         extra = plan.ring_arcs(self.arc0, self.arc0 + vis, max(self.current_length, 1e-9))
         if len(extra):  # not where a mature point already is
