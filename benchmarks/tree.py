@@ -57,9 +57,10 @@ def main() -> None:
     if a.sheet:
         from sylva.cli._tree_sheet import contact_sheet
 
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         img = contact_sheet()
-        print(f"contact sheet {img.size[0]}x{img.size[1]}: {time.perf_counter() - t:.1f} s")
+        print(f"contact sheet {img.size[0]}x{img.size[1]}: {time.perf_counter() - t:.1f} s, "
+              f"CPU time {time.process_time() - c:.1f} s")
 
 
 if __name__ == "__main__":

@@ -167,3 +167,56 @@ def bend_stem(F, P, curve, seg, has_up, up, attraction, has_world, world, cleara
             P[i + 1, r] = P[i, r] + f[r, 1] * seg
             for k in range(3):
                 F[i + 1, r, k] = f[r, k]
+
+
+@njit(cache=True)
+def seed_state(words):
+    """``SeedSequence(words).generate_state(4, np.uint64)``: NumPy's seed hash (its
+    ``mix_entropy`` over a pool of 4 words, then ``generate_state``), for a PCG64 stream.
+
+    ``words`` are the entropy as uint32 values (int64[n], each in ``[0, 2³²)``, one word
+    per integer: NumPy's coercion of integers below 2³²).  Returns uint64[4]."""
+    mask = np.uint64(0xFFFFFFFF)
+    mult_a = np.uint64(0x931E8875)
+    mix_l = np.uint64(0xCA01F9DD)
+    mix_r = np.uint64(0x4973F715)
+    pool = np.zeros(4, np.uint64)
+    hc = np.uint64(0x43B0D7E5)
+    n = words.shape[0]
+
+    for i in range(4):  # hashmix of each entropy word (0 past the end) into the pool
+        v = np.uint64(words[i]) if i < n else np.uint64(0)
+        v = v ^ hc
+        hc = (hc * mult_a) & mask
+        v = (v * hc) & mask
+        pool[i] = v ^ (v >> np.uint64(16))
+    for src in range(4):
+        for dst in range(4):
+            if src != dst:
+                v = pool[src] ^ hc
+                hc = (hc * mult_a) & mask
+                v = (v * hc) & mask
+                v = v ^ (v >> np.uint64(16))
+                r = (mix_l * pool[dst] - mix_r * v) & mask
+                pool[dst] = r ^ (r >> np.uint64(16))
+    for src in range(4, n):
+        for dst in range(4):
+            v = np.uint64(words[src]) ^ hc
+            hc = (hc * mult_a) & mask
+            v = (v * hc) & mask
+            v = v ^ (v >> np.uint64(16))
+            r = (mix_l * pool[dst] - mix_r * v) & mask
+            pool[dst] = r ^ (r >> np.uint64(16))
+    out = np.zeros(4, np.uint64)
+    hb = np.uint64(0x8B51F9DD)
+    mult_b = np.uint64(0x58F38DED)
+    for i in range(8):  # generate_state: 8 uint32 words, paired little-endian into 4 uint64
+        v = pool[i % 4] ^ hb
+        hb = (hb * mult_b) & mask
+        v = (v * hb) & mask
+        v = v ^ (v >> np.uint64(16))
+        if i % 2 == 0:
+            out[i // 2] = v
+        else:
+            out[i // 2] |= v << np.uint64(32)
+    return out

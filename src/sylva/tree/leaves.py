@@ -62,6 +62,7 @@ import math
 import numpy as np
 
 from ..errors import SylvaError
+from ._streams import stream
 from .components import Component
 
 __all__ = ["LEAF_FALL", "LeafParameterError", "Leaves", "plan_leaves"]
@@ -114,8 +115,7 @@ class Leaves(Component):
         run's own stream (the same leaves turn and fall for the same seed)."""
         if self._rank is None:
             tree = self.tree
-            rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *self.branch.key,
-                                         _AUTUMN_STREAM])
+            rng = stream(tree.seed & 0xFFFFFFFF, *self.branch.key, _AUTUMN_STREAM)
             self._rank = rng.uniform(0.0, 1.0, len(self.arc))
         return self._rank
 
@@ -264,6 +264,12 @@ def _juvenile_leaves(branch):
         return None
     if plan.level == 0 and not tree.juvenile_trunk_leaves:
         return None
+    # leaves that are all gone by the time the simulation is heading for are never seen
+    # (time only moves on; growing back regrows from the start): a mature tree plans none
+    sim = getattr(tree, "simulation", None)
+    target = sim.target if sim is not None else -math.inf
+    if target >= tree.default_age - 1.0:
+        return None
     lv = plan.level + 1
     scale = tree.pf("LeafScale", level=lv, default=0.2)
     spacing = max(tree.juvenile_leaf_spacing * scale.value, 1e-3)
@@ -275,12 +281,12 @@ def _juvenile_leaves(branch):
     n = int((branch.arc1 - branch.arc0) / spacing)
     if n <= 0:
         return None
-    rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *branch.key, 13])
+    rng = stream(tree.seed & 0xFFFFFFFF, *branch.key, 13)
     arcs = branch.arc0 + (np.arange(n) + rng.uniform(0.2, 0.8, n)) * spacing
     birth = np.asarray(plan.time_at_length(arcs), np.float64) + tree.leaf_delay
     death = np.minimum(birth + tree.juvenile_leaf_life, tree.default_age - 1.0)
     keep = death > birth + 0.5 * tree.leaf_unfold
-    if not np.any(keep):
+    if not np.any(keep) or np.all(death[keep] <= target):
         return None
     arcs, birth, death = arcs[keep], birth[keep], death[keep]
     n = len(arcs)

@@ -73,7 +73,12 @@ def tree_wind(tm: TreeMesh) -> np.ndarray:
         fl = np.linalg.norm(tm.flutter, axis=1)
         li = tm.vertex_leaf[leaf]
         top = np.zeros(geo.n_leaves)
-        np.maximum.at(top, li, fl[leaf])
+        fli = fl[leaf]
+        if li.size and np.all(li[1:] >= li[:-1]):  # a leaf's vertices together (the mesher's)
+            starts = np.flatnonzero(np.concatenate([[True], li[1:] != li[:-1]]))
+            top[li[starts]] = np.maximum(np.maximum.reduceat(fli, starts), 0.0)
+        else:
+            np.maximum.at(top, li, fli)
         flutter[leaf] = fl[leaf] / np.maximum(top[li], 1e-12)
     return wind_attribute(level, phase, reach[j], flutter)
 

@@ -12,6 +12,8 @@ True
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import os
 
 import numpy as np
@@ -225,6 +227,7 @@ class Tree:
     def reset(self) -> None:
         """Back to time 0: a fresh trunk bud and simulation."""
         self._pcache: dict = {}
+        self.simulation = None  # the old one's target is not this one's (leaves.py reads it)
         rng = np.random.default_rng([self.seed & 0xFFFFFFFF, 0])
         self.root = make_trunk(self, rng)
         self.simulation = Simulation(self.root)
@@ -242,7 +245,8 @@ class Tree:
             raise ValueError(f"age must be >= 0, got {age}")
         if age < self.simulation.time - 1e-12:
             self.reset()
-        self.simulation.advance_to(age)
+        with _no_cycle_collection():
+            self.simulation.advance_to(age)
         return self
 
     def branches(self) -> list[Branch]:
@@ -267,7 +271,8 @@ class Tree:
         applied)."""
         turtle = (TreeTurtle(self.bark_material) if self.zscale == 1.0
                   else _ZScaledTurtle(self.zscale, self.bark_material))
-        traverse(self.root, turtle, stats)
+        with _no_cycle_collection():
+            traverse(self.root, turtle, stats)
         return turtle.finish()
 
     def mesh(self, **options):
@@ -277,7 +282,9 @@ class Tree:
         from .meshing import build_tree_mesh
 
         options.setdefault("leaf_shape", self.leaf_shape)
-        return build_tree_mesh(self.geometry(), self.materials, seed=self.seed, **options)
+        geo = self.geometry()
+        with _no_cycle_collection():
+            return build_tree_mesh(geo, self.materials, seed=self.seed, **options)
 
     def scene(self, **options):
         """A :class:`~sylva.geometry.mesh.Scene` with one mesh (bark and leaf materials)."""
@@ -317,6 +324,20 @@ class Tree:
             "leaves": int(np.count_nonzero(geo.leaf_size > 0)),
             "events": len(self.simulation.delivered),
         }
+
+
+@contextlib.contextmanager
+def _no_cycle_collection():
+    """Python's cycle collector paused while a tree grows or is drawn: the thousands of
+    components it makes (and keeps) would otherwise be scanned again and again, a tenth
+    of a big tree's time, for cycles that are not garbage."""
+    was = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was:
+            gc.enable()
 
 
 def _upright(frames: np.ndarray, zscale: float) -> np.ndarray:

@@ -85,6 +85,7 @@ import math
 import numpy as np
 
 from ._kernels import bend_stem
+from ._streams import stream
 from .components import Component
 from .leaves import LEAF_FALL, Leaves, plan_leaves
 
@@ -96,6 +97,7 @@ _NONE = np.zeros(0)
 _NONE33 = np.zeros((0, 3, 3))
 _ZERO3 = np.zeros(3)
 _EYE4 = np.eye(4)
+_UP = np.array([0.0, 1.0, 0.0])
 _MAX_NODES = 32  # a periodic taper with more nodes per stem is drawn as Taper 2
 _NODE_RINGS = 6  # rings per node of a periodic taper
 
@@ -395,6 +397,57 @@ class StemPlan:
         return np.unique(a[(a > a0 + 1e-9) & (a < a1 - 1e-9)])
 
 
+def _run_curve(plan: StemPlan, k0: int, frame: np.ndarray, split_error: float,
+               parent_world: np.ndarray | None, bend):
+    """The split and the mature curve of a run of ``plan`` from segment ``k0``: ``(k1,
+    n_split, split_error, F, P)`` (frames float[m + 1, 3, 3] and points float[m + 1, 3] in
+    the run's frame, ``m = k1 − k0``).  ``bend(F, P, curve, seg, up_local, attraction,
+    parent_world)`` is the segment loop of attraction up and ground clearance
+    (:meth:`Branch._bend`); :class:`Branch` and the pruning trials (:func:`_envelope_exit`)
+    both grow their runs here."""
+    tree = plan.tree
+    res = plan.curve_res
+    seg = plan.seg_length
+    lv = plan.level
+    # -- splits: error-diffused nSegSplits (0BaseSplits at the trunk's first segment) ----
+    seg_splits = tree.pf("SegSplits", level=lv, default=0.0).value
+    k1, n_split, err = res, 0, split_error
+    for k in range(k0, res - 1):
+        want = seg_splits
+        if lv == 0 and k == 0:
+            want = float(tree.pi("BaseSplits", default=0))
+        if want <= 0:
+            continue
+        if lv == 0 and k == 0:
+            n = int(want)
+        else:
+            n = int(math.floor(want + err + 0.5))
+            err += want - n
+        if n > 0 and k + 1 < res:
+            k1, n_split = k + 1, n
+            break
+    # -- the mature curve in the local frame ---------------------------------------------
+    m = k1 - k0
+    F = np.empty((m + 1, 3, 3))
+    P = np.zeros((m + 1, 3))
+    F[0] = frame
+    attraction = tree.pf("AttractionUp", default=0.0).value if lv >= 2 else 0.0
+    clearance = tree.pf("GroundClearance", default=0.15).value
+    up_local = None
+    if attraction and parent_world is not None:
+        up_local = parent_world[:3, :3].T @ _UP
+    # fast path: every segment turns about its own x axis, so the turns add up
+    F[1:] = frame @ _rx_many(np.cumsum(plan.curve[k0:k1]))
+    P[1:] = np.cumsum(F[1:, :, 1] * seg, axis=0)
+    sequential = up_local is not None
+    if parent_world is not None and not sequential:
+        y = P[1:] @ parent_world[1, :3] + parent_world[1, 3]
+        sequential = bool(np.any(y < clearance))
+    if sequential:
+        bend(F, P, plan.curve[k0:k1], seg, up_local, attraction / (2.0 * res), parent_world)
+    return k1, n_split, err, F, P
+
+
 class Branch(Component):
     """A run of segments ``[k0, k1)`` of one stem; a split ends it and its clones continue
     on the primary slot, children hang on their own slots (level + 1), its leaves are a
@@ -423,51 +476,16 @@ class Branch(Component):
         self.clone = clone
         self.share = share  # this run's share of the stem's children and leaves (split clones)
         tree = plan.tree
-        self.rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *key])
+        self.rng = stream(tree.seed & 0xFFFFFFFF, *key)
         rng = self.rng
-        res = plan.curve_res
+        self._clearance = tree.pf("GroundClearance", default=0.15).value
+        k1, n_split, err, F, P = _run_curve(plan, k0, frame, split_error, parent_world,
+                                            self._bend)
+        m = k1 - k0
         seg = plan.seg_length
-        lv = plan.level
-        # -- splits: error-diffused nSegSplits (0BaseSplits at the trunk's first segment) ----
-        seg_splits = tree.pf("SegSplits", level=lv, default=0.0).value
-        k1, n_split, err = res, 0, split_error
-        for k in range(k0, res - 1):
-            want = seg_splits
-            if lv == 0 and k == 0:
-                want = float(tree.pi("BaseSplits", default=0))
-            if want <= 0:
-                continue
-            if lv == 0 and k == 0:
-                n = int(want)
-            else:
-                n = int(math.floor(want + err + 0.5))
-                err += want - n
-            if n > 0 and k + 1 < res:
-                k1, n_split = k + 1, n
-                break
         self.k1 = k1
         self.n_split = n_split
         self.split_error = err
-        # -- the mature curve in the local frame ---------------------------------------------
-        m = k1 - k0
-        F = np.empty((m + 1, 3, 3))
-        P = np.zeros((m + 1, 3))
-        F[0] = frame
-        attraction = tree.pf("AttractionUp", default=0.0).value if lv >= 2 else 0.0
-        self._clearance = tree.pf("GroundClearance", default=0.15).value
-        up_local = None
-        if attraction and parent_world is not None:
-            up_local = parent_world[:3, :3].T @ np.array([0.0, 1.0, 0.0])
-        # fast path: every segment turns about its own x axis, so the turns add up
-        F[1:] = frame @ _rx_many(np.cumsum(plan.curve[k0:k1]))
-        P[1:] = np.cumsum(F[1:, :, 1] * seg, axis=0)
-        sequential = up_local is not None
-        if parent_world is not None and not sequential:
-            y = P[1:] @ parent_world[1, :3] + parent_world[1, 3]
-            sequential = bool(np.any(y < self._clearance))
-        if sequential:
-            self._bend(F, P, plan.curve[k0:k1], seg, up_local, attraction / (2.0 * res),
-                       parent_world)
         self.points = P
         self.frames = F
         self.arc0 = k0 * seg
@@ -571,7 +589,7 @@ class Branch(Component):
         if plan.level != 0 or tree.levels < 2 or tree.juvenile_branches <= 0 \
                 or plan.base_length <= 0 or plan.n_children <= 0:
             return []
-        rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *self.key, 11])
+        rng = stream(tree.seed & 0xFFFFFFFF, *self.key, 11)
         per_len = tree.juvenile_branches * self.share * plan.n_children / max(
             plan.length - plan.base_length, 1e-9)
         lo = max(self.arc0, 0.04 * plan.length)
@@ -669,7 +687,7 @@ class Branch(Component):
         slot.space(tree.seed).set_int("Ordinal", i)
         lv = plan.level + 1
         key = (*self.key, 1, i)
-        rng = np.random.default_rng([tree.seed & 0xFFFFFFFF, *key, 7])
+        rng = stream(tree.seed & 0xFFFFFFFF, *key, 7)
         lmax = tree.pf("Length", level=lv, default=0.5).sample(rng)
         shed = plan.shed
         if i >= self.n_lasting:
@@ -768,16 +786,8 @@ class Branch(Component):
         primary slot's frame in plant coordinates)."""
         plan = self.plan
         n = self.n_split
-        angle = plan.tree.params.float("SplitAngle", level=plan.level, default=20.0)
-        base_phi = self.rng.uniform(0, 2 * math.pi)
         out = []
-        for c in range(n + 1):
-            if n == 0:
-                frame = np.eye(3)
-            else:
-                a = math.radians(abs(angle.sample(self.rng))) * (0.5 if c == 0 else 1.0)
-                phi = base_phi + 2 * math.pi * c / (n + 1)
-                frame = _ry(phi) @ _rx(a) @ _ry(-phi)
+        for c, frame in enumerate(_split_frames(plan, n, self.rng)):
             out.append(Branch(plan, self.k1, frame, (*self.key, 2, c), clone=c,
                               split_error=self.split_error, birth=t, parent_world=world,
                               share=self.share / (n + 1)))
@@ -804,18 +814,17 @@ class Branch(Component):
         m = self.k1 - self.k0
         arcs = self.arc0 + np.arange(m + 1) * seg
         full = int(min(m, math.floor(vis / seg + 1e-9)))
-        idx = list(range(full + 1))
-        P = [self.points[i] for i in idx]
-        F = [self.frames[i] for i in idx]
-        A = [arcs[i] for i in idx]
+        idx = np.arange(full + 1)
+        P = self.points[:full + 1].copy()
+        F = self.frames[:full + 1].copy()
+        A = arcs[:full + 1]
         if vis - full * seg > 1e-6 * seg and full < m:
             i = full
-            P.append(self.points[i] + self.frames[i + 1][:, 1] * (vis - i * seg))
-            F.append(self.frames[i + 1])
-            A.append(self.arc0 + vis)
-            idx.append(i + 1)
-        A = np.array(A)
-        P, F, idx = np.array(P), np.array(F), np.array(idx)
+            tip = self.points[i] + self.frames[i + 1][:, 1] * (vis - i * seg)
+            P = np.concatenate([P, tip[None]])
+            F = np.concatenate([F, self.frames[i + 1][None]])
+            A = np.append(A, self.arc0 + vis)
+            idx = np.append(idx, i + 1)
         self._mature_rows = np.arange(len(A))
         extra = plan.ring_arcs(self.arc0, self.arc0 + vis, max(self.current_length, 1e-9))
         if len(extra):  # not where a mature point already is
@@ -866,29 +875,97 @@ class Branch(Component):
         # its leaves are drawn by its Leaves component, visited next (the base slot)
 
 
+def _skip_run_draws(plan: StemPlan, arc0: float, arc1: float, k1: int, share: float,
+                    rng: np.random.Generator) -> None:
+    """Move ``rng`` (a run's own stream, fresh) past the draws its :class:`Branch` makes
+    before its split: its buds (:meth:`Branch._bud_run`) and its crown leaves
+    (:func:`~sylva.tree.leaves._crown_leaves`), without planning them.  Each uniform double
+    is one step of the PCG64 stream, so the draws whose values do not decide a count are
+    skipped by ``advance``; the two that decide the counts are drawn.  Must follow those
+    two functions draw for draw (``tests/tree/test_pruning_speed.py`` checks it on every
+    run of several species)."""
+    tree = plan.tree
+    lv = plan.level
+    if lv + 1 < tree.levels and plan.n_children > 0:  # Branch._plan_children
+        per_len = share * plan.n_children / max(plan.length - plan.base_length, 1e-9)
+        lo = max(arc0, plan.base_length)
+        if arc1 > lo:
+            n = int(math.floor(per_len * (arc1 - lo) + rng.uniform()))
+            if n > 0:
+                rot = tree.pf("Rotate", level=lv + 1, default=140.0)
+                down = tree.pf("DownAngle", level=lv + 1, default=45.0)
+                per = 1 + (1 if rot.value < 0 or rot.deviation else 0) + (
+                    1 if down.deviation > 0 else 0)
+                rng.bit_generator.advance(1 + n * per)
+    if lv == tree.levels - 1 and plan.n_leaves > 0:  # leaves._crown_leaves
+        if tree.leaf_arrangement == "fan":
+            return  # the fan sits at the tip: a run that splits (the only one asked) has none
+        want = plan.n_leaves * (arc1 - arc0) / plan.length * share
+        n = int(math.floor(want + rng.uniform()))
+        if n > 0:
+            rng.bit_generator.advance(5 * n + 1)
+
+
 def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray) -> float | None:
     """``None`` when every point of the mature stem (its split clones included) lies inside
     the tree's pruning envelope, else the arc length the stem keeps: the start of the first
-    segment that leaves it (the smallest over the clones)."""
+    segment that leaves it (the smallest over the clones).
+
+    The runs are grown as :class:`Branch` grows them (:func:`_run_curve`, the split clones
+    of :meth:`Branch._continuations` from the same random streams) but without building
+    components, buds or leaves: a split clone's angles only need its parent's stream moved
+    past the parent's own draws (:func:`_skip_run_draws`)."""
     tree = plan.tree
-    first = Branch(plan, 0, np.eye(3), key, parent_world=world)
-    stack = [(first, world)]
-    keep = None
+    seed = tree.seed & 0xFFFFFFFF
     seg = plan.seg_length
+    res = plan.curve_res
+    clearance = tree.pf("GroundClearance", default=0.15).value
+
+    def bend(F, P, curve, seg, up_local, attraction, parent_world):
+        has_up = up_local is not None
+        bend_stem(F, P, np.ascontiguousarray(curve, np.float64), float(seg), has_up,
+                  np.asarray(up_local if has_up else _ZERO3, np.float64), float(attraction),
+                  True, np.asarray(parent_world, np.float64), float(clearance))
+
+    # (k0, frame, key, split error, world, share) of the runs still to test
+    stack = [(0, np.eye(3), key, 0.0, world, 1.0)]
+    keep = None
     while stack:
-        b, w = stack.pop()
-        pts = b.points @ w[:3, :3].T + w[:3, 3]
+        k0, frame, bkey, err0, w, share = stack.pop()
+        k1, n_split, err, F, P = _run_curve(plan, k0, frame, err0, w, bend)
+        pts = P @ w[:3, :3].T + w[:3, 3]
         out = ~tree.inside_envelope(pts)
+        arc0 = k0 * seg
         if np.any(out):
             k = int(np.argmax(out))
-            arc = b.arc0 + max(k - 1, 0) * seg
+            arc = arc0 + max(k - 1, 0) * seg
             keep = arc if keep is None else min(keep, arc)
             continue  # a clone after the exit cannot keep more than this
-        if b.k1 < plan.curve_res and (keep is None or b.arc1 < keep):
-            nxt = w @ b.primary.matrix
-            for c in b._continuations(plan.time_at_length(b.arc1), nxt):
-                stack.append((c, nxt))
+        arc1 = k1 * seg
+        if k1 < res and (keep is None or arc1 < keep):
+            m = k1 - k0
+            nxt = w @ Branch._matrix(P[m], F[m])
+            rng = stream(seed, *bkey)
+            _skip_run_draws(plan, arc0, arc1, k1, share, rng)
+            for c, fc in enumerate(_split_frames(plan, n_split, rng)):
+                stack.append((k1, fc, (*bkey, 2, c), err, nxt, share / (n_split + 1)))
     return keep
+
+
+def _split_frames(plan: StemPlan, n: int, rng: np.random.Generator) -> list[np.ndarray]:
+    """The initial frames of the ``n + 1`` runs that continue a stem after a split (the
+    draws of :meth:`Branch._continuations`, from the splitting run's stream)."""
+    angle = plan.tree.params.float("SplitAngle", level=plan.level, default=20.0)
+    base_phi = rng.uniform(0, 2 * math.pi)
+    out = []
+    for c in range(n + 1):
+        if n == 0:
+            out.append(np.eye(3))
+        else:
+            a = math.radians(abs(angle.sample(rng))) * (0.5 if c == 0 else 1.0)
+            phi = base_phi + 2 * math.pi * c / (n + 1)
+            out.append(_ry(phi) @ _rx(a) @ _ry(-phi))
+    return out
 
 
 def _pruned_length(plan_of, length: float, key: tuple, world: np.ndarray) -> float:

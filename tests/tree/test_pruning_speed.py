@@ -1,0 +1,101 @@
+"""The quick Weber–Penn pruning is the published scheme: the same trees as the slow road.
+
+The pruning trials (``weber_penn._envelope_exit``) used to regrow each trial stem, and its
+split clones, as full :class:`~sylva.tree.weber_penn.Branch` components; they now grow only
+the runs' curves and move the random streams past the draws they skip.  The slow road is
+kept here, as it was, as the reference: the pruned species grown both ways must be the
+same trees (every stem's pruned length, every joint and leaf bit for bit).  And the draw
+skipping must follow the real components draw for draw, which is checked against the
+streams of every run of the grown trees.
+"""
+
+import numpy as np
+import pytest
+
+from sylva.tree import Tree
+from sylva.tree import weber_penn as wp
+
+
+def _envelope_exit_by_branches(plan, key, world):
+    """The pruning trial as it was before the quick road (a slow reference): the trial
+    stem and its split clones are built as full Branch components."""
+    tree = plan.tree
+    first = wp.Branch(plan, 0, np.eye(3), key, parent_world=world)
+    stack = [(first, world)]
+    keep = None
+    seg = plan.seg_length
+    while stack:
+        b, w = stack.pop()
+        pts = b.points @ w[:3, :3].T + w[:3, 3]
+        out = ~tree.inside_envelope(pts)
+        if np.any(out):
+            k = int(np.argmax(out))
+            arc = b.arc0 + max(k - 1, 0) * seg
+            keep = arc if keep is None else min(keep, arc)
+            continue
+        if b.k1 < plan.curve_res and (keep is None or b.arc1 < keep):
+            nxt = w @ b.primary.matrix
+            for c in b._continuations(plan.time_at_length(b.arc1), nxt):
+                _REFERENCE_CLONES.append(c)
+                stack.append((c, nxt))
+    return keep
+
+
+_REFERENCE_CLONES: list = []
+
+
+def _grown(name, age, quality):
+    t = Tree(name, seed=5, quality=quality).grow(age)
+    geo = t.geometry()
+    return t, geo
+
+
+@pytest.mark.parametrize("name, age, quality", [
+    ("weeping_willow", 9.0, 0.2),  # splits on every level, attraction up, whips near ground
+    ("hill_cherry", 25.0, 0.5),  # splits at levels 0 and 1
+    ("sphere_tree", 8.0, 0.2),
+])
+def test_quick_pruning_grows_the_trees_of_the_slow_road(monkeypatch, name, age, quality):
+    quick, qgeo = _grown(name, age, quality)
+    _REFERENCE_CLONES.clear()
+    cut = []
+    pruned_length = wp._pruned_length
+
+    def counted(plan_of, length, key, world):
+        out = pruned_length(plan_of, length, key, world)
+        cut.append(out < length)
+        return out
+
+    monkeypatch.setattr(wp, "_envelope_exit", _envelope_exit_by_branches)
+    monkeypatch.setattr(wp, "_pruned_length", counted)
+    slow, sgeo = _grown(name, age, quality)
+    lengths = {b.key: b.plan.length for b in slow.branches()}
+    assert len(lengths) > 20
+    assert {b.key: b.plan.length for b in quick.branches()} == lengths
+    # the envelope shortened stems, and (willow, cherry) the trials went through clones
+    assert sum(cut) > 5
+    if name != "sphere_tree":
+        assert len(_REFERENCE_CLONES) > 10
+    for field in ("joint_matrix", "joint_parent", "leaf_pos", "leaf_frame", "leaf_size"):
+        assert np.array_equal(getattr(qgeo, field), getattr(sgeo, field)), field
+
+
+@pytest.mark.parametrize("name", ["weeping_willow", "small_pine", "hill_cherry"])
+def test_skipped_draws_are_the_draws_of_the_runs(name):
+    """For every run of the tree: its own stream, moved on by ``_skip_run_draws`` (and by
+    the split's draws where it split), is where the run's stream is."""
+    t = Tree(name, seed=2, quality=0.3).grow(10.0)
+    runs = t.branches()
+    split = 0
+    for b in runs:
+        rng = np.random.default_rng([t.seed & 0xFFFFFFFF, *b.key])
+        wp._skip_run_draws(b.plan, b.arc0, b.arc1, b.k1, b.share, rng)
+        clones = [c for c in b.primary.children if isinstance(c, wp.Branch)]
+        if clones:
+            frames = wp._split_frames(b.plan, b.n_split, rng)
+            assert len(frames) == len(clones)
+            for f, c in zip(frames, clones):
+                assert np.array_equal(f, c.frames[0])
+            split += 1
+        assert rng.bit_generator.state == b.rng.bit_generator.state, b.key
+    assert split > 5
