@@ -90,3 +90,14 @@ def test_worley_float32_tileable_and_jitter():
     # periodic: shifted by one period (5 cells) along x it is the same image
     c = noise_grid((40, 64), offset=(5.0, 0.0), **kw)
     assert np.abs(c - a).max() < TOL
+
+
+@pytest.mark.parametrize("output", ["f1", "f2-f1"])
+def test_worley_float32_wide_cells_3d(output):
+    # 16 samples per cell: the row goes by blocks of 16 lanes against whole columns of
+    # candidates (the path of large cells), 3D with its nine cells per column
+    kw = dict(kind="worley", output=output, octaves=2, scale=5.0, seed=9)
+    a = noise_grid((3, 8, 80), **kw)
+    b = noise_grid((3, 8, 80), dtype=np.float64, **kw)
+    assert np.abs(a.astype(np.float64) - b).max() < TOL
+    assert b.std() > 0.02
