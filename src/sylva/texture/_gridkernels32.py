@@ -19,7 +19,6 @@ import numpy as np
 from numba import njit, prange, uint64
 
 from . import _kernels as k
-from ._cellkernels import W_CELL
 from ._gridkernels import BLOCK, ROWS, axis_tables
 
 #: bound on the absolute difference from the float64 road (values about [-1, 1]): value
@@ -561,6 +560,47 @@ def _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb):
         nb[q] = S3 * n
 
 
+@njit(cache=True, error_model="numpy")  # no fast-math: yin, zin as in float64
+def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, offs, perm,
+                  tab, gain, work):
+    """Row ``(m, j)`` of 2D or 3D simplex noise, every octave summed into ``row`` (float32;
+    ridged sums are left unnormalised); ``work``: :func:`simplex_work` (also the texture
+    graph's row routine)."""
+    bx, by, bz, nb, bi, bj, bk, bc, g0, g1, g2, g3 = work
+    nx = row.shape[0]
+    row[:] = ZERO
+    weight[:] = ONE
+    for o in range(freqs.shape[0]):
+        fx = freqs[o, 0]
+        ox = offs[o, 0]
+        yin = ys[j] * freqs[o, 1] + offs[o, 1]
+        zin = zs[m] * freqs[o, 2] + offs[o, 2]
+        fx32 = _F(fx)
+        ox32 = _F(ox)
+        yin32 = _F(yin)
+        for base in range(0, nx, BLOCK):
+            cnt = min(BLOCK, nx - base)
+            if ndim == 2:
+                _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bi, bj, bc)
+                _s2_hash(cnt, bi, bj, bc, tab, g0, g1, g2)
+                _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb)
+            else:
+                _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc)
+                _s3_hash(cnt, bi, bj, bk, bc, perm, tab, g0, g1, g2, g3)
+                _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb)
+            _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
+
+
+@njit(cache=True)
+def simplex_work():
+    """Block buffers of :func:`row_simplex32`."""
+    f = np.float32
+    i = np.int32
+    return (np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f),
+            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i),
+            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i))
+
+
 @njit(cache=True, parallel=True, error_model="numpy")  # no fast-math: yin, zin as in float64
 def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, tab, norm, gain):
     """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D or 3D simplex noise (Gustavson's
@@ -573,43 +613,13 @@ def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, t
     nrows = ny * nz
     for c in prange((nrows + ROWS - 1) // ROWS):
         weight = np.empty(nx, np.float32)
-        bx = np.empty(BLOCK, np.float32)
-        by = np.empty(BLOCK, np.float32)
-        bz = np.empty(BLOCK, np.float32)
-        nb = np.empty(BLOCK, np.float32)
-        bi = np.empty(BLOCK, np.int32)
-        bj = np.empty(BLOCK, np.int32)
-        bk = np.empty(BLOCK, np.int32)
-        bc = np.empty(BLOCK, np.int32)
-        g0 = np.empty(BLOCK, np.int32)
-        g1 = np.empty(BLOCK, np.int32)
-        g2 = np.empty(BLOCK, np.int32)
-        g3 = np.empty(BLOCK, np.int32)
+        work = simplex_work()
         for r in range(c * ROWS, min(nrows, (c + 1) * ROWS)):
             j = r % ny
             m = r // ny
             row = out[m, j]
-            row[:] = ZERO
-            weight[:] = ONE
-            for o in range(freqs.shape[0]):
-                fx = freqs[o, 0]
-                ox = offs[o, 0]
-                yin = ys[j] * freqs[o, 1] + offs[o, 1]
-                zin = zs[m] * freqs[o, 2] + offs[o, 2]
-                fx32 = _F(fx)
-                ox32 = _F(ox)
-                yin32 = _F(yin)
-                for base in range(0, nx, BLOCK):
-                    cnt = min(BLOCK, nx - base)
-                    if ndim == 2:
-                        _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bi, bj, bc)
-                        _s2_hash(cnt, bi, bj, bc, tab, g0, g1, g2)
-                        _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb)
-                    else:
-                        _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc)
-                        _s3_hash(cnt, bi, bj, bk, bc, perm, tab, g0, g1, g2, g3)
-                        _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb)
-                    _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
+            row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, offs,
+                          perm, tab, gain, work)
             _finish(mode, row, norm)
 
 
@@ -686,10 +696,11 @@ def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, 
         )
         return out
     if setup.kind == k.WORLEY:
+        from ._worley32 import supported, worley_grid32
+
         wp = setup.wpar
-        if wp[7] > 0.0 or int(wp[1]) == W_CELL:
+        if not supported(wp):
             return None
-        from ._worley32 import worley_grid32
 
         out = np.empty(shape3, np.float32)
         worley_grid32(ndim, mode, axes[0], axes[1], axes[2], out, freqs, a32, offs, pers, wp,

@@ -373,6 +373,31 @@ def row_work(nx):
     )
 
 
+@njit(**_OPTS)
+def row_worley32(ndim, mode, xs, ys, zs, j, m, row, weight, freqs, amps, offs, pers, wpar,
+                 gain, work, nb):
+    """Row ``(m, j)`` of 2D or 3D Worley noise, every octave summed into ``row`` (float32;
+    ridged sums are left unnormalised); ``work``: :func:`row_work`, ``nb`` a float32 row
+    buffer (also the texture graph's row routine)."""
+    metric = int(wpar[0])
+    combo = int(wpar[1])
+    seed = int(wpar[3])
+    row[:] = ZERO
+    weight[:] = ONE
+    for o in range(freqs.shape[0]):
+        worley_row32(ndim, xs, freqs[o, 0], offs[o, 0], ys[j] * freqs[o, 1] + offs[o, 1],
+                     zs[m] * freqs[o, 2] + offs[o, 2], int(pers[o, 0]), int(pers[o, 1]),
+                     int(pers[o, 2]), metric, wpar[2], seed, combo, wpar[4], wpar[5], wpar[6],
+                     work, nb)
+        _combine_block(mode, row, weight, 0, row.shape[0], nb, amps[o], gain)
+
+
+def supported(wpar) -> bool:
+    """Whether the float32 road covers the Worley set-up ``wpar`` (not the cell id, not the
+    Poisson process)."""
+    return not (wpar[7] > 0.0 or int(wpar[1]) == ck.W_CELL)
+
+
 @njit(parallel=True, **_OPTS)
 def worley_grid32(ndim, mode, xs, ys, zs, out, freqs, amps, offs, pers, wpar, norm, gain):
     """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D or 3D Worley noise (jittered
@@ -380,13 +405,6 @@ def worley_grid32(ndim, mode, xs, ys, zs, out, freqs, amps, offs, pers, wpar, no
     :func:`._gridkernels.worley_grid` (``amps`` already carry ``norm`` unless ridged)."""
     nz, ny, nx = out.shape
     nrows = ny * nz
-    metric = int(wpar[0])
-    combo = int(wpar[1])
-    jitter = wpar[2]
-    seed = int(wpar[3])
-    c1 = wpar[4]
-    c2 = wpar[5]
-    c3 = wpar[6]
     for c in prange((nrows + ROWS - 1) // ROWS):
         weight = np.empty(nx, np.float32)
         nb = np.empty(nx, np.float32)
@@ -395,11 +413,6 @@ def worley_grid32(ndim, mode, xs, ys, zs, out, freqs, amps, offs, pers, wpar, no
             j = r % ny
             m = r // ny
             row = out[m, j]
-            row[:] = ZERO
-            weight[:] = ONE
-            for o in range(freqs.shape[0]):
-                worley_row32(ndim, xs, freqs[o, 0], offs[o, 0], ys[j] * freqs[o, 1] + offs[o, 1],
-                             zs[m] * freqs[o, 2] + offs[o, 2], int(pers[o, 0]), int(pers[o, 1]),
-                             int(pers[o, 2]), metric, jitter, seed, combo, c1, c2, c3, work, nb)
-                _combine_block(mode, row, weight, 0, nx, nb, amps[o], gain)
+            row_worley32(ndim, mode, xs, ys, zs, j, m, row, weight, freqs, amps, offs, pers,
+                         wpar, gain, work, nb)
             _finish(mode, row, norm)
