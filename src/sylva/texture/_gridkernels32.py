@@ -4,9 +4,18 @@ The float32 road of :func:`sylva.texture.noise_grid` (``dtype=np.float32``, the 
 the same lattices, hashes and gradients as the float64 road of :mod:`._gridkernels`, but
 float32 arithmetic throughout, every octave fused into one pass per row (the output row
 is the accumulator), and one branch-free loop per row and octave that LLVM vectorises to
-the machine's widest registers (16 float32 lanes with AVX-512, 8 with AVX2): the
-permutation-table lookups become vector gathers, gradients come from bit masks or
-selects instead of tables, floors are float floors, fast-math lets LLVM fuse multiply-adds.
+the machine's widest registers (16 float32 lanes with AVX-512, 8 with AVX2): gradients come
+from bit masks or selects instead of tables, floors are float floors, fast-math lets LLVM
+fuse multiply-adds.  The permutation-table lookups stay (so that the values are the
+float64 road's within rounding) in scalar passes.
+
+Covered here, 2D and 3D, every fractal sum (fBm, turbulence, ridged) and integer lattice
+periods (``tileable``): value, classic Perlin (its 256 gradients stored into the block by
+the scalar hash pass), improved Perlin, simplex, and Worley F1..F3 and their combinations
+(:mod:`._worley32`).  The rest takes the float64 road and is rounded once: 4D grids
+(and 3D grids with ``time``), tileable simplex (its 4D torus), domain warping, Worley's cell
+id, its Poisson process and its orders above F3.  The row routines (``row_lattice32``,
+``row_simplex32``, ``_worley32.row_worley32``) are also the texture graph's.
 
 Results differ from the float64 road by float32 rounding only: the difference is below
 ``TOLERANCE`` (absolute, on values normalised to about [-1, 1]); see
@@ -21,8 +30,9 @@ from numba import njit, prange, uint64
 from . import _kernels as k
 from ._gridkernels import BLOCK, ROWS, axis_tables
 
-#: bound on the absolute difference from the float64 road (values about [-1, 1]): value
-#: and improved noise differ by ~3e-7 (their lattice tables are computed in float64);
+#: bound on the absolute difference from the float64 road (values about [-1, 1]): value,
+#: classic and improved noise and Worley differ by ~3e-7 (their lattice tables and feature
+#: points are computed in float64);
 #: 2D simplex, located in float32 coordinates (~1e-4 of a cell of rounding at 2000 cells),
 #: by up to ~7e-5 over 6 octaves; 3D simplex is located in float64 (its kernel, r² = 0.6,
 #: jumps across simplex faces, so the simplex must be the float64 road's) and differs by
@@ -727,3 +737,17 @@ def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, 
         )
         return out
     return None
+
+
+def warm() -> None:
+    """Compile the float32 road's kernels (``sylva warmup``): every kind, 2D and 3D, plain
+    and fractal, on tiny grids."""
+    from .noise import noise_grid
+
+    for kind in ("value", "perlin", "improved", "simplex", "worley"):
+        for shape in ((4, 24), (2, 3, 24)):
+            for fractal in ("fbm", "ridged"):
+                noise_grid(shape, kind=kind, fractal=fractal, octaves=2, dtype=np.float32)
+    for output in ("f1", "f2"):  # both Worley paths: runs of samples, and wide cells
+        for scale in (4.0, 1.0):
+            noise_grid((2, 24), kind="worley", output=output, scale=scale, dtype=np.float32)
