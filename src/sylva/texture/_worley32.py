@@ -107,24 +107,24 @@ def _columns(hs, ndim, c0, ncol, y, z, icy, icz, px, py, pz, jitter, sq, manhatt
 @njit(inline="always", **_OPTS)
 def _colfill(hs, ndim, c0, ncol, y, z, icy, icz, px, py, pz, jitter, sq, manhattan, colx,
              colyz):
+    # one (dz, dy) cell row at a time, the columns in the inner loop: the integer hashes
+    # vectorise across columns (64-bit lanes)
     rz = 1 if ndim >= 3 else 0
-    for c in range(ncol):
-        ic = c0 + c
-        e = 0
-        for dz in range(-rz, rz + 1):
-            for dy in range(-1, 2):
-                _, fpx, fpy, fpz = ck._feature(hs, ndim, ic, icy + dy, icz + dz, px, py, pz,
-                                               jitter)
+    e = 0
+    for dz in range(-rz, rz + 1):
+        for dy in range(-1, 2):
+            iy = icy + dy
+            iz = icz + dz
+            for c in range(ncol):
+                _, fpx, fpy, fpz = ck._feature(hs, ndim, c0 + c, iy, iz, px, py, pz, jitter)
                 ddy = abs(fpy - y)
                 ddz = abs(fpz - z) if ndim >= 3 else 0.0
                 colx[e, c] = fpx
-                if sq:
-                    colyz[e, c] = ddy * ddy + ddz * ddz
-                elif manhattan:
-                    colyz[e, c] = ddy + ddz
-                else:
-                    colyz[e, c] = max(ddy, ddz)
-                e += 1
+                l2 = ddy * ddy + ddz * ddz
+                l1 = ddy + ddz
+                li = max(ddy, ddz)
+                colyz[e, c] = l2 if sq else (l1 if manhattan else li)
+            e += 1
 
 
 @njit(inline="always", **_OPTS)
@@ -221,14 +221,13 @@ def _row_blocks(hs, ndim, nx, xb, y, z, icy, icz, px, py, pz, jitter, sq, manhat
         ub = uint64(base)
         lo = math.floor(xb[ub])
         hi = math.floor(xb[ub + uint64(cnt - 1)])
-        for q in range(cnt):
-            xr[q] = _F(xb[ub + uint64(q)] - lo)
-        for q in range(cnt, LANES):
-            xr[q] = xr[0]
+        last = uint64(nx - 1)
+        for q in range(LANES):  # fixed trip counts (lanes past the row repeat its end)
+            xr[q] = _F(xb[min(ub + uint64(q), last)] - lo)
         k0 = int(lo - c0) - 1
         k1 = int(hi - c0) + 1
         _block(sq, manhattan, needk, ne // 3, colx, colyz, k0, k1, lo, xr, r1, r2, r3)
-        for q in range(cnt):
+        for q in range(LANES):  # f1..f3 have LANES spare entries
             p = ub + uint64(q)
             f1[p] = r1[q]
             f2[p] = r2[q]
@@ -259,7 +258,7 @@ def worley_row32(ndim, xs, fx, ox, y, z, px, py, pz, metric, jitter, seed, combo
     for i in range(nx):
         xb[i] = xs[i] * fx + ox
     a = 0
-    if nx > 1 and (xb[nx - 1] - xb[0]) * 8.0 <= nx - 1:  # 8+ samples per cell: blocks
+    if nx > 1 and (xb[nx - 1] - xb[0]) * 2.0 <= nx - 1:  # 2+ samples per cell: blocks
         _row_blocks(hs, ndim, nx, xb, y, z, icy, icz, px, py, pz, jitter, sq, manhattan, needk,
                     xr, r1, r2, r3, f1, f2, f3)
         a = nx
@@ -335,9 +334,9 @@ def worley_row32(ndim, xs, fx, ox, y, z, px, py, pz, metric, jitter, seed, combo
         bad[i] = fk[i] > gap
         nbad += bad[i]
     if combo == ck.W_F1:
-        nb[:] = f1
+        nb[:] = f1[:nx]
     elif combo == ck.W_F2:
-        nb[:] = f2
+        nb[:] = f2[:nx]
     elif combo == ck.W_F2_F1:
         for i in range(nx):
             nb[i] = f2[i] - f1[i]
@@ -358,9 +357,9 @@ def row_work(nx):
     """Row buffers of :func:`worley_row32` for rows of ``nx`` samples."""
     return (
         np.empty(nx),
-        np.empty(nx, np.float32),
-        np.empty(nx, np.float32),
-        np.empty(nx, np.float32),
+        np.empty(nx + LANES, np.float32),
+        np.empty(nx + LANES, np.float32),
+        np.empty(nx + LANES, np.float32),
         np.empty(nx + LANES, np.float32),
         np.empty(nx + LANES, np.float32),
         np.empty(nx + LANES, np.float32),
