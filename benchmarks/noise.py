@@ -203,6 +203,7 @@ def main(argv=None) -> int:
         ("2D fBm 6 oct simplex", shape2, "simplex", 6, c2, NoiseType.NoiseType_OpenSimplex2),
         ("3D fBm 6 oct improved", shape3, "improved", 6, c3, NoiseType.NoiseType_Perlin),
         ("2D Worley F1", shape2, "worley", 1, c2, NoiseType.NoiseType_Cellular),
+        ("3D Worley F1", shape3, "worley", 1, c3, NoiseType.NoiseType_Cellular),
     ]
     ncores = numba.config.NUMBA_NUM_THREADS
     lib = os.environ.get("SYLVA_FASTNOISE2_LIB")

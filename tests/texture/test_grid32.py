@@ -19,7 +19,7 @@ SHAPES = [(20, 300), (5, 12, 72)]
 
 
 @pytest.mark.parametrize("shape", SHAPES, ids=["2d", "3d"])
-@pytest.mark.parametrize("kind", ["value", "improved", "simplex"])
+@pytest.mark.parametrize("kind", ["value", "perlin", "improved", "simplex"])
 @pytest.mark.parametrize(
     "fractal,octaves", [("fbm", 1), ("fbm", 6), ("ridged", 4), ("turbulence", 3)]
 )
@@ -58,3 +58,46 @@ def test_float32_road_offsets_tiling_and_periods_match():
     a = noise_grid((32, 48), **kw)
     b = noise_grid((32, 48), dtype=np.float64, **kw)
     assert np.abs(a - b).max() < TOL
+
+
+@pytest.mark.parametrize("shape", SHAPES, ids=["2d", "3d"])
+@pytest.mark.parametrize(
+    "output,metric,fractal,octaves",
+    [
+        ("f1", "euclidean", "fbm", 1),
+        ("f2", "manhattan", "ridged", 3),
+        ("f2-f1", "chebyshev", "fbm", 2),
+        ("f3", "euclidean2", "turbulence", 2),
+    ],
+)
+def test_worley_float32_road_within_tolerance(shape, output, metric, fractal, octaves):
+    kw = dict(kind="worley", output=output, metric=metric, fractal=fractal, octaves=octaves,
+              scale=24.0, seed=5)
+    a = noise_grid(shape, **kw)
+    b = noise_grid(shape, dtype=np.float64, **kw)
+    assert a.dtype == np.float32
+    assert np.abs(a.astype(np.float64) - b).max() < TOL
+    assert b.std() > 0.02
+    # float32 distances, not the float64 ones rounded
+    assert not np.array_equal(a, b.astype(np.float32))
+
+
+def test_worley_float32_tileable_and_jitter():
+    kw = dict(kind="worley", octaves=2, scale=5.0, tileable=True, jitter=0.6, seed=3)
+    a = noise_grid((40, 64), **kw)
+    b = noise_grid((40, 64), dtype=np.float64, **kw)
+    assert np.abs(a - b).max() < TOL
+    # periodic: shifted by one period (5 cells) along x it is the same image
+    c = noise_grid((40, 64), offset=(5.0, 0.0), **kw)
+    assert np.abs(c - a).max() < TOL
+
+
+@pytest.mark.parametrize("output", ["f1", "f2-f1"])
+def test_worley_float32_wide_cells_3d(output):
+    # 16 samples per cell: the row goes by blocks of 16 lanes against whole columns of
+    # candidates (the path of large cells), 3D with its nine cells per column
+    kw = dict(kind="worley", output=output, octaves=2, scale=5.0, seed=9)
+    a = noise_grid((3, 8, 80), **kw)
+    b = noise_grid((3, 8, 80), dtype=np.float64, **kw)
+    assert np.abs(a.astype(np.float64) - b).max() < TOL
+    assert b.std() > 0.02

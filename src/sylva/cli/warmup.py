@@ -68,6 +68,9 @@ def _textures(tmp: Path) -> None:
             _cli("texture", kind, "--size", "24x16", "-o", str(tmp / "t.png"))
     _cli("texture", "--lsystem", "01-koch-snowflake", "--size", "24x16", "-o", str(tmp / "l.png"))
     _cli("texture", "perlin", "--size", "24x16", "--tileable", "-o", str(tmp / "t.png"))
+    from ..texture import _gridkernels32
+
+    _gridkernels32.warm()  # noise_grid's float32 road (the default for arrays)
 
 
 def _render(tmp: Path) -> None:

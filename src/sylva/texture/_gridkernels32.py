@@ -4,9 +4,18 @@ The float32 road of :func:`sylva.texture.noise_grid` (``dtype=np.float32``, the 
 the same lattices, hashes and gradients as the float64 road of :mod:`._gridkernels`, but
 float32 arithmetic throughout, every octave fused into one pass per row (the output row
 is the accumulator), and one branch-free loop per row and octave that LLVM vectorises to
-the machine's widest registers (16 float32 lanes with AVX-512, 8 with AVX2): the
-permutation-table lookups become vector gathers, gradients come from bit masks or
-selects instead of tables, floors are float floors, fast-math lets LLVM fuse multiply-adds.
+the machine's widest registers (16 float32 lanes with AVX-512, 8 with AVX2): gradients come
+from bit masks or selects instead of tables, floors are float floors, fast-math lets LLVM
+fuse multiply-adds.  The permutation-table lookups stay (so that the values are the
+float64 road's within rounding) in scalar passes.
+
+Covered here, 2D and 3D, every fractal sum (fBm, turbulence, ridged) and integer lattice
+periods (``tileable``): value, classic Perlin (its 256 gradients stored into the block by
+the scalar hash pass), improved Perlin, simplex, and Worley F1..F3 and their combinations
+(:mod:`._worley32`).  The rest takes the float64 road and is rounded once: 4D grids
+(and 3D grids with ``time``), tileable simplex (its 4D torus), domain warping, Worley's cell
+id, its Poisson process and its orders above F3.  The row routines (``row_lattice32``,
+``row_simplex32``, ``_worley32.row_worley32``) are also the texture graph's.
 
 Results differ from the float64 road by float32 rounding only: the difference is below
 ``TOLERANCE`` (absolute, on values normalised to about [-1, 1]); see
@@ -21,8 +30,9 @@ from numba import njit, prange, uint64
 from . import _kernels as k
 from ._gridkernels import BLOCK, ROWS, axis_tables
 
-#: bound on the absolute difference from the float64 road (values about [-1, 1]): value
-#: and improved noise differ by ~3e-7 (their lattice tables are computed in float64);
+#: bound on the absolute difference from the float64 road (values about [-1, 1]): value,
+#: classic and improved noise and Worley differ by ~3e-7 (their lattice tables and feature
+#: points are computed in float64);
 #: 2D simplex, located in float32 coordinates (~1e-4 of a cell of rounding at 2000 cells),
 #: by up to ~7e-5 over 6 octaves; 3D simplex is located in float64 (its kernel, r² = 0.6,
 #: jumps across simplex faces, so the simplex must be the float64 road's) and differs by
@@ -106,10 +116,41 @@ def _finish(mode, row, norm):
 
 
 @njit(**_OPTS)
-def _lat_hash(kind, ndim, base, cnt, a0, a1, perm, vals, y0, y1, z0, z1, hb, vb):
+def _lat_hash(kind, ndim, base, cnt, a0, a1, perm, vals, grad, y0, y1, z0, z1, hb, vb, gb):
     """Scalar pass: the corner hashes of samples ``base..base + cnt`` (gradient indices
-    into ``hb`` for improved noise, lattice values into ``vb`` for value noise)."""
+    into ``hb`` for improved noise, lattice values into ``vb`` for value noise, the
+    gradients of classic Perlin noise into ``gb``)."""
     b0 = uint64(base)
+    if kind == k.PERLIN:
+        for q in range(cnt):
+            i = b0 + uint64(q)
+            a = uint64(a0[i])
+            b = uint64(a1[i])
+            if ndim == 2:
+                h0 = uint64(perm[a + y0])
+                h1 = uint64(perm[b + y0])
+                h2 = uint64(perm[a + y1])
+                h3 = uint64(perm[b + y1])
+                gb[0, 0, q] = grad[h0, 0]
+                gb[1, 0, q] = grad[h0, 1]
+                gb[0, 1, q] = grad[h1, 0]
+                gb[1, 1, q] = grad[h1, 1]
+                gb[0, 2, q] = grad[h2, 0]
+                gb[1, 2, q] = grad[h2, 1]
+                gb[0, 3, q] = grad[h3, 0]
+                gb[1, 3, q] = grad[h3, 1]
+            else:
+                aa = uint64(perm[a + y0])
+                ba = uint64(perm[b + y0])
+                ab = uint64(perm[a + y1])
+                bb = uint64(perm[b + y1])
+                for c in range(8):
+                    h = aa if c % 4 == 0 else (ba if c % 4 == 1 else (ab if c % 4 == 2 else bb))
+                    g = uint64(perm[h + (z1 if c >= 4 else z0)])
+                    gb[0, c, q] = grad[g, 0]
+                    gb[1, c, q] = grad[g, 1]
+                    gb[2, c, q] = grad[g, 2]
+        return
     for q in range(cnt):
         i = b0 + uint64(q)
         a = uint64(a0[i])
@@ -155,13 +196,18 @@ def _lat_hash(kind, ndim, base, cnt, a0, a1, perm, vals, y0, y1, z0, z1, hb, vb)
 
 
 @njit(**_OPTS)
-def _row_tables(kind, perm, vals, y0, y1, th, tv):
+def _row_tables(kind, perm, vals, grad, y0, y1, th, tv, tg):
     """The 2D corner hashes of one row and octave for every ``a = perm[x]`` (0..255): a
     row of 2D noise then needs one lookup per corner instead of two."""
     for a in range(256):
         h0 = uint64(perm[uint64(a) + y0])
         h1 = uint64(perm[uint64(a) + y1])
-        if kind == k.IMPROVED:
+        if kind == k.PERLIN:
+            tg[0, 0, a] = grad[h0, 0]
+            tg[1, 0, a] = grad[h0, 1]
+            tg[0, 1, a] = grad[h1, 0]
+            tg[1, 1, a] = grad[h1, 1]
+        elif kind == k.IMPROVED:
             th[0, a] = perm[h0]
             th[1, a] = perm[h1]
         else:
@@ -170,14 +216,20 @@ def _row_tables(kind, perm, vals, y0, y1, th, tv):
 
 
 @njit(**_OPTS)
-def _lat_hash2(kind, base, cnt, a0, a1, th, tv, hb, vb):
+def _lat_hash2(kind, base, cnt, a0, a1, th, tv, tg, hb, vb, gb):
     """:func:`_lat_hash` of a 2D row through its :func:`_row_tables`."""
     b0 = uint64(base)
     for q in range(cnt):
         i = b0 + uint64(q)
         a = uint64(a0[i])
         b = uint64(a1[i])
-        if kind == k.IMPROVED:
+        if kind == k.PERLIN:
+            for c in range(2):
+                gb[c, 0, q] = tg[c, 0, a]
+                gb[c, 1, q] = tg[c, 0, b]
+                gb[c, 2, q] = tg[c, 1, a]
+                gb[c, 3, q] = tg[c, 1, b]
+        elif kind == k.IMPROVED:
             hb[0, q] = th[0, a]
             hb[1, q] = th[0, b]
             hb[2, q] = th[1, a]
@@ -190,12 +242,42 @@ def _lat_hash2(kind, base, cnt, a0, a1, th, tv, hb, vb):
 
 
 @njit(**_OPTS)
-def _lat_eval(kind, ndim, base, cnt, fx, cu, y, v, z, w, hb, vb, nb):
+def _lat_eval(kind, ndim, base, cnt, fx, cu, y, v, z, w, hb, vb, gb, nb):
     """SIMD pass: blend the corners of samples ``base..base + cnt`` into ``nb``."""
     b0 = uint64(base)
     y_1 = y - ONE
     z_1 = z - ONE
-    if kind == k.IMPROVED and ndim == 2:
+    if kind == k.PERLIN and ndim == 2:
+        for q in range(cnt):
+            i = b0 + uint64(q)
+            x = fx[i]
+            u = cu[i]
+            x_1 = x - ONE
+            n00 = gb[0, 0, q] * x + gb[1, 0, q] * y
+            n10 = gb[0, 1, q] * x_1 + gb[1, 1, q] * y
+            n01 = gb[0, 2, q] * x + gb[1, 2, q] * y_1
+            n11 = gb[0, 3, q] * x_1 + gb[1, 3, q] * y_1
+            nb[q] = _lerp(v, _lerp(u, n00, n10), _lerp(u, n01, n11))
+    elif kind == k.PERLIN:
+        for q in range(cnt):
+            i = b0 + uint64(q)
+            x = fx[i]
+            u = cu[i]
+            x_1 = x - ONE
+            n0 = gb[0, 0, q] * x + gb[1, 0, q] * y + gb[2, 0, q] * z
+            n1 = gb[0, 1, q] * x_1 + gb[1, 1, q] * y + gb[2, 1, q] * z
+            n2 = gb[0, 2, q] * x + gb[1, 2, q] * y_1 + gb[2, 2, q] * z
+            n3 = gb[0, 3, q] * x_1 + gb[1, 3, q] * y_1 + gb[2, 3, q] * z
+            n4 = gb[0, 4, q] * x + gb[1, 4, q] * y + gb[2, 4, q] * z_1
+            n5 = gb[0, 5, q] * x_1 + gb[1, 5, q] * y + gb[2, 5, q] * z_1
+            n6 = gb[0, 6, q] * x + gb[1, 6, q] * y_1 + gb[2, 6, q] * z_1
+            n7 = gb[0, 7, q] * x_1 + gb[1, 7, q] * y_1 + gb[2, 7, q] * z_1
+            nb[q] = _lerp(
+                w,
+                _lerp(v, _lerp(u, n0, n1), _lerp(u, n2, n3)),
+                _lerp(v, _lerp(u, n4, n5), _lerp(u, n6, n7)),
+            )
+    elif kind == k.IMPROVED and ndim == 2:
         for q in range(cnt):
             i = b0 + uint64(q)
             x = fx[i]
@@ -245,82 +327,77 @@ def _lat_eval(kind, ndim, base, cnt, fx, cu, y, v, z, w, hb, vb, nb):
             nb[q] = n
 
 
+@njit(**_OPTS)
+def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, vals, grad,
+                  gain, work):
+    """Row ``(m, j)`` of 2D or 3D value, classic or improved noise, every octave summed
+    into ``row`` (float32; ridged sums are left unnormalised); ``work`` is
+    :func:`row_work`'s block buffers (also the texture graph's row routine)."""
+    hb, vb, gb, nb, th, tv, tg = work
+    nx = row.shape[0]
+    row[:] = ZERO
+    weight[:] = ONE
+    px0, px1, xf, xu = xt
+    yi0, yi1, yf, yv = yt
+    zi0, zi1, zf, zw = zt
+    for o in range(px0.shape[0]):
+        y0 = uint64(yi0[o, j])
+        y1 = uint64(yi1[o, j])
+        z0 = uint64(zi0[o, m]) if ndim == 3 else uint64(0)
+        z1 = uint64(zi1[o, m]) if ndim == 3 else uint64(0)
+        rowtab = ndim == 2 and nx > 128
+        if rowtab:
+            _row_tables(kind, perm, vals, grad, y0, y1, th, tv, tg)
+        for base in range(0, nx, BLOCK):
+            cnt = min(BLOCK, nx - base)
+            if rowtab:
+                _lat_hash2(kind, base, cnt, px0[o], px1[o], th, tv, tg, hb, vb, gb)
+            else:
+                _lat_hash(kind, ndim, base, cnt, px0[o], px1[o], perm, vals, grad, y0, y1,
+                          z0, z1, hb, vb, gb)
+            _lat_eval(kind, ndim, base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m],
+                      zw[o, m], hb, vb, gb, nb)
+            _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
+
+
+@njit(**_OPTS)
+def row_work():
+    """Block buffers of :func:`row_lattice32`."""
+    return (
+        np.empty((8, BLOCK), np.int32),
+        np.empty((8, BLOCK), np.float32),
+        np.empty((3, 8, BLOCK), np.float32),
+        np.empty(BLOCK, np.float32),
+        np.empty((2, 256), np.int32),
+        np.empty((2, 256), np.float32),
+        np.empty((2, 2, 256), np.float32),
+    )
+
+
 @njit(parallel=True, **_OPTS)
-def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, norm, gain):
-    """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D (``nz == 1``) or 3D value or
-    improved noise, every octave in one pass per row.
+def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, grad, norm, gain):
+    """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D (``nz == 1``) or 3D value,
+    classic Perlin or improved noise, every octave in one pass per row.
 
     ``xt = (px0, px1, xf, xu)``: per octave and column ``perm[x0]``, ``perm[x1]`` (int32)
     and the fraction and curve weight (float32); ``yt``, ``zt = (i0, i1, f, c)`` the
     lattice indices, fractions and weights of the rows and slices (see
     :func:`._gridkernels.axis_tables`).  ``amps`` already carry ``norm`` unless ``mode``
-    is ridged.  Each block of :data:`BLOCK` samples goes in two passes: the table lookups
-    (scalar: LLVM rates vector gathers too dear on some CPUs) and the arithmetic (SIMD).
+    is ridged; ``grad``: classic Perlin's gradient table (float32, 256 x 4).  Each block of
+    :data:`BLOCK` samples goes in two passes: the table lookups (scalar: LLVM rates vector
+    gathers too dear on some CPUs) and the arithmetic (SIMD).
     """
     nz, ny, nx = out.shape
-    px0, px1, xf, xu = xt
-    yi0, yi1, yf, yv = yt
-    zi0, zi1, zf, zw = zt
-    no = px0.shape[0]
     nrows = ny * nz
     for c in prange((nrows + ROWS - 1) // ROWS):
         weight = np.empty(nx, np.float32)
-        hb = np.empty((8, BLOCK), np.int32)
-        vb = np.empty((8, BLOCK), np.float32)
-        nb = np.empty(BLOCK, np.float32)
-        th = np.empty((2, 256), np.int32)
-        tv = np.empty((2, 256), np.float32)
+        work = row_work()
         for r in range(c * ROWS, min(nrows, (c + 1) * ROWS)):
             j = r % ny
             m = r // ny
             row = out[m, j]
-            row[:] = ZERO
-            weight[:] = ONE
-            for o in range(no):
-                y0 = uint64(yi0[o, j])
-                y1 = uint64(yi1[o, j])
-                z0 = uint64(zi0[o, m]) if ndim == 3 else uint64(0)
-                z1 = uint64(zi1[o, m]) if ndim == 3 else uint64(0)
-                rowtab = ndim == 2 and nx > 128
-                if rowtab:
-                    _row_tables(kind, perm, vals, y0, y1, th, tv)
-                for base in range(0, nx, BLOCK):
-                    cnt = min(BLOCK, nx - base)
-                    if rowtab:
-                        _lat_hash2(kind, base, cnt, px0[o], px1[o], th, tv, hb, vb)
-                    else:
-                        _lat_hash(
-                            kind,
-                            ndim,
-                            base,
-                            cnt,
-                            px0[o],
-                            px1[o],
-                            perm,
-                            vals,
-                            y0,
-                            y1,
-                            z0,
-                            z1,
-                            hb,
-                            vb,
-                        )
-                    _lat_eval(
-                        kind,
-                        ndim,
-                        base,
-                        cnt,
-                        xf[o],
-                        xu[o],
-                        yf[o, j],
-                        yv[o, j],
-                        zf[o, m],
-                        zw[o, m],
-                        hb,
-                        vb,
-                        nb,
-                    )
-                    _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
+            row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, vals,
+                          grad, gain, work)
             _finish(mode, row, norm)
 
 
@@ -493,6 +570,47 @@ def _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb):
         nb[q] = S3 * n
 
 
+@njit(cache=True, error_model="numpy")  # no fast-math: yin, zin as in float64
+def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, offs, perm,
+                  tab, gain, work):
+    """Row ``(m, j)`` of 2D or 3D simplex noise, every octave summed into ``row`` (float32;
+    ridged sums are left unnormalised); ``work``: :func:`simplex_work` (also the texture
+    graph's row routine)."""
+    bx, by, bz, nb, bi, bj, bk, bc, g0, g1, g2, g3 = work
+    nx = row.shape[0]
+    row[:] = ZERO
+    weight[:] = ONE
+    for o in range(freqs.shape[0]):
+        fx = freqs[o, 0]
+        ox = offs[o, 0]
+        yin = ys[j] * freqs[o, 1] + offs[o, 1]
+        zin = zs[m] * freqs[o, 2] + offs[o, 2]
+        fx32 = _F(fx)
+        ox32 = _F(ox)
+        yin32 = _F(yin)
+        for base in range(0, nx, BLOCK):
+            cnt = min(BLOCK, nx - base)
+            if ndim == 2:
+                _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bi, bj, bc)
+                _s2_hash(cnt, bi, bj, bc, tab, g0, g1, g2)
+                _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb)
+            else:
+                _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc)
+                _s3_hash(cnt, bi, bj, bk, bc, perm, tab, g0, g1, g2, g3)
+                _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb)
+            _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
+
+
+@njit(cache=True)
+def simplex_work():
+    """Block buffers of :func:`row_simplex32`."""
+    f = np.float32
+    i = np.int32
+    return (np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f),
+            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i),
+            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i))
+
+
 @njit(cache=True, parallel=True, error_model="numpy")  # no fast-math: yin, zin as in float64
 def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, tab, norm, gain):
     """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D or 3D simplex noise (Gustavson's
@@ -505,43 +623,13 @@ def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, t
     nrows = ny * nz
     for c in prange((nrows + ROWS - 1) // ROWS):
         weight = np.empty(nx, np.float32)
-        bx = np.empty(BLOCK, np.float32)
-        by = np.empty(BLOCK, np.float32)
-        bz = np.empty(BLOCK, np.float32)
-        nb = np.empty(BLOCK, np.float32)
-        bi = np.empty(BLOCK, np.int32)
-        bj = np.empty(BLOCK, np.int32)
-        bk = np.empty(BLOCK, np.int32)
-        bc = np.empty(BLOCK, np.int32)
-        g0 = np.empty(BLOCK, np.int32)
-        g1 = np.empty(BLOCK, np.int32)
-        g2 = np.empty(BLOCK, np.int32)
-        g3 = np.empty(BLOCK, np.int32)
+        work = simplex_work()
         for r in range(c * ROWS, min(nrows, (c + 1) * ROWS)):
             j = r % ny
             m = r // ny
             row = out[m, j]
-            row[:] = ZERO
-            weight[:] = ONE
-            for o in range(freqs.shape[0]):
-                fx = freqs[o, 0]
-                ox = offs[o, 0]
-                yin = ys[j] * freqs[o, 1] + offs[o, 1]
-                zin = zs[m] * freqs[o, 2] + offs[o, 2]
-                fx32 = _F(fx)
-                ox32 = _F(ox)
-                yin32 = _F(yin)
-                for base in range(0, nx, BLOCK):
-                    cnt = min(BLOCK, nx - base)
-                    if ndim == 2:
-                        _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bi, bj, bc)
-                        _s2_hash(cnt, bi, bj, bc, tab, g0, g1, g2)
-                        _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb)
-                    else:
-                        _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc)
-                        _s3_hash(cnt, bi, bj, bk, bc, perm, tab, g0, g1, g2, g3)
-                        _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb)
-                    _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
+            row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, offs,
+                          perm, tab, gain, work)
             _finish(mode, row, norm)
 
 
@@ -585,7 +673,7 @@ def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, 
     shape3 = (full[2], full[1], full[0])
     t = setup.tables
     a32 = (amps if mode == k.RIDGED else amps * norm).astype(np.float32)
-    if setup.kind in (k.VALUE, k.IMPROVED):
+    if setup.kind in (k.VALUE, k.PERLIN, k.IMPROVED):
         tabs = [
             lattice_tables32(
                 axis_tables(
@@ -612,9 +700,21 @@ def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, 
             a32,
             t.perm,
             t.values.astype(np.float32),
+            t.gradients[ndim - 2].astype(np.float32),
             np.float32(norm),
             np.float32(gain),
         )
+        return out
+    if setup.kind == k.WORLEY:
+        from ._worley32 import supported, worley_grid32
+
+        wp = setup.wpar
+        if not supported(wp):
+            return None
+
+        out = np.empty(shape3, np.float32)
+        worley_grid32(ndim, mode, axes[0], axes[1], axes[2], out, freqs, a32, offs, pers, wp,
+                      np.float32(norm), np.float32(gain))
         return out
     if setup.kind == k.SIMPLEX and not torus:
         out = np.empty(shape3, np.float32)
@@ -637,3 +737,17 @@ def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, 
         )
         return out
     return None
+
+
+def warm() -> None:
+    """Compile the float32 road's kernels (``sylva warmup``): every kind, 2D and 3D, plain
+    and fractal, on tiny grids."""
+    from .noise import noise_grid
+
+    for kind in ("value", "perlin", "improved", "simplex", "worley"):
+        for shape in ((4, 24), (2, 3, 24)):
+            for fractal in ("fbm", "ridged"):
+                noise_grid(shape, kind=kind, fractal=fractal, octaves=2, dtype=np.float32)
+    for output in ("f1", "f2"):  # both Worley paths: runs of samples, and wide cells
+        for scale in (4.0, 1.0):
+            noise_grid((2, 24), kind="worley", output=output, scale=scale, dtype=np.float32)

@@ -32,8 +32,10 @@ import numpy as np
 
 from ..._atomic import atomic_write
 from .. import _gridkernels as _gk
+from .. import _gridkernels32 as _gk32
 from .. import _gridplan as _gp
 from .. import _kernels as _k
+from .. import _worley32 as _w32
 from .. import colormap as _cm
 from .. import fractals as _fr
 from .. import noise as _nz
@@ -49,7 +51,9 @@ import numpy as np
 from numba import njit
 
 from sylva.texture import _gridkernels as _gk
+from sylva.texture import _gridkernels32 as _gk32
 from sylva.texture import _sampling as _s
+from sylva.texture import _worley32 as _w32
 from sylva.texture.graph import _ops
 """
 
@@ -250,6 +254,10 @@ class _Emit:
         norm, gain = self.p(plan.norm), self.p(plan.gain)
         amps = self.arg(plan.amps)
         lattice = s.kind in (_k.VALUE, _k.PERLIN, _k.IMPROVED)
+        if (self.dtype == np.float32 and ctx is None and not warp and nd in (2, 3)
+                and not plan.torus and (lattice or s.kind == _k.SIMPLEX
+                                        or (s.kind == _k.WORLEY and _w32.supported(s.wpar)))):
+            return self._row32(plan, lattice)
         if ctx is None and not warp and lattice and nd in (2, 3) and not plan.torus:
             tabs = [_gk.axis_tables(plan.axes[a], np.ascontiguousarray(plan.freqs[:, a]),
                                     np.ascontiguousarray(plan.offs[:, a]),
@@ -317,6 +325,49 @@ class _Emit:
                         f"{pt[3]}, {torus}, {tab[0]}, {amps}, {tab[1]}, {tab[2]}, {s.interp}, "
                         f"{tab[3]}, {tab[4]}, {tab[5]}, {tab[6]}, {self.arg(s.wpar)}, {norm}, "
                         f"{gain})")
+
+    def _row32(self, plan, lattice):
+        """A generator on the image grid with float32 output: noise_grid's float32 row
+        routines (float32 arithmetic, SIMD), one row buffer per generator."""
+        s, nd, t = plan.setup, plan.ndim, plan.setup.tables
+        f32 = np.float32
+        mode = plan.mode
+        amps = self.arg(plan.amps.astype(f32))
+        gain = self.arg(f32(plan.gain))
+        norm = self.p(plan.norm)
+        self.n += 1
+        acc, wt, wk = f"acc{self.n}", f"wt{self.n}", f"wk{self.n}"
+        self.pre += [f"{acc} = np.empty(nx, np.float32)", f"{wt} = np.empty(nx, np.float32)"]
+        col = [np.ascontiguousarray(plan.freqs[:, a]) for a in range(4)]
+        if lattice:
+            tabs = [_gk32.lattice_tables32(_gk.axis_tables(
+                plan.axes[a], col[a], np.ascontiguousarray(plan.offs[:, a]),
+                np.ascontiguousarray(plan.pers[:, a]), s.interp), t.perm, a == 0)
+                for a in range(nd)]
+            xt, yt = self.arg(tabs[0]), self.arg(tabs[1])
+            zt = self.arg(tabs[2]) if nd == 3 else yt
+            self.pre.append(f"{wk} = _gk32.row_work()")
+            self.row.append(
+                f"_gk32.row_lattice32({s.kind}, {mode}, {nd}, {xt}, {yt}, {zt}, j, m, {acc}, "
+                f"{wt}, {amps}, {self.arg(t.perm)}, {self.arg(t.values.astype(f32))}, "
+                f"{self.arg(t.gradients[nd - 2].astype(f32))}, {gain}, {wk})")
+        elif s.kind == _k.SIMPLEX:
+            ax = [self.arg(a) for a in plan.axes[:3]]
+            self.pre.append(f"{wk} = _gk32.simplex_work()")
+            tab = _gk32.simplex_table(t.seed, t.perm, t.perm12)
+            self.row.append(
+                f"_gk32.row_simplex32({nd}, {mode}, {ax[0]}, {self.arg(plan.axes[0].astype(f32))}"
+                f", {ax[1]}, {ax[2]}, j, m, {acc}, {wt}, {self.arg(plan.freqs)}, {amps}, "
+                f"{self.arg(plan.offs)}, {self.arg(t.perm)}, {self.arg(tab)}, {gain}, {wk})")
+        else:
+            ax = [self.arg(a) for a in plan.axes[:3]]
+            nb = f"nbw{self.n}"
+            self.pre += [f"{wk} = _w32.row_work(nx)", f"{nb} = np.empty(nx, np.float32)"]
+            self.row.append(
+                f"_w32.row_worley32({nd}, {mode}, {ax[0]}, {ax[1]}, {ax[2]}, j, m, {acc}, {wt}, "
+                f"{self.arg(plan.freqs)}, {amps}, {self.arg(plan.offs)}, {self.arg(plan.pers)}, "
+                f"{self.arg(s.wpar)}, {gain}, {wk}, {nb})")
+        return self.var(f"{acc}[i] * {norm}")
 
     def _noise_kw(self, node):
         skip = {"fractal", "kind"}
