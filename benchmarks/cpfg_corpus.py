@@ -27,7 +27,6 @@ from __future__ import annotations
 import argparse
 import multiprocessing as mp
 import re
-import shlex
 import sys
 import time
 import warnings
@@ -80,16 +79,20 @@ def cpfg_command(model: Path) -> dict:
     return {k: (model.parent / v if v else None) for k, v in found.items()}
 
 
-def environment_program(env: Path) -> str:
-    """The executable an environment file (``.e``) names."""
+def _needs(env: Path | None) -> str | None:
+    """The environment program a model needs that sylva does not serve (None: no
+    environment file, or one a built-in environment answers)."""
+    if env is None:
+        return None
+    from sylva.lsystem.dialects._cpfg_env import EnvironmentProgramError, environment_spec
+
     try:
-        for line in env.read_text("latin-1").splitlines():
-            if line.strip().lower().startswith("executable:"):
-                words = shlex.split(line.split(":", 1)[1])
-                return words[0] if words else "?"
-    except OSError:
-        pass
-    return env.name
+        environment_spec(env)
+    except EnvironmentProgramError as exc:
+        return exc.program
+    except Exception:  # noqa: BLE001 - a bad file: the model's run reports it
+        return None
+    return None
 
 
 def camera_from_view(view, scene):
@@ -124,14 +127,17 @@ def _run(model: str, files: dict, size: int, render: bool, queue) -> None:
         import sylva
         from sylva.lsystem import Derivation
         from sylva.lsystem.dialects import cpfg
-        from sylva.plant import query_for
+        from sylva.plant import environment_for, query_for
 
         t0 = time.perf_counter()
         text = Path(model).read_text("latin-1")
         program = cpfg.parse(text, model, view=files["view"] or False, colormap=files["map"],
-                             materials=files["mat"])  # fmt: skip
+                             materials=files["mat"], environment=files["env"])  # fmt: skip
         seed = program.seed if program.seed is not None else 1
-        d = Derivation(program, seed=seed, limit=5_000_000, query=query_for(program, seed))
+        env, locate = environment_for(program, seed)
+        out["environment"] = program.settings.get("environment")
+        d = Derivation(program, seed=seed, limit=5_000_000, query=query_for(program, seed),
+                       environment=env, locate=locate)  # fmt: skip
         d.advance(program.steps or 0)
         out["modules"] = len(d.word)
         out["derive_s"] = time.perf_counter() - t0
@@ -216,9 +222,9 @@ def main(argv=None) -> int:
     for model in models:
         name = str(model.relative_to(args.vlab / "oofs")).replace("ext/", "")
         files = cpfg_command(model)
-        if files["env"] is not None:
-            out = {"status": f"needs environment program {environment_program(files['env'])}",
-                   "wall_s": 0.0}  # fmt: skip
+        needs = _needs(files["env"])
+        if needs is not None:
+            out = {"status": f"needs environment program {needs}", "wall_s": 0.0}
         else:
             out = run_one(model, files, args.timeout, args.size, not args.no_render)
         status = out["status"]
@@ -227,6 +233,8 @@ def main(argv=None) -> int:
         line = f"{status:9s} {name}"
         if status == "derived":
             line += f"  modules={out['modules']} derive={out['derive_s']:.2f}s"
+            if out.get("environment"):
+                line += f" environment={out['environment'].replace(' ', '')}"
             if "triangles" in out:
                 line += f" triangles={out['triangles']} total={out['total_s']:.2f}s"
             if "render_error" in out:

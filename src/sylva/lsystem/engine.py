@@ -40,6 +40,7 @@ import numpy as np
 from .._jit import road
 from ..errors import GrowthLimitError, LSystemSemanticError, StepsError
 from . import _sublsystems as _sub
+from . import _walk
 from . import environment as _open
 from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
 from ._memory import _check_limit, block_step_bytes, fast_step_bytes, general_step_bytes
@@ -95,6 +96,7 @@ class _CRule:
     succ_ids: np.ndarray
     succ_nparams: np.ndarray
     args: list[Callable]
+    walk_right: bool = False  # cpfg's literal walk (:mod:`._walk`), not the tree pattern
 
     @property
     def needs_env(self) -> bool:
@@ -104,10 +106,13 @@ class _CRule:
 class _RuleSet:
     """The rules of one kind (productions or render rules) compiled for an alphabet."""
 
-    def __init__(self, rules: Sequence[Rule], alphabet: Alphabet, constants) -> None:
+    def __init__(self, rules: Sequence[Rule], alphabet: Alphabet, constants, *,
+                 cpfg: bool = False, ring: bool = False) -> None:  # fmt: skip
         self.alphabet = alphabet
+        self.ring = ring  # cpfg's ring L-system: the word's ends are neighbours
+        self.skip = alphabet.id("=") if cpfg else -1  # cpfg's "rest of the branch"
         self.rules: list[_CRule] = [
-            self._compile(i, r, alphabet, constants) for i, r in enumerate(rules)
+            self._compile(i, r, alphabet, constants, self.skip) for i, r in enumerate(rules)
         ]
         by: dict[int, list[list[_CRule]]] = {}
         for cr in self.rules:
@@ -134,7 +139,8 @@ class _RuleSet:
         self._build_context_table()
 
     @staticmethod
-    def _compile(index: int, rule: Rule, alphabet: Alphabet, constants) -> _CRule:
+    def _compile(index: int, rule: Rule, alphabet: Alphabet, constants, skip: int = -1
+                 ) -> _CRule:  # fmt: skip
         pred = rule.predecessor
         if pred.symbol in ("[", "]"):
             raise _rule_error(rule, f"a bracket {pred.symbol!r} cannot be rewritten")
@@ -152,10 +158,7 @@ class _RuleSet:
         if block is not None:
             names = tuple(dict.fromkeys(names + block.outputs))
         right_ids = np.array([alphabet.id(p.symbol) for p in rule.right], ID_DTYPE)
-        try:
-            pattern_match(right_ids)
-        except ValueError:
-            raise _rule_error(rule, "unbalanced brackets in the right context") from None
+        walk = _walk.needs_walk(right_ids, skip)
 
         def comp(e):
             try:
@@ -183,7 +186,7 @@ class _RuleSet:
             left=np.array([alphabet.id(p.symbol) for p in rule.left], ID_DTYPE),
             left_arity=np.array([len(p.params) for p in rule.left], np.int64),
             right=right_ids,
-            right_match=pattern_match(right_ids),
+            right_match=pattern_match(right_ids) if not walk else np.zeros(0, np.int64),
             right_arity=np.array([len(p.params) for p in rule.right], np.int64),
             bindings=bindings,
             cond=cond,
@@ -192,12 +195,14 @@ class _RuleSet:
             succ_ids=np.array([alphabet.id(m.symbol) for m in rule.successor], ID_DTYPE),
             succ_nparams=np.array([len(m.args) for m in rule.successor], np.int64),
             args=args,
+            walk_right=walk,
         )
 
     def _build_context_table(self) -> None:
         """Flat tables for the compiled road of parameter-free systems with contexts."""
-        self.ctx_fast = not self.fast and all(
-            cr.cond is None
+        self.ctx_fast = not self.fast and not self.ring and all(
+            not cr.walk_right
+            and cr.cond is None
             and cr.pred_arity == 0
             and not cr.left_arity.any()
             and not cr.right_arity.any()
@@ -334,11 +339,13 @@ class _Compiled:
         self.alphabet = alphabet
         self._constants = constants
         self._groups: dict[int, _RuleSet] = {}
+        self._kind = {"cpfg": program.dialect == "cpfg", "ring": bool(program.ring)}
         self.productions = self.group_rules(0)
         self.sublsystems = any(r.lsystem for r in program.productions)  # cpfg's ?(n) … $
-        self.render = _RuleSet(program.render_rules, alphabet, constants)
-        self.decomposition = _RuleSet(program.decompositions, alphabet, constants)
-        self.interpretation = _RuleSet(program.interpretations, alphabet, constants)
+        self.render = _RuleSet(program.render_rules, alphabet, constants, **self._kind)
+        self.decomposition = _RuleSet(program.decompositions, alphabet, constants, **self._kind)
+        self.interpretation = _RuleSet(program.interpretations, alphabet, constants,
+                                       **self._kind)  # fmt: skip
         self.group_fn = None
         if program.group is not None:
             try:
@@ -361,7 +368,8 @@ class _Compiled:
         if rs is None:
             prods = self.program.productions
             mine = [i for i, r in enumerate(prods) if r.group in (0, group)]
-            rs = _RuleSet([prods[i] for i in mine], self.alphabet, self._constants)
+            rs = _RuleSet([prods[i] for i in mine], self.alphabet, self._constants,
+                          **self._kind)  # fmt: skip
             rs.origin = np.array(mine, np.int64)  # index in program.productions
             self._groups[group] = rs
         return rs
@@ -394,7 +402,8 @@ def _with_constants(comp: _Compiled, constants: Mapping[str, float]) -> _Compile
     new._groups = {}
     new.productions = new.group_rules(0)
     program = comp.program
-    new.decomposition = _RuleSet(program.decompositions, comp.alphabet, new._constants)
+    new.decomposition = _RuleSet(program.decompositions, comp.alphabet, new._constants,
+                                 **comp._kind)  # fmt: skip
     return new
 
 
@@ -581,12 +590,20 @@ def _step_general(
                 if scope is not None:
                     ok &= scope[undecided] == cr.rule.lsystem
                 lpos = rpos = None
-                if cr.left.size:
+                if cr.left.size and rs.ring:
+                    okl, lpos = _walk.match_left(word, undecided, cr.left, cr.left_arity,
+                                                 ignored)  # fmt: skip
+                    ok &= okl
+                elif cr.left.size:
                     okl, lpos = _kernels.match_left(
                         ids, word.match, word.offsets, ignored, undecided, cr.left, cr.left_arity
                     )
                     ok &= okl
-                if cr.right.size:
+                if cr.right.size and (cr.walk_right or rs.ring):
+                    okr, rpos = _walk.match_right(word, undecided, cr.right, cr.right_arity,
+                                                  ignored, rs.skip, rs.ring)  # fmt: skip
+                    ok &= okr
+                elif cr.right.size:
                     okr, rpos = _kernels.match_right(
                         ids,
                         word.match,

@@ -69,6 +69,7 @@ from ..ast import Program, Span
 from ..expr import evaluate_constant
 from . import (
     _cpfg_blocks,
+    _cpfg_env,
     _cpfg_functions,
     _cpfg_production,
     _cpfg_statements,
@@ -89,8 +90,8 @@ _BLOCK = re.compile(r"\s*(define|start|starteach|endeach|end)\s*:\s*(?=\{)", re.
 _UNSUPPORTED = re.compile(r"\s*(ring\s+l-?system|start\s*:|starteach\s*:|endeach\s*:"
                           r"|end\s*:|define\s*:|group\b|sub-?l-?system)",
                           re.IGNORECASE)  # fmt: skip
-_UNSUPPORTED_WHY = {"ring l-system": "ring L-systems, whose first and last modules are "
-                    "neighbours, are not implemented"}  # fmt: skip
+_UNSUPPORTED_WHY: dict[str, str] = {}
+_RING = re.compile(r"\s*ring\s+l-?system\s*\Z", re.IGNORECASE)
 #: A line that begins a production whose arrow comes later: ``M(t) : 1 {x=0.5*R^t;}``.
 _HEAD = re.compile(r"[^{}]*:\s*\{|[^{}]*:[^{}]*\{[^}]*(?<![=!<>])=(?!=)|.*:\s*\Z"
                    r"|[^:(]*(?:\([^)]*\))?[^:(]*[<>][^:]*:(?!\s*[-+]?[\d.]+\s*\Z)")
@@ -213,6 +214,17 @@ def _quote_equals(word: str) -> str:
 _ASSIGNED = re.compile(r"\b([A-Za-z_][A-Za-z0-9_]*)\s*(?:[-+*/]?=(?!=)|\+\+|--)")
 
 
+_PROBABILITY = re.compile(r"\s*(?:[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[A-Za-z_]\w*)\s*\Z")
+
+
+def _condition_head(text: str) -> bool:
+    """Whether ``text`` is a production's head whose arrow comes on a later line: it has a
+    ``:`` outside parentheses followed by a condition (``@M(x,y,z) : (x<0)``), not by a
+    successor's probability (``… : 0.4``, ``… : P``)."""
+    k = _outside_parens(text, ":")
+    return k >= 0 and not _PROBABILITY.match(text[k + 1 :])
+
+
 def _outside_parens(text: str, char: str) -> int:
     """The first index of ``char`` outside parentheses and braces (or -1)."""
     depth = 0
@@ -273,7 +285,7 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
         continues = open_at is not None and plain and (
             forced or ("-->" not in text and not _KEY.match(text) and not _SECTION.match(text)
                        and not _UNSUPPORTED.match(text) and not _HEAD.match(text)
-                       and not _other_arrow(text)
+                       and not _other_arrow(text) and not _condition_head(text)
                        and not (axiom_open and _outside_parens(text, ":") >= 0)))  # fmt: skip
         if continues:
             body = line.slice(0, len(text.rstrip()))
@@ -325,14 +337,20 @@ def _remap(span: Span | None, lines: list[_cpp.Line]) -> Span | None:
 
 
 def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
-          materials=None) -> Program:
+          materials=None, environment=None) -> Program:
     """Read a cpfg L-system (see the module notes); errors name the file, line and column.
 
     ``view`` is the view file (:mod:`._cpfg_view`): a path, ``None`` for the ``.v`` beside
     ``filename`` (same stem) if there is one, or ``False`` for none.  Its settings apply
     where the L-system does not set its own; lines sylva cannot honour are warned about
     (:class:`~sylva.errors.SylvaWarning`).
+
+    ``environment`` is the environment file (``cpfg -e plant.e``) of an open L-system: its
+    program is answered by the built-in environment :mod:`._cpfg_env` maps it to (the
+    program's ``environment`` setting), or it is an
+    :class:`~._cpfg_env.EnvironmentProgramError` naming the program.
     """
+    env_spec = None if environment is None else _cpfg_env.environment_spec(environment)
     pre = _cpp.preprocess(text, filename)
     lines = [_quote_hash(line) for line in _logical_lines(pre)]
     out: list[str] = []
@@ -341,6 +359,8 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
     render = False
     ended = False
     trop_at = None
+    ring = False
+    seen_rule = False
     section = "production"
     depths: dict[str, tuple[str, LSystemSyntaxError]] = {}
     recursive = _homomorphism_has_depth([ln.text for ln in lines])
@@ -368,6 +388,11 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
         if ended or not line.strip():
             emit("")
             continue
+        if logical.define is not None and seen_rule and logical.define in pre.values:
+            # cpp's #define may follow the rules; its value is known: set it before them
+            top.append((f"{logical.define} = {pre.values[logical.define]!r}", logical))
+            emit("")
+            continue
         if logical.define is not None:
             emit(f"{logical.define} = {_power(line.strip())}")
             lead = len(line) - len(line.lstrip())
@@ -388,6 +413,10 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
                 globals_.values.update(pre.values)  # the #define constants, read only
             for name, value in _block(logical, m, kind, globals_, where, pre):
                 top.append((f"{name} = {value!r}", logical))  # Start: runs before all
+            emit("")
+            continue
+        if _RING.match(line):
+            ring = True
             emit("")
             continue
         if m := _UNSUPPORTED.match(line):
@@ -441,6 +470,7 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
                 emit(f"{key} = {_in_parens_power(value)}")
             continue
         if "-->" in line:
+            seen_rule = True
             for piece in _multi_predecessor(line):
                 rule, parts[len(out) + 1], blocks = _production(piece, render, where)
                 if blocks is not None:
@@ -487,6 +517,8 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
         raise _relocate(err, src, parts, pre) from None
     settings = dict(program.settings)
     settings.setdefault("turtle", "abop")
+    if env_spec is not None:
+        settings["environment"] = env_spec
     if "tropism" in settings:  # cpfg normalises the direction (interpret.c)
         t = settings["tropism"]
         norm = sum(c * c for c in t) ** 0.5  # type: ignore[union-attr]
@@ -515,7 +547,7 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
         rules = _attach_blocks(program.rules, rules, made,
                                (set(globals_.values) - set(pre.values)) | each_names, len(top))
     return program.replace(settings=settings, dialect="cpfg", name=name or program.name,
-                           steps_at=at, rules=rules, statements=statements,
+                           steps_at=at, rules=rules, statements=statements, ring=ring,
                            **fields)  # fmt: skip
 
 

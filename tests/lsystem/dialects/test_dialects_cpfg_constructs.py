@@ -1,0 +1,130 @@
+"""cpfg constructs of vlab's models, each on a small model of our own: ring L-systems,
+right contexts with open brackets and ``=``, late ``#define``, condition heads over two
+lines, and environment files served by sylva's built-in environments."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import sylva
+from sylva.environments import Density, Light
+from sylva.lsystem import Derivation
+from sylva.lsystem.dialects import cpfg
+from sylva.lsystem.dialects._cpfg_env import EnvironmentProgramError, environment_spec
+from sylva.plant import environment_for
+
+
+def _derive(text: str, steps: int | None = None) -> str:
+    p = cpfg.parse(text, view=False)
+    return str(sylva.derive(p, p.steps if steps is None else steps))
+
+
+@pytest.mark.parametrize(
+    ("ring", "rule", "axiom", "want"),
+    [
+        ("ring lsystem\n", "B > A --> A", "ABBB", "ABBA"),  # the last B sees the first A
+        ("", "B > A --> A", "ABBB", "ABBB"),
+        ("ring lsystem\n", "A < B --> C", "BBBA", "CBBA"),  # the first B sees the last A
+        ("", "A < B --> C", "BBBA", "BBBA"),
+    ],
+)
+def test_a_ring_lsystem_wraps_its_contexts(ring, rule, axiom, want):
+    text = f"Lsystem: 0\n{ring}derivation length: 1\nAxiom: {axiom}\n{rule}\nendlsystem\n"
+    assert _derive(text) == want
+
+
+def test_a_ring_signal_goes_round():
+    # a signal that moves right, around the ring: after 4 steps it is back where it began
+    text = ("Lsystem: 0\nring lsystem\nderivation length: 4\nAxiom: SBBB\n"
+            "S < B --> S\nS --> B\nendlsystem\n")  # fmt: skip
+    words = [_derive(text, k) for k in range(5)]
+    assert words == ["SBBB", "BSBB", "BBSB", "BBBS", "SBBB"]
+
+
+def test_right_contexts_with_open_brackets():
+    # [E: a branch that begins with E follows; ]D: the branch ends, D follows it
+    text = ("Lsystem: 0\nderivation length: 1\nAxiom: A[BC]DX[E]F\nX > [E --> Y\n"
+            "A > [B --> Z\nC > ]D --> W\nB > C]DX[E --> V\nD > X]F --> Q\nendlsystem\n")
+    assert _derive(text) == "Z[VW]DY[E]F"  # D > X]F: X is followed by [, not ]
+
+
+def test_equals_skips_the_rest_of_a_branch():
+    # cpfg's = in a right context: the rest of the branch, up to its ]
+    text = ("Lsystem: 0\nderivation length: 1\nAxiom: N[IXX][IY]A F[GH]K\n"
+            "N > [I=][I=]A --> M\nF > [G=]K --> P\nF > [H=]K --> R\nendlsystem\n")
+    assert _derive(text) == "M[IXX][IY]AP[GH]K"
+
+
+def test_a_define_after_the_rules_is_a_constant():
+    text = ("Lsystem: 0\nderivation length: 1\nAxiom: A(1)\nA(x) --> A(x+K)\n"
+            "#define K 0.25\nendlsystem\n")
+    assert _derive(text) == "A(1.25)"
+
+
+def test_a_condition_head_over_two_lines_is_not_a_successor():
+    text = ("Lsystem: 0\nderivation length: 1\nAxiom: M(1)M(-1)\n"
+            "M(x) : (x<=5)&&(x>0)\n\t--> M(x+2)\nM(x) : (x<=5)&&(x<0)\n\t--> M(x-2)\n"
+            "endlsystem\n")
+    assert _derive(text) == "M(3)M(-3)"
+
+
+# ------------------------------------------------------------------ environment programs
+def test_density_crowds_out_the_weaker_of_two_close_buds():
+    env = Density(radius=1.0)
+    p = np.array([[0, 0, 0], [0.5, 0, 0], [3, 0, 0], [3.2, 0, 0]], float)
+    # equal vigour: both crowded (honda81's <=); another group does not count
+    assert env.free(p, np.array([1, 2, 1, 1.0])).tolist() == [0, 1, 0, 0]
+    assert env.free(p, np.ones(4), np.array([0, 1, 0, 1.0])).tolist() == [1, 1, 1, 1]
+    # planar: the distance in x-z, so buds above each other collide
+    q = np.array([[0, 0, 0], [0, 5, 0]], float)
+    assert Density(radius=1, planar=1).free(q, np.array([1, 2.0])).tolist() == [0, 1]
+    assert Density(radius=1).free(q, np.array([1, 2.0])).tolist() == [1, 1]
+
+
+def _files(tmp_path, executable, spec):
+    (tmp_path / "the.spec").write_text(spec)
+    e = tmp_path / "plant.e"
+    e.write_text(f"executable: {executable} -e plant.e the.spec\ncommunication type: files\n"
+                 "turtle position:P:%.4f %.4f %.4f\n")  # fmt: skip
+    return e
+
+
+def test_a_honda81_model_grows_until_its_tips_collide(tmp_path):
+    e = _files(tmp_path, "honda81", "verbose: off\nradius: 0.9\n3d case: on\n")
+    assert environment_spec(e) == "density(radius = 0.9, planar = 0)"
+    # two tips grow towards each other along x; they stop when they are within 0.9
+    text = ("Lsystem: 0\nderivation length: 6\n"
+            "Axiom: [+(90)f(2)-(90)-(90)A(1)?E(1)][-(90)f(2)+(90)+(90)A(2)?E(2)]\n"
+            "A(v) > ?E(x) : x > 0 --> f(0.5)A(v)\nA(v) < ?E(x) --> ?E(v)\n"
+            "endlsystem\n")  # fmt: skip
+    p = cpfg.parse(text, view=False, environment=e)
+    env, locate = environment_for(p)
+    assert isinstance(env, Density)
+    d = Derivation(p, environment=env, locate=locate)
+    weak, strong = str(d.advance(6)).split("][")
+    # they meet after 4 steps: the weaker tip (vigour 1) stops there, the stronger grows on
+    assert weak.count("f(0.5)") == 4
+    assert strong.count("f(0.5)") == 6
+
+
+def test_a_chiba_model_gets_the_light_of_its_position(tmp_path):
+    e = _files(tmp_path, "chiba", "grid size: 32x32x32\ntransmittance: 0.25\n")
+    assert environment_spec(e) == "light(shadow = 0.75)"
+    # three leaf balls one above the other: the top one gets the most light
+    text = ("Lsystem: 1\nderivation length: 1\nAxiom: ?E(1)f(1)?E(1)f(1)?E(1)\n"
+            "?E(r) --> ?E(r)\nendlsystem\n")  # fmt: skip
+    p = cpfg.parse(text, view=False, environment=e)
+    env, locate = environment_for(p)
+    assert isinstance(env, Light)
+    d = Derivation(p, environment=env, locate=locate)
+    w = d.advance(1)
+    light = [float(w.values[w.offsets[i]]) for i in range(len(w)) if w.symbols()[i] == "?E"]
+    assert light[0] < light[1] < light[2] == 1.0
+
+
+def test_an_environment_program_sylva_lacks_is_named(tmp_path):
+    e = _files(tmp_path, "clover", "verbose: off\n")
+    with pytest.raises(EnvironmentProgramError, match="needs environment program clover") as ex:
+        cpfg.parse("Lsystem: 0\nAxiom: A\nendlsystem\n", view=False, environment=e)
+    assert ex.value.program == "clover"
