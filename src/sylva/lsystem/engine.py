@@ -107,12 +107,18 @@ class _RuleSet:
     """The rules of one kind (productions or render rules) compiled for an alphabet."""
 
     def __init__(self, rules: Sequence[Rule], alphabet: Alphabet, constants, *,
-                 cpfg: bool = False, ring: bool = False) -> None:  # fmt: skip
+                 cpfg: bool = False, ring: bool = False, live: frozenset = frozenset(),
+                 live_get: Callable | None = None) -> None:  # fmt: skip
         self.alphabet = alphabet
         self.ring = ring  # cpfg's ring L-system: the word's ends are neighbours
         self.skip = alphabet.id("=") if cpfg else -1  # cpfg's "rest of the branch"
+        # globals that production blocks assign: read per application (``live_get()``),
+        # the rules applied one module at a time in word order (cpfg's order)
+        self.live = tuple(sorted(live)) if any(r.block is not None for r in rules) else ()
+        self.live_get = live_get
         self.rules: list[_CRule] = [
-            self._compile(i, r, alphabet, constants, self.skip) for i, r in enumerate(rules)
+            self._compile(i, r, alphabet, constants, self.skip, self.live)
+            for i, r in enumerate(rules)
         ]
         by: dict[int, list[list[_CRule]]] = {}
         for cr in self.rules:
@@ -139,8 +145,8 @@ class _RuleSet:
         self._build_context_table()
 
     @staticmethod
-    def _compile(index: int, rule: Rule, alphabet: Alphabet, constants, skip: int = -1
-                 ) -> _CRule:  # fmt: skip
+    def _compile(index: int, rule: Rule, alphabet: Alphabet, constants, skip: int = -1,
+                 live: tuple = ()) -> _CRule:  # fmt: skip
         pred = rule.predecessor
         if pred.symbol in ("[", "]"):
             raise _rule_error(rule, f"a bracket {pred.symbol!r} cannot be rewritten")
@@ -153,7 +159,7 @@ class _RuleSet:
         bindings += [(name, "pred", 0, k) for k, name in enumerate(pred.params)]
         for j, p in enumerate(rule.right):
             bindings += [(name, "right", j, k) for k, name in enumerate(p.params)]
-        names = tuple(dict.fromkeys(b[0] for b in bindings))
+        names = tuple(dict.fromkeys([b[0] for b in bindings] + list(live)))
         block = rule.block  # cpfg's statement blocks: what they assign is bound too
         if block is not None:
             names = tuple(dict.fromkeys(names + block.outputs))
@@ -339,7 +345,10 @@ class _Compiled:
         self.alphabet = alphabet
         self._constants = constants
         self._groups: dict[int, _RuleSet] = {}
-        self._kind = {"cpfg": program.dialect == "cpfg", "ring": bool(program.ring)}
+        stm = program.statements
+        self._kind = {"cpfg": program.dialect == "cpfg", "ring": bool(program.ring),
+                      "live": frozenset(getattr(stm, "written", ()) or ()),
+                      "live_get": getattr(stm, "live_values", None)}  # fmt: skip
         self.productions = self.group_rules(0)
         self.sublsystems = any(r.lsystem for r in program.productions)  # cpfg's ?(n) … $
         self.render = _RuleSet(program.render_rules, alphabet, constants, **self._kind)
@@ -404,6 +413,9 @@ def _with_constants(comp: _Compiled, constants: Mapping[str, float]) -> _Compile
     program = comp.program
     new.decomposition = _RuleSet(program.decompositions, comp.alphabet, new._constants,
                                  **comp._kind)  # fmt: skip
+    new.render = _RuleSet(program.render_rules, comp.alphabet, new._constants, **comp._kind)
+    new.interpretation = _RuleSet(program.interpretations, comp.alphabet, new._constants,
+                                  **comp._kind)  # fmt: skip
     return new
 
 
@@ -530,8 +542,13 @@ def _expand_d0l(
     return ModuleString(word.alphabet, out)
 
 
-def _env(word: ModuleString, cr: _CRule, cand, lpos, rpos, sel) -> dict[str, np.ndarray]:
+def _env(word: ModuleString, cr: _CRule, cand, lpos, rpos, sel, rs=None
+         ) -> dict[str, np.ndarray]:  # fmt: skip
     env: dict[str, np.ndarray] = {}
+    if rs is not None and rs.live:  # the globals blocks assign, as they are now
+        now = rs.live_get()
+        for name in rs.live:
+            env[name] = np.full(sel.size, float(now.get(name, 0.0)))
     off = word.offsets
     vals = word.values
     for name, where, j, k in cr.bindings:
@@ -568,8 +585,13 @@ def _step_general(
     pending: list[tuple[_CRule, np.ndarray, dict[str, np.ndarray]]] = []
     ignored = comp.ignored_for(word) if any(cr.rule.has_context for cr in rs.rules) else None
     nparams = word.nparams if word.has_params else None
-    for sym, tiers in rs.by_symbol.items():
-        undecided = np.flatnonzero(ids == sym)
+    if rs.live:  # blocks change globals: one module after the other, in word order
+        order = [(s, np.array([p], np.int64)) for p, s in enumerate(ids.tolist())
+                 if s in rs.by_symbol]  # fmt: skip
+    else:
+        order = [(s, np.flatnonzero(ids == s)) for s in rs.by_symbol]
+    for sym, undecided in order:
+        tiers = rs.by_symbol[sym]
         if undecided.size == 0:
             continue
         for tier in tiers:
@@ -618,7 +640,8 @@ def _step_general(
                 sel = np.flatnonzero(ok)
                 if sel.size == 0:
                     continue
-                env = _env(word, cr, undecided, lpos, rpos, sel) if cr.needs_env else {}
+                env = (_env(word, cr, undecided, lpos, rpos, sel, rs)
+                       if cr.needs_env or rs.live else {})  # fmt: skip
                 if cr.cond is not None:
                     c = truth(cr.cond(env, sel.size))
                     if not c.all():
@@ -1105,6 +1128,8 @@ class Derivation:
     def render_word(self) -> ModuleString:
         """The word the turtle draws: render rules applied once to the current word."""
         comp = self._compiled
+        if self.program.statements is not None and self._globals is not None:
+            comp = _with_constants(comp, self._globals.numbers())  # the globals now
         word, _ = _passes(self.word, comp.interpretation, comp, self.seed, self.step,
                           self.program.interpretation_depth, "interpretation",
                           self.limit)  # fmt: skip

@@ -128,3 +128,12 @@ def test_an_environment_program_sylva_lacks_is_named(tmp_path):
     with pytest.raises(EnvironmentProgramError, match="needs environment program clover") as ex:
         cpfg.parse("Lsystem: 0\nAxiom: A\nendlsystem\n", view=False, environment=e)
     assert ex.value.program == "clover"
+
+
+def test_file_output_calls_run_as_nothing(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    text = ('Lsystem: 1\nStart: {n = 0; fp = fopen("out.txt", "w");}\n'
+            'EndEach: {n = n + 1; fprintf(fp, "n = %.0f\\n", n); fflush(fp);}\n'
+            "End: {fclose(fp);}\nderivation length: 2\nAxiom: A\nA --> AB\nendlsystem\n")
+    assert _derive(text) == "ABB"
+    assert list(tmp_path.iterdir()) == []  # sylva writes no file

@@ -129,49 +129,66 @@ def read_view(text: str, filename: str | None = None) -> dict[str, object]:
             style = m.group(2).strip().lower()
     settings: dict[str, object] = {}
     for number, key, value, at in found:
-
-        def err(pos, message=None, _n=number, _at=at, _k=key):
-            return LSystemSyntaxError(message or f"{_k}: expected a number", filename=filename,
-                                      line=_n, column=_at + pos + 1,
-                                      source_line=source[_n - 1].rstrip("\r"))  # fmt: skip
-
-        if key == "angle increment":
-            settings["rot"] = _numbers(value, 1, err)[0]
-        elif key == "angle factor":
-            n = _numbers(value, 1, err)[0]
-            if n == 0:
-                raise err(0, "angle factor: expected a number other than 0")
-            settings["rot"] = 360.0 / n
-        elif key == "initial line width":
-            w = _numbers(value, 1, err)[0]
-            if style in ("polygon", "polygons", "cylinder", "cylinders"):
-                settings["thick"] = w
-            else:
-                warnings.warn(f"{filename or '<view>'}:{number}: 'initial line width' is in "
-                              f"pixels with line style {style!r}; not honoured (sylva draws "
-                              "widths in units: set line style: cylinder)", SylvaWarning,
-                              stacklevel=4)  # fmt: skip
-        elif key == "line style":
-            if style == "wireframe":  # cpfg draws lines: as pixel, sylva's tubes
-                warnings.warn(f"{filename or '<view>'}:{number}: line style 'wireframe' is "
-                              "drawn as 'pixel' (sylva's tubes)", SylvaWarning,
-                              stacklevel=4)  # fmt: skip
-            elif style not in ("pixel", "pixels", "polygon", "polygons", "cylinder",
-                               "cylinders"):  # fmt: skip
-                raise err(0, f"line style {style!r}: expected pixel, polygon, cylinder or "
-                          "wireframe")  # fmt: skip
-        elif key == "tropism direction":
-            t = _numbers(value, 3, err)
-            norm = math.sqrt(sum(c * c for c in t))
-            if norm == 0.0:
-                raise err(0, "the tropism direction is the zero vector; expected a direction "
-                          "such as 0,-1,0")  # fmt: skip
-            settings["tropism"] = tuple(c / norm for c in t)
-        elif key == "initial elasticity":
-            settings["elasticity"] = _numbers(value, 1, err)[0]
-        elif key == "elasticity increment":
-            settings["elasticity_step"] = _numbers(value, 1, err)[0]
+        try:
+            _honour(settings, number, key, value, at, style, filename, source)
+        except _Unreadable as exc:  # cpfg says "Invalid parameters" and keeps its default
+            warnings.warn(f"{filename or '<view>'}:{number}:{exc.column}: {key}: {exc.what} "
+                          f"{exc.text!r} is not a number; the setting keeps its default (as "
+                          "cpfg does)", SylvaWarning, stacklevel=4)  # fmt: skip
     return settings
+
+
+class _Unreadable(Exception):
+    def __init__(self, column: int, text: str, what: str = "the value") -> None:
+        self.column, self.text, self.what = column, text, what
+
+
+def _honour(settings, number, key, value, at, style, filename, source) -> None:
+    """Set what the view line ``key: value`` sets."""
+
+    def err(pos, message=None, _n=number, _at=at, _k=key):
+        if message is None:  # a value cpfg's fscanf cannot read: a warning
+            return _Unreadable(_at + pos + 1, value.strip())
+        return LSystemSyntaxError(message, filename=filename, line=_n,
+                                  column=_at + pos + 1,
+                                  source_line=source[_n - 1].rstrip("\r"))  # fmt: skip
+
+    if key == "angle increment":
+        settings["rot"] = _numbers(value, 1, err)[0]
+    elif key == "angle factor":
+        n = _numbers(value, 1, err)[0]
+        if n == 0:
+            raise err(0, "angle factor: expected a number other than 0")
+        settings["rot"] = 360.0 / n
+    elif key == "initial line width":
+        w = _numbers(value, 1, err)[0]
+        if style in ("polygon", "polygons", "cylinder", "cylinders"):
+            settings["thick"] = w
+        else:
+            warnings.warn(f"{filename or '<view>'}:{number}: 'initial line width' is in "
+                          f"pixels with line style {style!r}; not honoured (sylva draws "
+                          "widths in units: set line style: cylinder)", SylvaWarning,
+                          stacklevel=4)  # fmt: skip
+    elif key == "line style":
+        if style == "wireframe":  # cpfg draws lines: as pixel, sylva's tubes
+            warnings.warn(f"{filename or '<view>'}:{number}: line style 'wireframe' is "
+                          "drawn as 'pixel' (sylva's tubes)", SylvaWarning,
+                          stacklevel=4)  # fmt: skip
+        elif style not in ("pixel", "pixels", "polygon", "polygons", "cylinder",
+                           "cylinders"):  # fmt: skip
+            raise err(0, f"line style {style!r}: expected pixel, polygon, cylinder or "
+                      "wireframe")  # fmt: skip
+    elif key == "tropism direction":
+        t = _numbers(value, 3, err)
+        norm = math.sqrt(sum(c * c for c in t))
+        if norm == 0.0:
+            raise err(0, "the tropism direction is the zero vector; expected a direction "
+                      "such as 0,-1,0")  # fmt: skip
+        settings["tropism"] = tuple(c / norm for c in t)
+    elif key == "initial elasticity":
+        settings["elasticity"] = _numbers(value, 1, err)[0]
+    elif key == "elasticity increment":
+        settings["elasticity_step"] = _numbers(value, 1, err)[0]
 
 
 _HONOURED = frozenset({"angle increment", "angle factor", "initial line width", "line style",

@@ -421,6 +421,10 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
             continue
         if m := _UNSUPPORTED.match(line):
             construct = " ".join(m.group(1).split())
+            if construct.lower().startswith("ring"):
+                raise where("expected 'ring lsystem' alone on its line (cpfg's ring "
+                            "L-system, whose last module is followed by its first)",
+                            m.start(1) + 1)  # fmt: skip
             raise where(f"cpfg's {construct!r} is not supported by sylva's cpfg reader "
                         f"({_UNSUPPORTED_WHY.get(construct.lower(), 'not implemented yet')})",
                         m.start(1) + 1)  # fmt: skip
@@ -544,8 +548,11 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
     rules = tuple(r if r.span is None else replace(r, span=_remap(r.span, src))
                   for r in program.rules)  # fmt: skip
     if block_src:
-        rules = _attach_blocks(program.rules, rules, made,
-                               (set(globals_.values) - set(pre.values)) | each_names, len(top))
+        rules, written = _attach_blocks(program.rules, rules, made,
+                                        (set(globals_.values) - set(pre.values)) | each_names,
+                                        len(top))  # fmt: skip
+        if written:
+            statements.written = written
     return program.replace(settings=settings, dialect="cpfg", name=name or program.name,
                            steps_at=at, rules=rules, statements=statements, ring=ring,
                            **fields)  # fmt: skip
@@ -633,9 +640,11 @@ def _make_blocks(block_src: dict, runtime, pre, each: dict, top: list, lines) ->
 
 
 def _attach_blocks(raw_rules, rules, made: dict, globals_names: set, shift: int) -> tuple:
-    """``rules`` with their blocks (a rule with blocks is conditional: ``1`` without one);
-    a block that assigns a global variable is an error."""
+    """``rules`` with their blocks (a rule with blocks is conditional: ``1`` without one),
+    and the globals the blocks assign (the engine then applies the productions one module
+    at a time, in word order, as cpfg does, so each application sees the last one's)."""
     out = []
+    written: set[str] = set()
     for raw, rule in zip(raw_rules, rules, strict=True):
         entry = made.get(raw.span.line - shift) if raw.span is not None else None
         if entry is None:
@@ -645,16 +654,14 @@ def _attach_blocks(raw_rules, rules, made: dict, globals_names: set, shift: int)
         params = {n for p in (*rule.left, rule.predecessor, *rule.right) for n in p.params}
         clash = sorted((block.assigned - params) & globals_names)
         if clash:
-            raise where(f"this production's block assigns the global variable {clash[0]!r}: "
-                        "a global changed by each application in turn is not supported "
-                        "(sylva applies a rule to all its modules at once); expected a "
-                        "variable of the block's own", col + 1)  # fmt: skip
+            block.globals_written = frozenset(block.rename.get(n, n) for n in clash)
+            written |= block.globals_written
         from ..ast import Num
 
         out.append(replace(rule, block=block,
                            condition=rule.condition if rule.condition is not None
                            else Num(1.0)))  # fmt: skip
-    return tuple(out)
+    return tuple(out), frozenset(written)
 
 
 def _new_globals(seed: int, functions: dict):
