@@ -12,7 +12,9 @@ Tables
     ``g`` move without recording one, ``+ -`` turn left/right about U, ``& ^`` pitch
     down/up about L, ``\\ /`` roll left/right about H, ``|`` turn around, ``$`` level
     (``L = V×H/|V×H|``, ``U = H×L``, ``V`` up), ``[ ]`` push/pop, ``{ } .`` polygons, ``%``
-    cut the rest of the branch, ``!`` width ×``thick_factor`` (``!(w)`` sets the width),
+    cut the rest of the branch, ``!`` width ×``thick_factor`` (``!(w)`` sets the width;
+    with the setting ``width_step``, cpfg's ``line width increment``, ``!`` subtracts it, as
+    cpfg does, and ``#`` adds it; ``#(w)`` sets the width),
     ``; '`` next colour index (``;(i)`` sets it), ``,`` previous colour index, ``~`` a
     predefined surface (a leaf; ``~(s)`` or ``~l(s)`` scales it).  Parameters override the
     defaults: ``+(30)`` turns 30°, ``F(2)`` draws 2 units.  ``@`` calls one of cpfg's
@@ -101,6 +103,7 @@ GROW = 35  # engine X
 RESET_SCALE = 36  # engine S
 BUFFER = 37  # engine 0-9 (argument: the buffer)
 AT = 38  # @ (abop, lsys): cpfg's functions, named by the next module (argument: AT_*)
+WIDTH_INC = 39  # # (abop): += width_step (cpfg's line width increment), #(w) sets
 
 # the functions after ``@``: each is the argument of the letter that names it
 AT_SPHERE = 1  # @O(d): a sphere of diameter d (default: the width)
@@ -155,6 +158,7 @@ TABLES: Mapping[str, Mapping[str, int]] = {
         ".": POLY_VERTEX,
         "%": CUT,
         "!": WIDTH_MUL,
+        "#": WIDTH_INC,
         ";": COLOR_NEXT,
         "'": COLOR_NEXT,
         ",": COLOR_PREV,

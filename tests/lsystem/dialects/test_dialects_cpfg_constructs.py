@@ -137,3 +137,19 @@ def test_file_output_calls_run_as_nothing(tmp_path, monkeypatch):
             "End: {fclose(fp);}\nderivation length: 2\nAxiom: A\nA --> AB\nendlsystem\n")
     assert _derive(text) == "ABB"
     assert list(tmp_path.iterdir()) == []  # sylva writes no file
+
+
+def test_width_modules_step_by_the_line_width_increment(tmp_path):
+    from sylva.turtle import interpret
+
+    view = tmp_path / "w.v"
+    view.write_text("line style: cylinder\ninitial line width: 1\nline width increment: 0.25\n")
+    text = "Lsystem: 0\nAxiom: F!F#F#F#(0.1)F!(2)F!F\nendlsystem\n"
+    p = cpfg.parse(text, view=view)
+    widths = 2 * interpret(sylva.derive(p, 0), p).seg_radius[:, 0]
+    # cpfg: ! subtracts the increment, # adds it, a parameter sets the width
+    assert np.allclose(widths, [1, 0.75, 1, 1.25, 0.1, 2, 1.75])
+    # without an increment (cpfg's default 0) a plain ! or # keeps the width
+    q = cpfg.parse(text, view=False)
+    w0 = 2 * interpret(sylva.derive(q, 0), q).seg_radius[:, 0]
+    assert np.allclose(w0[:4], w0[0]) and np.isclose(w0[4], 0.1)

@@ -8,6 +8,10 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
     the width ``thick``, when ``line style:`` is ``polygon`` or ``cylinder`` (a width in
     units, as sylva draws); with cpfg's default ``pixel`` style the width is in pixels of the
     screen, which sylva's cylinders do not have, and a warning says so.
+``line width increment: d``
+    ``width_step``: what cpfg's ``!`` subtracts from the width and ``#`` adds to it (in
+    units, with ``polygon`` or ``cylinder`` lines, as the initial width; 0 when the file
+    does not say, as in cpfg, so a plain ``!`` or ``#`` keeps the width).
 ``line style: pixel | polygon | cylinder | wireframe``
     decides what the width means (above).
 ``tropism direction: x, y, z`` (normalised), ``initial elasticity: e``, ``elasticity increment: d``
@@ -21,7 +25,7 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
 Every other line (``projection``, ``viewpoint``, ``view reference point``, ``twist``,
 ``scale``, ``front distance``, ``back distance``, ``z buffer``, ``render mode``, ``light:``,
 ``surface:``, ``texture:``, ``color map``, ``material``, ``initial color``, ``color
-increment``, ``line width increment``, ``contour:``, ``generalized cylinders`` …, and lines
+increment``, ``contour:``, ``generalized cylinders`` …, and lines
 sylva does not know) is reported once as a :class:`~sylva.errors.SylvaWarning` naming the
 file and line, never dropped silently.  Settings of the ``.l`` itself win over the view
 file's.
@@ -60,7 +64,6 @@ _UNHONOURED = {
     "material": "material files are not read; indices use sylva's palette",
     "initial color": "colour indices start at 0",
     "color increment": "colour indices step by 1",
-    "line width increment": "the width module '#' is not drawn",
     "contour": "contours of generalised cylinders are not read",
     "generalized cylinders": "generalised cylinders are drawn as plain segments",
     "maximum depth": "the stack depth is not limited",
@@ -169,6 +172,15 @@ def _honour(settings, number, key, value, at, style, filename, source) -> None:
                           f"pixels with line style {style!r}; not honoured (sylva draws "
                           "widths in units: set line style: cylinder)", SylvaWarning,
                           stacklevel=4)  # fmt: skip
+    elif key == "line width increment":
+        w = _numbers(value, 1, err)[0]
+        if style in ("polygon", "polygons", "cylinder", "cylinders"):
+            settings["width_step"] = w
+        else:
+            warnings.warn(f"{filename or '<view>'}:{number}: 'line width increment' is in "
+                          f"pixels with line style {style!r}; not honoured (sylva draws "
+                          "widths in units: set line style: cylinder)", SylvaWarning,
+                          stacklevel=4)  # fmt: skip
     elif key == "line style":
         if style == "wireframe":  # cpfg draws lines: as pixel, sylva's tubes
             warnings.warn(f"{filename or '<view>'}:{number}: line style 'wireframe' is "
@@ -192,6 +204,7 @@ def _honour(settings, number, key, value, at, style, filename, source) -> None:
 
 
 _HONOURED = frozenset({"angle increment", "angle factor", "initial line width", "line style",
+                       "line width increment",
                        "tropism direction", "initial elasticity",
                        "elasticity increment", "function", "function set", "curve"})  # fmt: skip
 

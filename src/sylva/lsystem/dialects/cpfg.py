@@ -531,6 +531,7 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
         settings["tropism"] = tuple(c / norm for c in t)  # type: ignore[union-attr]
     for key, value in _cpfg_view.load_view(view, filename).items():
         settings.setdefault(key, value)
+    settings.setdefault("width_step", 0.0)  # cpfg's ! and # step by the view's increment
     fields = {}
     for field, (text, at) in depths.items():
         try:

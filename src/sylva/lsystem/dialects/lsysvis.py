@@ -172,6 +172,7 @@ NUMERIC_SETTINGS: tuple[str, ...] = (
     "shrink",
     "elasticity",
     "elasticity_step",
+    "width_step",
 )
 #: Three-component special variables, and whether each is clamped to [0, 1] (the colours
 #: ``bg``, ``color``, ``color_delta`` and the tropism vector).
