@@ -153,3 +153,25 @@ def test_width_modules_step_by_the_line_width_increment(tmp_path):
     q = cpfg.parse(text, view=False)
     w0 = 2 * interpret(sylva.derive(q, 0), q).seg_radius[:, 0]
     assert np.allclose(w0[:4], w0[0]) and np.isclose(w0[4], 0.1)
+
+
+def test_a_concave_polygon_covers_its_own_area_only():
+    from sylva.geometry.build import build_polygons, triangulate_polygons
+    from sylva.turtle import interpret
+
+    def area(v, t):
+        e = np.cross(v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]])
+        return 0.5 * np.linalg.norm(e, axis=1).sum()
+
+    # a square with a notch, from the vertex beside the notch: a fan from there covers
+    # the notch and more (5); the outline's area is 3
+    v = np.array([[-2, 2, 0], [-1, 1, 0], [-2, 0, 0], [0, 0, 0], [0, 2, 0]], float)
+    tris, owner, normals = triangulate_polygons(v, np.array([0, 5]))
+    assert area(v, tris) == pytest.approx(3.0)
+    assert owner.tolist() == [0] * len(tris) and normals[0].tolist() == [0.0, 0.0, 1.0]
+    # the same outline drawn by cpfg's turtle, { . }
+    text = ("Lsystem: 0\nAxiom: f(2)-(90)f(2)-(90){.-(45)f(1.4142135623730951).+(90)"
+            "f(1.4142135623730951).-(135)f(2).-(90)f(2).-(90)f(2).}\nendlsystem\n")
+    p = cpfg.parse(text, view=False)
+    mesh = build_polygons(interpret(sylva.derive(p, 0), p))
+    assert area(mesh.vertices.astype(float), mesh.indices.reshape(-1, 3)) == pytest.approx(3.0)
