@@ -96,26 +96,18 @@ def _needs(env: Path | None) -> str | None:
 
 
 def camera_from_view(view, scene):
-    """sylva's camera for a cpfg view file: the eye on the line from the view reference
-    point through the viewpoint, ``parallel`` projection orthographic, fitted to the plant
-    (cpfg fits its view to the object's box too); the twist is not applied."""
-    import math
-
-    import numpy as np
-
+    """sylva's camera for a cpfg view file (:meth:`sylva.render.Camera.from_view`: the
+    viewpoint, view reference point, twist, projection and scale factor), fitted to the
+    plant as cpfg fits its view to the object's box."""
     from sylva.lsystem.dialects._cpfg_view import read_camera
     from sylva.render import Camera
 
     cam = read_camera(view or False)
-    eye = np.array(cam.get("viewpoint", (0.0, 0.0, 1.0)), float)
-    ref = np.array(cam.get("view reference point", (0.0, 0.0, 0.0)), float)
-    d = eye - ref
-    n = float(np.linalg.norm(d))
-    d = d / n if n > 0 else np.array([0.0, 0.0, 1.0])
-    pitch = math.degrees(math.asin(max(-1.0, min(1.0, d[1]))))
-    yaw = math.degrees(math.atan2(d[0], d[2]))
-    mode = "perspective" if cam.get("projection") == "perspective" else "orthographic"
-    return Camera.auto(scene, mode, yaw=yaw, pitch=min(89.0, max(-89.0, pitch)))
+    return Camera.from_view(scene, cam.get("viewpoint", (0.0, 0.0, 1.0)),
+                            cam.get("view reference point", (0.0, 0.0, 0.0)),
+                            twist=float(cam.get("twist", 0.0)),
+                            projection=str(cam.get("projection", "parallel")),
+                            scale=float(cam.get("scale", 1.0)))  # fmt: skip
 
 
 def _run(model: str, files: dict, size: int, render: bool, queue) -> None:

@@ -5,7 +5,15 @@ from __future__ import annotations
 import sys
 import time
 
-from ._common import add_camera, add_growth, camera_for, check_suffix, limit_type, render_options
+from ._common import (
+    add_camera,
+    add_growth,
+    camera_for,
+    check_suffix,
+    limit_type,
+    render_options,
+    view_camera,
+)
 
 __all__ = ["register"]
 
@@ -55,7 +63,10 @@ def run(args) -> int:
     mode = camera_for(args, plant)
     if mode == "2d" and args.line_width > 0:
         plant = plant.with_min_radius(plant.line_radius(args.line_width, (w, h)))
-    cam = Camera.auto(plant.scene.bounds(), mode, yaw=args.yaw, pitch=args.pitch, aspect=w / h)
+    cam = view_camera(args, plant, w / h)  # a cpfg view file's camera, if it has one
+    if cam is None:
+        cam = Camera.auto(plant.scene.bounds(), mode, yaw=args.yaw, pitch=args.pitch,
+                          aspect=w / h)  # fmt: skip
     img = render(plant.scene, size=(w, h), camera=cam, **render_options(args, plant))
     save_image(img, args.output, bg=args.bg or "white")
     t2 = time.perf_counter()

@@ -175,3 +175,27 @@ def test_a_concave_polygon_covers_its_own_area_only():
     p = cpfg.parse(text, view=False)
     mesh = build_polygons(interpret(sylva.derive(p, 0), p))
     assert area(mesh.vertices.astype(float), mesh.indices.reshape(-1, 3)) == pytest.approx(3.0)
+
+
+def test_the_view_files_camera_places_the_render(tmp_path):
+    from argparse import Namespace
+
+    from sylva.cli._common import view_camera
+
+    (tmp_path / "plant.l").write_text("Lsystem: 0\nAxiom: F(4)[+(90)F(1)]\nendlsystem\n")
+    (tmp_path / "plant.v").write_text("viewpoint: 10, 0, 0\nview reference point: 0,0,0\n"
+                                      "twist: 900\nprojection: perspective\n"
+                                      "scale factor: 0.5\n")  # fmt: skip
+    plant = sylva.grow(str(tmp_path / "plant.l"))
+    args = Namespace(camera="auto", yaw=None, pitch=None, view=None)
+    cam = view_camera(args, plant, 1.0)
+    right, up, back = cam.basis()
+    assert cam.mode == "perspective"
+    assert np.allclose(back, [1, 0, 0])  # from the viewpoint on +x towards the origin
+    assert np.allclose(up, [0, 0, -1], atol=1e-9)  # world +y turned as cpfg turns it
+    wide = view_camera(args, plant, 1.0)
+    (tmp_path / "plant.v").write_text("viewpoint: 10, 0, 0\nprojection: perspective\n")
+    full = view_camera(args, sylva.grow(str(tmp_path / "plant.l")), 1.0)
+    assert wide.distance > 1.5 * full.distance  # scale factor 0.5: the plant half as big
+    assert view_camera(Namespace(camera="auto", yaw=30.0, pitch=None, view=None), plant,
+                       1.0) is None  # the command line's view wins

@@ -22,8 +22,12 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
     the functions ``func(k, x)`` and curves ``curveX(k, t)`` … of expressions and blocks
     (:mod:`._cpfg_functions`).
 
-Every other line (``projection``, ``viewpoint``, ``view reference point``, ``twist``,
-``scale``, ``front distance``, ``back distance``, ``z buffer``, ``render mode``, ``light:``,
+``viewpoint``, ``view reference point``, ``twist``, ``projection``, ``scale factor``
+    the camera (:func:`read_camera`): ``sylva render`` of a cpfg file looks from the
+    viewpoint to the reference point, twisted, parallel or in perspective, the plant
+    fitted to the image times the scale factor (``sylva.render.Camera.from_view``).
+
+Every other line (``front distance``, ``back distance``, ``z buffer``, ``render mode``, ``light:``,
 ``surface:``, ``texture:``, ``color map``, ``material``, ``initial color``, ``color
 increment``, ``contour:``, ``generalized cylinders`` …, and lines
 sylva does not know) is reported once as a :class:`~sylva.errors.SylvaWarning` naming the
@@ -47,11 +51,6 @@ _LINE = re.compile(r"\s*([A-Za-z][A-Za-z _-]*?)\s*:(.*)\Z")
 _NUMBER = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)")
 #: Lines of cpfg's view files that sylva knows but does not draw, with what it lacks.
 _UNHONOURED = {
-    "projection": "the camera is chosen by the renderer (yaw, pitch)",
-    "viewpoint": "the camera is chosen by the renderer (yaw, pitch)",
-    "view reference point": "the camera is chosen by the renderer (yaw, pitch)",
-    "twist": "the camera is chosen by the renderer (yaw, pitch)",
-    "scale": "the renderer fits the plant to the image",
     "front distance": "the renderer clips nothing",
     "back distance": "the renderer clips nothing",
     "z buffer": "the renderer always hides what is behind",
@@ -70,6 +69,12 @@ _UNHONOURED = {
     "box": "bounding boxes are not drawn",
     "shadow map": "the renderer's shadows are its own",
 }
+
+
+#: The camera lines: not settings of the program; ``sylva render`` and the corpus runner
+#: place their camera with them (:func:`read_camera`, ``sylva.render.Camera.from_view``).
+_CAMERA = frozenset({"projection", "viewpoint", "view reference point", "twist", "scale",
+                     "scale factor"})  # fmt: skip
 
 
 def view_path(lsystem_file: str | None) -> Path | None:
@@ -118,10 +123,13 @@ def read_view(text: str, filename: str | None = None) -> dict[str, object]:
             continue
         m = _LINE.match(line)
         key = " ".join(m.group(1).lower().split()) if m else ""
-        if m is None or (key not in _UNHONOURED and key not in _HONOURED):
+        if m is None or (key not in _UNHONOURED and key not in _HONOURED
+                         and key not in _CAMERA):
             warnings.warn(f"{filename or '<view>'}:{number}: unknown view setting "
                           f"{line.strip()!r}; sylva ignores it", SylvaWarning,
                           stacklevel=4)  # fmt: skip
+            continue
+        if key in _CAMERA:  # the renderer's, through read_camera
             continue
         if key in _UNHONOURED:
             warnings.warn(f"{filename or '<view>'}:{number}: view setting {key!r} is not "
