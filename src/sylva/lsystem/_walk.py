@@ -36,7 +36,34 @@ import numpy as np
 
 from .lstring import CLOSE, OPEN, ModuleString
 
-__all__ = ["match_left", "match_right", "needs_walk"]
+__all__ = ["contexts", "match_left", "match_right", "needs_walk"]
+
+
+def contexts(word: ModuleString, cr, candidates: np.ndarray, ignored, ok: np.ndarray,
+             kernels, ring: bool = False, skip: int = -1):  # fmt: skip
+    """Match the left and right context of the engine's compiled rule ``cr`` at
+    ``candidates``: ``ok`` is cleared where one fails; returns the matched positions
+    ``(lpos, rpos)`` (None for a context the rule lacks).  The compiled kernels
+    (``kernels.match_left`` / ``match_right``) do it, except for the walks of this module:
+    ring L-systems and right contexts that need cpfg's walk (``cr.walk_right``)."""
+    lpos = rpos = None
+    if cr.left.size:
+        if ring:
+            okl, lpos = match_left(word, candidates, cr.left, cr.left_arity, ignored)
+        else:
+            okl, lpos = kernels.match_left(word.ids, word.match, word.offsets, ignored,
+                                           candidates, cr.left, cr.left_arity)  # fmt: skip
+        ok &= okl
+    if cr.right.size:
+        if cr.walk_right or ring:
+            okr, rpos = match_right(word, candidates, cr.right, cr.right_arity, ignored, skip,
+                                    ring)  # fmt: skip
+        else:
+            okr, rpos = kernels.match_right(word.ids, word.match, word.offsets, ignored,
+                                            candidates, cr.right, cr.right_match,
+                                            cr.right_arity)  # fmt: skip
+        ok &= okr
+    return lpos, rpos
 
 
 def needs_walk(pattern: np.ndarray, skip: int) -> bool:

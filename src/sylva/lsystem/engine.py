@@ -110,10 +110,8 @@ class _RuleSet:
                  cpfg: bool = False, ring: bool = False, live: frozenset = frozenset(),
                  live_get: Callable | None = None) -> None:  # fmt: skip
         self.alphabet = alphabet
-        self.ring = ring  # cpfg's ring L-system: the word's ends are neighbours
-        self.skip = alphabet.id("=") if cpfg else -1  # cpfg's "rest of the branch"
-        # globals that production blocks assign: read per application (``live_get()``),
-        # the rules applied one module at a time in word order (cpfg's order)
+        self.ring, self.skip = ring, (alphabet.id("=") if cpfg else -1)  # cpfg's ring and =
+        # globals blocks assign, read per application (live_get()): module by module
         self.live = tuple(sorted(live)) if any(r.block is not None for r in rules) else ()
         self.live_get = live_get
         self.rules: list[_CRule] = [
@@ -542,13 +540,11 @@ def _expand_d0l(
     return ModuleString(word.alphabet, out)
 
 
-def _env(word: ModuleString, cr: _CRule, cand, lpos, rpos, sel, rs=None
-         ) -> dict[str, np.ndarray]:  # fmt: skip
+def _env(word: ModuleString, cr: _CRule, cand, lpos, rpos, sel, rs=None) -> dict:
     env: dict[str, np.ndarray] = {}
     if rs is not None and rs.live:  # the globals blocks assign, as they are now
         now = rs.live_get()
-        for name in rs.live:
-            env[name] = np.full(sel.size, float(now.get(name, 0.0)))
+        env.update({k: np.full(sel.size, float(now.get(k, 0.0))) for k in rs.live})
     off = word.offsets
     vals = word.values
     for name, where, j, k in cr.bindings:
@@ -585,11 +581,8 @@ def _step_general(
     pending: list[tuple[_CRule, np.ndarray, dict[str, np.ndarray]]] = []
     ignored = comp.ignored_for(word) if any(cr.rule.has_context for cr in rs.rules) else None
     nparams = word.nparams if word.has_params else None
-    if rs.live:  # blocks change globals: one module after the other, in word order
-        order = [(s, np.array([p], np.int64)) for p, s in enumerate(ids.tolist())
-                 if s in rs.by_symbol]  # fmt: skip
-    else:
-        order = [(s, np.flatnonzero(ids == s)) for s in rs.by_symbol]
+    order = ([(s, np.array([p])) for p, s in enumerate(ids.tolist()) if s in rs.by_symbol]
+             if rs.live else [(s, np.flatnonzero(ids == s)) for s in rs.by_symbol])  # fmt: skip
     for sym, undecided in order:
         tiers = rs.by_symbol[sym]
         if undecided.size == 0:
@@ -611,32 +604,8 @@ def _step_general(
                     ok = np.ones(k, np.bool_)
                 if scope is not None:
                     ok &= scope[undecided] == cr.rule.lsystem
-                lpos = rpos = None
-                if cr.left.size and rs.ring:
-                    okl, lpos = _walk.match_left(word, undecided, cr.left, cr.left_arity,
-                                                 ignored)  # fmt: skip
-                    ok &= okl
-                elif cr.left.size:
-                    okl, lpos = _kernels.match_left(
-                        ids, word.match, word.offsets, ignored, undecided, cr.left, cr.left_arity
-                    )
-                    ok &= okl
-                if cr.right.size and (cr.walk_right or rs.ring):
-                    okr, rpos = _walk.match_right(word, undecided, cr.right, cr.right_arity,
-                                                  ignored, rs.skip, rs.ring)  # fmt: skip
-                    ok &= okr
-                elif cr.right.size:
-                    okr, rpos = _kernels.match_right(
-                        ids,
-                        word.match,
-                        word.offsets,
-                        ignored,
-                        undecided,
-                        cr.right,
-                        cr.right_match,
-                        cr.right_arity,
-                    )
-                    ok &= okr
+                lpos, rpos = _walk.contexts(word, cr, undecided, ignored, ok, _kernels,
+                                            rs.ring, rs.skip)  # fmt: skip
                 sel = np.flatnonzero(ok)
                 if sel.size == 0:
                     continue
