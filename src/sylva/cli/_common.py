@@ -7,7 +7,8 @@ import math
 
 from ..errors import SylvaError
 
-__all__ = ["add_camera", "add_growth", "camera_for", "parse_size", "steps_type", "view_camera"]
+__all__ = ["add_camera", "add_growth", "camera_for", "parse_size", "steps_type", "view_camera",
+           "view_line_pixels"]
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -119,6 +120,22 @@ def view_camera(args, plant, aspect: float):
                             twist=float(cam.get("twist", 0.0)),
                             projection=str(cam.get("projection", "parallel")),
                             scale=float(cam.get("scale", 1.0)), aspect=aspect)  # fmt: skip
+
+
+def view_line_pixels(args, plant) -> float | None:
+    """How many pixels wide a cpfg plant's lines are drawn: its view file's ``initial line
+    width`` with ``line style: pixel`` (cpfg's default style), at least ``--line-width``;
+    None for other programs and styles (their widths are in units)."""
+    program = plant.program
+    if program.dialect != "cpfg":
+        return None
+    from ..lsystem.dialects._cpfg_view import read_camera
+
+    view = getattr(args, "view", None)
+    cam = read_camera(view if view is not None else None, program.filename)
+    if cam.get("line style", "pixel") not in ("pixel", "pixels", "wireframe"):
+        return None
+    return max(float(cam.get("line width", 1.0)), float(getattr(args, "line_width", 0.0)))
 
 
 def render_options(args, plant) -> dict:

@@ -9,6 +9,7 @@ import pytest
 
 import sylva
 from sylva.environments import Density, Light
+from sylva.errors import SylvaWarning
 from sylva.lsystem import Derivation
 from sylva.lsystem.dialects import cpfg
 from sylva.lsystem.dialects._cpfg_env import EnvironmentProgramError, environment_spec
@@ -199,3 +200,18 @@ def test_the_view_files_camera_places_the_render(tmp_path):
     assert wide.distance > 1.5 * full.distance  # scale factor 0.5: the plant half as big
     assert view_camera(Namespace(camera="auto", yaw=30.0, pitch=None, view=None), plant,
                        1.0) is None  # the command line's view wins
+
+
+def test_pixel_lines_keep_their_width_in_pixels(tmp_path):
+    from argparse import Namespace
+
+    from sylva.cli._common import view_line_pixels
+
+    (tmp_path / "plant.l").write_text("Lsystem: 0\nAxiom: F(4)[+(90)F(1)]\nendlsystem\n")
+    args = Namespace(view=None, line_width=2.0)
+    (tmp_path / "plant.v").write_text("initial line width: 5 pixels\n")  # cpfg's pixel style
+    with pytest.warns(SylvaWarning):
+        plant = sylva.grow(str(tmp_path / "plant.l"))
+    assert view_line_pixels(args, plant) == 5.0
+    (tmp_path / "plant.v").write_text("line style: cylinder\ninitial line width: 0.3\n")
+    assert view_line_pixels(args, sylva.grow(str(tmp_path / "plant.l"))) is None  # units

@@ -243,9 +243,10 @@ _CAMERA_KEYS = {"viewpoint": 3, "view reference point": 3, "twist": 1, "scale fa
 def read_camera(view, filename: str | None = None) -> dict[str, object]:
     """The camera lines of a view file as plain values: ``viewpoint`` and ``view reference
     point`` (3 floats each), ``twist`` (degrees), ``projection`` (``"parallel"`` or
-    ``"perspective"``) and ``scale`` (the ``scale factor``); only the lines present (empty
-    for no file).  ``view`` as in :func:`load_view`; a renderer makes its camera from them
-    (the corpus runner: the eye on the line from the reference point to the viewpoint)."""
+    ``"perspective"``) and ``scale`` (the ``scale factor``), and how lines are drawn:
+    ``line style`` (``"pixel"`` …) and ``line width`` (the ``initial line width``); only the
+    lines present (empty for no file).  ``view`` as in :func:`load_view`; ``sylva render``
+    and the corpus runner make their camera from them (``sylva.render.Camera.from_view``)."""
     if view is False:
         return {}
     path = view_path(filename) if view is None else Path(view)
@@ -260,6 +261,12 @@ def read_camera(view, filename: str | None = None) -> dict[str, object]:
         value = m.group(2)
         if key == "projection":
             out["projection"] = value.strip().lower()
+        elif key == "line style":  # how wide lines are drawn: pixels or units
+            out["line style"] = (value.split() or ["pixel"])[0].lower()
+        elif key == "initial line width":
+            nums = re.findall(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?", value)
+            if nums:
+                out["line width"] = float(nums[0])
         elif key in _CAMERA_KEYS:
             nums = [float(x) for x in re.findall(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?",
                                                   value)][: _CAMERA_KEYS[key]]  # fmt: skip
