@@ -120,7 +120,7 @@ def test_the_signed_distance_of_each_shape():
 @pytest.mark.parametrize(
     ("spec", "message"),
     [
-        ("fog", r"unknown environment 'fog'; expected light, obstacle, world"),
+        ("fog", r"unknown environment 'fog'; expected light, obstacle, density, world"),
         ("light(voxel = -1)", r"light: 'voxel' must be a positive number"),
         ("obstacle(shape = cone)", r"unknown shape 'cone'"),
         (3, r"expected a name .* or a function of a Communication, got int"),

@@ -20,6 +20,10 @@ float64[m, k]`` is an environment; these are the ones a program can name
     A shape (sphere, box, ellipsoid, vertical cylinder): ``?E(d, …)`` gets the signed
     distance ``d`` of the module to its surface (negative inside), for pruning to a hedge
     or topiary.
+``density`` — :class:`Density`
+    Crowding (Honda 1981, vlab's ``honda81`` environment program): ``?E(v, g)`` gets 1 where
+    no other ``?E`` module of the same group ``g`` and at least the vigour ``v`` lies within
+    ``radius`` of it, else 0, so branches stop where they would collide.
 ``world`` — :class:`sylva.world.environment.WorldEnvironment`
     The voxel terrain of :mod:`sylva.world`: ground height, blocks and biome, so roots and
     branches stop at the terrain and at rocks.
@@ -55,7 +59,7 @@ from .lsystem.environment import (
 
 K = lazy("sylva._light_kernels")
 
-__all__ = ["Light", "Obstacle", "builtin", "resolve_environment"]
+__all__ = ["Density", "Light", "Obstacle", "builtin", "resolve_environment"]
 
 
 def _positions(comm: Communication, who: str) -> np.ndarray:
@@ -251,6 +255,73 @@ class Obstacle:
         return res + 0.0
 
 
+class Density:
+    """Crowding: a bud may grow on unless another as vigorous is within ``radius``.
+
+    Honda's (1981) model of a tree's branches, as vlab's environment program ``honda81``
+    answers it: every ``?E(v, g)`` module is a bud of vigour ``v`` in group ``g`` (0 when
+    the module has one parameter); it gets ``1`` when no other bud of the same group with a
+    vigour ``>= v`` lies within ``radius`` of it, else ``0`` (the first parameter; the
+    others keep their values).  A bud stopped by a weaker one grows on.
+
+    Parameters
+    ----------
+    radius : float
+        The distance within which two buds collide.
+    planar : bool
+        Measure the distance in the ``x``-``z`` plane only (``honda81`` without its ``3d
+        case: on``), not in space.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> Density(radius=1).free(np.array([[0.0, 0, 0], [0.5, 0, 0], [3, 0, 0]]),
+    ...                        np.array([1.0, 2.0, 1.0]))   # the first is crowded out
+    array([0., 1., 1.])
+    """
+
+    name = "density"
+
+    def __init__(self, radius: float = 1.0, planar: float = 0.0) -> None:
+        if not (math.isfinite(radius) and radius >= 0):
+            raise SylvaError(f"density: 'radius' must be a number >= 0, got {radius}")
+        self.radius = float(radius)
+        self.planar = bool(planar)
+
+    def free(self, positions: np.ndarray, vigour: np.ndarray,
+             group: np.ndarray | None = None) -> np.ndarray:  # fmt: skip
+        """``float64[m]``: 1 for the buds at ``positions`` that may grow on, 0 for the
+        crowded ones."""
+        from scipy.spatial import cKDTree
+
+        p = np.asarray(positions, np.float64).reshape(-1, 3)
+        out = np.ones(p.shape[0])
+        if p.shape[0] < 2:
+            return out
+        if self.planar:
+            p = p[:, [0, 2]]
+        v = np.asarray(vigour, np.float64)
+        g = np.zeros(p.shape[0]) if group is None else np.asarray(group, np.float64)
+        # honda81 compares squared distances <= radius**2: pairs at the radius collide
+        pairs = cKDTree(p).query_pairs(self.radius * (1 + 1e-12), output_type="ndarray")
+        if pairs.size:
+            i, j = pairs[:, 0], pairs[:, 1]
+            d2 = ((p[i] - p[j]) ** 2).sum(axis=1)
+            same = (g[i] == g[j]) & (d2 <= self.radius**2)
+            out[i[same & (v[i] <= v[j])]] = 0.0
+            out[j[same & (v[j] <= v[i])]] = 0.0
+        return out
+
+    def __call__(self, comm: Communication) -> np.ndarray:
+        res = comm.params.copy()
+        if res.shape[1] == 0:
+            return res
+        pos = _positions(comm, "density")
+        group = np.where(comm.counts > 1, res[:, 1], 0.0) if res.shape[1] > 1 else None
+        res[:, 0] = self.free(pos, np.nan_to_num(res[:, 0]), group)
+        return res + 0.0
+
+
 def builtin(name: str, options: dict | None = None) -> Environment:
     """The built-in environment ``name`` (of
     :data:`~sylva.lsystem.environment.ENVIRONMENTS`) with ``options``."""
@@ -263,6 +334,8 @@ def builtin(name: str, options: dict | None = None) -> Environment:
     if name == "obstacle":
         shape = str(opts.pop("shape"))
         return Obstacle(shape, **opts)  # type: ignore[arg-type]
+    if name == "density":
+        return Density(**opts)  # type: ignore[arg-type]
     from .world.environment import WorldEnvironment
 
     return WorldEnvironment.from_options(opts)

@@ -109,7 +109,7 @@ def test_the_environment_directive_is_read_checked_and_written_back():
     assert p.settings["environment"] == "obstacle(shape = box, y = 2, sx = 3)"
     assert sylva.loads(sylva.dumps(p)).settings == p.settings
     with pytest.raises(LSystemSyntaxError, match=r":1:15: unknown environment 'fog'; "
-                       r"expected light, obstacle, world"):  # fmt: skip
+                       r"expected light, obstacle, density, world"):  # fmt: skip
         loads("environment = fog\naxiom = A")
     with pytest.raises(LSystemSyntaxError, match=r":1:21: the light environment has no "
                        r"option 'vox'"):  # fmt: skip

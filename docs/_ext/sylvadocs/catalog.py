@@ -216,7 +216,10 @@ MEANINGS: dict[object, Command] = {
     "WIDTH_ADD": Command("``!(w)`` sets the thickness", "Add ``thick_delta`` to the "
                          "thickness (a width, as in seed 001)."),
     "WIDTH_MUL": Command("``!(w)`` sets the width", "Multiply the width by "
-                         "``thick_factor`` (0.7)."),
+                         "``thick_factor`` (0.7); with ``width_step`` (cpfg's line width "
+                         "increment) subtract it, as cpfg does."),
+    "WIDTH_INC": Command("``#(w)`` sets the width", "Add ``width_step`` (cpfg's line width "
+                         "increment, default 0) to the width."),
     "COLOR_ADD": Command("``;(r, g, b)`` sets the colour", "Add ``color_delta`` to the "
                          "colour."),
     "COLOR_NEXT": Command("``;(i)`` sets the index", "Next colour index of the palette "
@@ -279,6 +282,7 @@ _DEMO = {
     "CUT": "F[+F{s}FFF]F",
     "WIDTH_ADD": "F{s}F{s}F",
     "WIDTH_MUL": "F{s}F{s}F",
+    "WIDTH_INC": 'F"{s}"(0.2)F"{s}"(0.3)F',  # a bare # begins a comment in .lsys
     "COLOR_ADD": ";(0.4,0.2,0.1)F{s}F{s}F",
     "COLOR_NEXT": "F{s}F{s}F",
     "COLOR_PREV": ";(5)F{s}F{s}F",

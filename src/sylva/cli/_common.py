@@ -7,7 +7,8 @@ import math
 
 from ..errors import SylvaError
 
-__all__ = ["add_camera", "add_growth", "camera_for", "parse_size", "steps_type"]
+__all__ = ["add_camera", "add_growth", "camera_for", "parse_size", "steps_type", "view_camera",
+           "view_line_pixels"]
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -96,6 +97,45 @@ def camera_for(args, plant) -> str:
     if mode == "auto":
         return "2d" if plant.is_2d else "perspective"
     return "orthographic" if mode == "ortho" else mode
+
+
+def view_camera(args, plant, aspect: float):
+    """The camera of a cpfg plant's view file (``viewpoint``, ``view reference point``,
+    ``twist``, ``projection``, ``scale factor``), or None: not a cpfg program, no camera
+    lines, or the command line chose the view (``--camera``, ``--yaw``, ``--pitch``)."""
+    program = plant.program
+    if (program.dialect != "cpfg" or getattr(args, "camera", "auto") != "auto"
+            or getattr(args, "yaw", None) is not None
+            or getattr(args, "pitch", None) is not None):  # fmt: skip
+        return None
+    from ..lsystem.dialects._cpfg_view import read_camera
+    from ..render import Camera
+
+    view = getattr(args, "view", None)
+    cam = read_camera(view if view is not None else None, program.filename)
+    if not cam:
+        return None
+    return Camera.from_view(plant.scene.bounds(), cam.get("viewpoint", (0.0, 0.0, 1.0)),
+                            cam.get("view reference point", (0.0, 0.0, 0.0)),
+                            twist=float(cam.get("twist", 0.0)),
+                            projection=str(cam.get("projection", "parallel")),
+                            scale=float(cam.get("scale", 1.0)), aspect=aspect)  # fmt: skip
+
+
+def view_line_pixels(args, plant) -> float | None:
+    """How many pixels wide a cpfg plant's lines are drawn: its view file's ``initial line
+    width`` with ``line style: pixel`` (cpfg's default style), at least ``--line-width``;
+    None for other programs and styles (their widths are in units)."""
+    program = plant.program
+    if program.dialect != "cpfg":
+        return None
+    from ..lsystem.dialects._cpfg_view import read_camera
+
+    view = getattr(args, "view", None)
+    cam = read_camera(view if view is not None else None, program.filename)
+    if cam.get("line style", "pixel") not in ("pixel", "pixels", "wireframe"):
+        return None
+    return max(float(cam.get("line width", 1.0)), float(getattr(args, "line_width", 0.0)))
 
 
 def render_options(args, plant) -> dict:

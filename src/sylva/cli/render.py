@@ -5,7 +5,16 @@ from __future__ import annotations
 import sys
 import time
 
-from ._common import add_camera, add_growth, camera_for, check_suffix, limit_type, render_options
+from ._common import (
+    add_camera,
+    add_growth,
+    camera_for,
+    check_suffix,
+    limit_type,
+    render_options,
+    view_camera,
+    view_line_pixels,
+)
 
 __all__ = ["register"]
 
@@ -53,9 +62,15 @@ def run(args) -> int:
     t1 = time.perf_counter()
     w, h = args.size
     mode = camera_for(args, plant)
-    if mode == "2d" and args.line_width > 0:
-        plant = plant.with_min_radius(plant.line_radius(args.line_width, (w, h)))
-    cam = Camera.auto(plant.scene.bounds(), mode, yaw=args.yaw, pitch=args.pitch, aspect=w / h)
+    pixels = view_line_pixels(args, plant)  # cpfg's pixel lines, in any camera
+    if pixels is None and mode == "2d":
+        pixels = args.line_width
+    if pixels is not None and pixels > 0:
+        plant = plant.with_min_radius(plant.line_radius(pixels, (w, h)))
+    cam = view_camera(args, plant, w / h)  # a cpfg view file's camera, if it has one
+    if cam is None:
+        cam = Camera.auto(plant.scene.bounds(), mode, yaw=args.yaw, pitch=args.pitch,
+                          aspect=w / h)  # fmt: skip
     img = render(plant.scene, size=(w, h), camera=cam, **render_options(args, plant))
     save_image(img, args.output, bg=args.bg or "white")
     t2 = time.perf_counter()

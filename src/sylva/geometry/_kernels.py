@@ -502,13 +502,10 @@ def cone_fill(start, end, radius, ref, color, material, d, h, want_colors, V, N,
 
 # --------------------------------------------------------------------------- polygons
 @njit(cache=True)
-def _area2(px, py, a, b, c):
-    return (px[b] - px[a]) * (py[c] - py[a]) - (px[c] - px[a]) * (py[b] - py[a])
-
-
-@njit(cache=True)
-def ear_clip(vertices, offsets):
-    """Triangulate simple polygons (concave ones too) by ear clipping.
+def polygon_planes(vertices, offsets):  # pragma: no cover - compiled
+    """Each polygon's plane: its unit Newell normal, its vertices in a 2D basis of the
+    plane (``e1 x e2 = n``, so the polygon runs counter-clockwise there) and whether it is
+    convex (no reflex vertex; collinear vertices are allowed).
 
     Parameters
     ----------
@@ -516,24 +513,15 @@ def ear_clip(vertices, offsets):
 
     Returns
     -------
-    tris : int64[t, 3]
-        Triangles as indices into ``vertices``, wound like the polygon (counter-clockwise
-        about its Newell normal).
-    owner : int64[t]
-        The polygon of each triangle.
     normals : float64[p, 3]
-        Unit Newell normal of each polygon.
+    flat : float64[v, 2]
+    convex : bool[p]
+        (polygons of fewer than 3 vertices count as convex: they make no triangle)
     """
     p = offsets.shape[0] - 1
-    total = 0
-    for i in range(p):
-        k = offsets[i + 1] - offsets[i]
-        if k >= 3:
-            total += k - 2
-    tris = np.empty((total, 3), np.int64)
-    owner = np.empty(total, np.int64)
     normals = np.zeros((p, 3))
-    t = 0
+    flat = np.zeros((vertices.shape[0], 2))
+    convex = np.ones(p, np.bool_)
     for i in range(p):
         o = offsets[i]
         k = offsets[i + 1] - o
@@ -558,7 +546,6 @@ def ear_clip(vertices, offsets):
         normals[i, 0] = nx
         normals[i, 1] = ny
         normals[i, 2] = nz
-        # a 2D basis (e1, e2) of the plane with e1 x e2 = n
         if abs(nx) < 0.9:
             e1x, e1y, e1z = 0.0, -nz, ny  # (1,0,0) x n
         else:
@@ -570,63 +557,29 @@ def ear_clip(vertices, offsets):
         e2x = ny * e1z - nz * e1y
         e2y = nz * e1x - nx * e1z
         e2z = nx * e1y - ny * e1x
-        px = np.empty(k)
-        py = np.empty(k)
+        lo0 = lo1 = math.inf
+        hi0 = hi1 = -math.inf
         for a in range(k):
             va = vertices[o + a]
-            px[a] = va[0] * e1x + va[1] * e1y + va[2] * e1z
-            py[a] = va[0] * e2x + va[1] * e2y + va[2] * e2z
-        ext = max(px.max() - px.min(), py.max() - py.min())
-        eps = 1e-10 * ext * ext  # areas below this are zero (collinear, on an edge)
-        idx = np.arange(k)
-        m = k
-        guard = 0
-        a = 0
-        while m > 3 and guard < 2 * m:
-            i0 = idx[(a + m - 1) % m]
-            i1 = idx[a % m]
-            i2 = idx[(a + 1) % m]
-            ear = _area2(px, py, i0, i1, i2) > eps
-            if ear:
-                for b in range(m):
-                    q = idx[b]
-                    if q in (i0, i1, i2):
-                        continue
-                    if (
-                        _area2(px, py, i0, i1, q) >= -eps
-                        and _area2(px, py, i1, i2, q) >= -eps
-                        and _area2(px, py, i2, i0, q) >= -eps
-                    ):
-                        ear = False
-                        break
-            if ear:
-                tris[t, 0] = o + i0
-                tris[t, 1] = o + i1
-                tris[t, 2] = o + i2
-                owner[t] = i
-                t += 1
-                for b in range(a % m, m - 1):
-                    idx[b] = idx[b + 1]
-                m -= 1
-                guard = 0
-                a = a % m
-            else:
-                a = (a + 1) % m
-                guard += 1
-        if m > 3:  # not simple (self-intersecting or degenerate): fan the rest
-            for b in range(1, m - 1):
-                tris[t, 0] = o + idx[0]
-                tris[t, 1] = o + idx[b]
-                tris[t, 2] = o + idx[b + 1]
-                owner[t] = i
-                t += 1
-        elif _area2(px, py, idx[0], idx[1], idx[2]) > eps:  # skip a collinear remainder
-            tris[t, 0] = o + idx[0]
-            tris[t, 1] = o + idx[1]
-            tris[t, 2] = o + idx[2]
-            owner[t] = i
-            t += 1
-    return tris[:t], owner[:t], normals
+            x = va[0] * e1x + va[1] * e1y + va[2] * e1z
+            y = va[0] * e2x + va[1] * e2y + va[2] * e2z
+            flat[o + a, 0] = x
+            flat[o + a, 1] = y
+            lo0 = min(lo0, x)
+            hi0 = max(hi0, x)
+            lo1 = min(lo1, y)
+            hi1 = max(hi1, y)
+        ext = max(hi0 - lo0, hi1 - lo1)
+        eps = 1e-10 * ext * ext  # turns below this are straight (collinear vertices)
+        for a in range(k):
+            pa = flat[o + (a + k - 1) % k]
+            pb = flat[o + a]
+            pc = flat[o + (a + 1) % k]
+            turn = (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pc[0] - pa[0]) * (pb[1] - pa[1])
+            if turn < -eps:
+                convex[i] = False
+                break
+    return normals, flat, convex
 
 
 # --------------------------------------------------------------------------- tangents

@@ -50,6 +50,7 @@ from .records import Geometry
 
 __all__ = [
     "MODES",
+    "triangulate_polygons",
     "BuildError",
     "build_blocks",
     "build_branches",
@@ -363,10 +364,67 @@ def _double_sided(materials, ids: np.ndarray) -> list[Material]:
 
 
 # --------------------------------------------------------------------------- polygons
+def triangulate_polygons(vertices: np.ndarray, offsets: np.ndarray):
+    """Triangles of the polygons ``vertices[offsets[i]:offsets[i + 1]]`` (concave ones too).
+
+    Convex polygons are fanned; a concave one is triangulated by mapbox's earcut
+    (``mapbox_earcut``, the ear-clipping library of Mapbox GL) in its plane.  Triangles of
+    (near) zero area are left out.
+
+    Returns
+    -------
+    tris : int64[t, 3]
+        Indices into ``vertices``, wound like the polygon (counter-clockwise about its
+        Newell normal).
+    owner : int64[t]
+        The polygon of each triangle.
+    normals : float64[p, 3]
+        The unit Newell normal of each polygon.
+
+    Examples
+    --------
+    >>> v = np.array([[0, 0, 0], [2, 0, 0], [2, 2, 0], [1, 1, 0], [0, 2, 0]], float)
+    >>> tris, owner, n = triangulate_polygons(v, np.array([0, 5]))
+    >>> len(tris), n[0].tolist()   # a concave pentagon: 3 triangles, not a fan over the notch
+    (3, [0.0, 0.0, 1.0])
+    """
+    import mapbox_earcut
+
+    vertices = np.ascontiguousarray(vertices, np.float64)
+    offsets = np.asarray(offsets, np.int64)
+    normals, flat, convex = K.polygon_planes(vertices, offsets)
+    counts = np.diff(offsets)
+    parts_t, parts_o = [], []
+    fan = np.flatnonzero(convex & (counts >= 3))
+    if fan.size:
+        per = counts[fan] - 2
+        owner = np.repeat(fan, per)
+        first = np.repeat(offsets[fan], per)
+        step = np.arange(per.sum()) - np.repeat(np.cumsum(per) - per, per)
+        parts_t.append(np.stack([first, first + step + 1, first + step + 2], axis=1))
+        parts_o.append(owner)
+    for i in np.flatnonzero(~convex).tolist():
+        o, k = int(offsets[i]), int(counts[i])
+        idx = mapbox_earcut.triangulate_float64(flat[o : o + k], np.array([k], np.uint32))
+        t = idx.astype(np.int64).reshape(-1, 3) + o
+        parts_t.append(t)
+        parts_o.append(np.full(t.shape[0], i, np.int64))
+    if not parts_t:
+        return np.zeros((0, 3), np.int64), np.zeros(0, np.int64), normals
+    tris = np.concatenate(parts_t)
+    owner = np.concatenate(parts_o)
+    a, b, c = flat[tris[:, 0]], flat[tris[:, 1]], flat[tris[:, 2]]
+    area2 = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (c[:, 0] - a[:, 0]) * (b[:, 1] - a[:, 1])
+    edge2 = np.maximum.reduce([((b - a) ** 2).sum(1), ((c - b) ** 2).sum(1),
+                               ((a - c) ** 2).sum(1)])  # fmt: skip
+    keep = np.abs(area2) > 1e-10 * edge2  # collinear vertices make no triangle
+    return tris[keep], owner[keep], normals
+
+
 def build_polygons(geometry: Geometry, *, colors: bool | None = None) -> Mesh:
-    """Polygons ``{ … }`` triangulated by ear clipping (concave ones too), one-faced with
-    double-sided materials (as leaves are)."""
-    tris, owner, pn = K.ear_clip(geometry.poly_vertices, geometry.poly_offsets)
+    """Polygons ``{ … }`` triangulated (concave ones too, :func:`triangulate_polygons`),
+    one-faced with double-sided materials (as leaves are)."""
+    tris, owner, pn = triangulate_polygons(geometry.poly_vertices, geometry.poly_offsets)
     used = np.unique(tris)
     remap = np.full(geometry.poly_vertices.shape[0], -1, np.int64)
     remap[used] = np.arange(used.size)

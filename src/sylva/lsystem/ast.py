@@ -210,6 +210,9 @@ class Program:
         (cpfg's ``StartEach:`` / ``EndEach:`` blocks): an object with ``fresh()`` (the
         globals at the start, with ``numbers()``), ``before(globals, step)`` and
         ``after(globals, step)``.  Programs with them take the engine's general road.
+    ring : bool
+        cpfg's ``ring lsystem``: the word is a ring, its last module followed by its first,
+        for the contexts of every rule (the engine's general road).
     """
 
     axiom: tuple[Module, ...]
@@ -228,6 +231,7 @@ class Program:
     group: Expr | None = None
     steps_at: Span | None = field(default=None, compare=False)
     statements: object | None = None
+    ring: bool = False
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "axiom", tuple(self.axiom))
@@ -254,6 +258,7 @@ class Program:
             and self.interpretation_depth == other.interpretation_depth
             and self.group == other.group
             and self.statements == other.statements
+            and self.ring == other.ring
         )
 
     __hash__ = None  # type: ignore[assignment]

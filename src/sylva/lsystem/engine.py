@@ -40,6 +40,7 @@ import numpy as np
 from .._jit import road
 from ..errors import GrowthLimitError, LSystemSemanticError, StepsError
 from . import _sublsystems as _sub
+from . import _walk
 from . import environment as _open
 from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
 from ._memory import _check_limit, block_step_bytes, fast_step_bytes, general_step_bytes
@@ -95,6 +96,7 @@ class _CRule:
     succ_ids: np.ndarray
     succ_nparams: np.ndarray
     args: list[Callable]
+    walk_right: bool = False  # cpfg's literal walk (:mod:`._walk`), not the tree pattern
 
     @property
     def needs_env(self) -> bool:
@@ -104,10 +106,17 @@ class _CRule:
 class _RuleSet:
     """The rules of one kind (productions or render rules) compiled for an alphabet."""
 
-    def __init__(self, rules: Sequence[Rule], alphabet: Alphabet, constants) -> None:
+    def __init__(self, rules: Sequence[Rule], alphabet: Alphabet, constants, *,
+                 cpfg: bool = False, ring: bool = False, live: frozenset = frozenset(),
+                 live_get: Callable | None = None) -> None:  # fmt: skip
         self.alphabet = alphabet
+        self.ring, self.skip = ring, (alphabet.id("=") if cpfg else -1)  # cpfg's ring and =
+        # globals blocks assign, read per application (live_get()): module by module
+        self.live = tuple(sorted(live)) if any(r.block is not None for r in rules) else ()
+        self.live_get = live_get
         self.rules: list[_CRule] = [
-            self._compile(i, r, alphabet, constants) for i, r in enumerate(rules)
+            self._compile(i, r, alphabet, constants, self.skip, self.live)
+            for i, r in enumerate(rules)
         ]
         by: dict[int, list[list[_CRule]]] = {}
         for cr in self.rules:
@@ -134,7 +143,8 @@ class _RuleSet:
         self._build_context_table()
 
     @staticmethod
-    def _compile(index: int, rule: Rule, alphabet: Alphabet, constants) -> _CRule:
+    def _compile(index: int, rule: Rule, alphabet: Alphabet, constants, skip: int = -1,
+                 live: tuple = ()) -> _CRule:  # fmt: skip
         pred = rule.predecessor
         if pred.symbol in ("[", "]"):
             raise _rule_error(rule, f"a bracket {pred.symbol!r} cannot be rewritten")
@@ -147,15 +157,12 @@ class _RuleSet:
         bindings += [(name, "pred", 0, k) for k, name in enumerate(pred.params)]
         for j, p in enumerate(rule.right):
             bindings += [(name, "right", j, k) for k, name in enumerate(p.params)]
-        names = tuple(dict.fromkeys(b[0] for b in bindings))
+        names = tuple(dict.fromkeys([b[0] for b in bindings] + list(live)))
         block = rule.block  # cpfg's statement blocks: what they assign is bound too
         if block is not None:
             names = tuple(dict.fromkeys(names + block.outputs))
         right_ids = np.array([alphabet.id(p.symbol) for p in rule.right], ID_DTYPE)
-        try:
-            pattern_match(right_ids)
-        except ValueError:
-            raise _rule_error(rule, "unbalanced brackets in the right context") from None
+        walk = _walk.needs_walk(right_ids, skip)
 
         def comp(e):
             try:
@@ -183,7 +190,7 @@ class _RuleSet:
             left=np.array([alphabet.id(p.symbol) for p in rule.left], ID_DTYPE),
             left_arity=np.array([len(p.params) for p in rule.left], np.int64),
             right=right_ids,
-            right_match=pattern_match(right_ids),
+            right_match=pattern_match(right_ids) if not walk else np.zeros(0, np.int64),
             right_arity=np.array([len(p.params) for p in rule.right], np.int64),
             bindings=bindings,
             cond=cond,
@@ -192,12 +199,14 @@ class _RuleSet:
             succ_ids=np.array([alphabet.id(m.symbol) for m in rule.successor], ID_DTYPE),
             succ_nparams=np.array([len(m.args) for m in rule.successor], np.int64),
             args=args,
+            walk_right=walk,
         )
 
     def _build_context_table(self) -> None:
         """Flat tables for the compiled road of parameter-free systems with contexts."""
-        self.ctx_fast = not self.fast and all(
-            cr.cond is None
+        self.ctx_fast = not self.fast and not self.ring and all(
+            not cr.walk_right
+            and cr.cond is None
             and cr.pred_arity == 0
             and not cr.left_arity.any()
             and not cr.right_arity.any()
@@ -334,11 +343,16 @@ class _Compiled:
         self.alphabet = alphabet
         self._constants = constants
         self._groups: dict[int, _RuleSet] = {}
+        stm = program.statements
+        self._kind = {"cpfg": program.dialect == "cpfg", "ring": bool(program.ring),
+                      "live": frozenset(getattr(stm, "written", ()) or ()),
+                      "live_get": getattr(stm, "live_values", None)}  # fmt: skip
         self.productions = self.group_rules(0)
         self.sublsystems = any(r.lsystem for r in program.productions)  # cpfg's ?(n) … $
-        self.render = _RuleSet(program.render_rules, alphabet, constants)
-        self.decomposition = _RuleSet(program.decompositions, alphabet, constants)
-        self.interpretation = _RuleSet(program.interpretations, alphabet, constants)
+        self.render = _RuleSet(program.render_rules, alphabet, constants, **self._kind)
+        self.decomposition = _RuleSet(program.decompositions, alphabet, constants, **self._kind)
+        self.interpretation = _RuleSet(program.interpretations, alphabet, constants,
+                                       **self._kind)  # fmt: skip
         self.group_fn = None
         if program.group is not None:
             try:
@@ -361,7 +375,8 @@ class _Compiled:
         if rs is None:
             prods = self.program.productions
             mine = [i for i, r in enumerate(prods) if r.group in (0, group)]
-            rs = _RuleSet([prods[i] for i in mine], self.alphabet, self._constants)
+            rs = _RuleSet([prods[i] for i in mine], self.alphabet, self._constants,
+                          **self._kind)  # fmt: skip
             rs.origin = np.array(mine, np.int64)  # index in program.productions
             self._groups[group] = rs
         return rs
@@ -394,7 +409,11 @@ def _with_constants(comp: _Compiled, constants: Mapping[str, float]) -> _Compile
     new._groups = {}
     new.productions = new.group_rules(0)
     program = comp.program
-    new.decomposition = _RuleSet(program.decompositions, comp.alphabet, new._constants)
+    new.decomposition = _RuleSet(program.decompositions, comp.alphabet, new._constants,
+                                 **comp._kind)  # fmt: skip
+    new.render = _RuleSet(program.render_rules, comp.alphabet, new._constants, **comp._kind)
+    new.interpretation = _RuleSet(program.interpretations, comp.alphabet, new._constants,
+                                  **comp._kind)  # fmt: skip
     return new
 
 
@@ -521,8 +540,11 @@ def _expand_d0l(
     return ModuleString(word.alphabet, out)
 
 
-def _env(word: ModuleString, cr: _CRule, cand, lpos, rpos, sel) -> dict[str, np.ndarray]:
+def _env(word: ModuleString, cr: _CRule, cand, lpos, rpos, sel, rs=None) -> dict:
     env: dict[str, np.ndarray] = {}
+    if rs is not None and rs.live:  # the globals blocks assign, as they are now
+        now = rs.live_get()
+        env.update({k: np.full(sel.size, float(now.get(k, 0.0))) for k in rs.live})
     off = word.offsets
     vals = word.values
     for name, where, j, k in cr.bindings:
@@ -559,8 +581,10 @@ def _step_general(
     pending: list[tuple[_CRule, np.ndarray, dict[str, np.ndarray]]] = []
     ignored = comp.ignored_for(word) if any(cr.rule.has_context for cr in rs.rules) else None
     nparams = word.nparams if word.has_params else None
-    for sym, tiers in rs.by_symbol.items():
-        undecided = np.flatnonzero(ids == sym)
+    order = ([(s, np.array([p])) for p, s in enumerate(ids.tolist()) if s in rs.by_symbol]
+             if rs.live else [(s, np.flatnonzero(ids == s)) for s in rs.by_symbol])  # fmt: skip
+    for sym, undecided in order:
+        tiers = rs.by_symbol[sym]
         if undecided.size == 0:
             continue
         for tier in tiers:
@@ -580,28 +604,13 @@ def _step_general(
                     ok = np.ones(k, np.bool_)
                 if scope is not None:
                     ok &= scope[undecided] == cr.rule.lsystem
-                lpos = rpos = None
-                if cr.left.size:
-                    okl, lpos = _kernels.match_left(
-                        ids, word.match, word.offsets, ignored, undecided, cr.left, cr.left_arity
-                    )
-                    ok &= okl
-                if cr.right.size:
-                    okr, rpos = _kernels.match_right(
-                        ids,
-                        word.match,
-                        word.offsets,
-                        ignored,
-                        undecided,
-                        cr.right,
-                        cr.right_match,
-                        cr.right_arity,
-                    )
-                    ok &= okr
+                lpos, rpos = _walk.contexts(word, cr, undecided, ignored, ok, _kernels,
+                                            rs.ring, rs.skip)  # fmt: skip
                 sel = np.flatnonzero(ok)
                 if sel.size == 0:
                     continue
-                env = _env(word, cr, undecided, lpos, rpos, sel) if cr.needs_env else {}
+                env = (_env(word, cr, undecided, lpos, rpos, sel, rs)
+                       if cr.needs_env or rs.live else {})  # fmt: skip
                 if cr.cond is not None:
                     c = truth(cr.cond(env, sel.size))
                     if not c.all():
@@ -1088,6 +1097,8 @@ class Derivation:
     def render_word(self) -> ModuleString:
         """The word the turtle draws: render rules applied once to the current word."""
         comp = self._compiled
+        if self.program.statements is not None and self._globals is not None:
+            comp = _with_constants(comp, self._globals.numbers())  # the globals now
         word, _ = _passes(self.word, comp.interpretation, comp, self.seed, self.step,
                           self.program.interpretation_depth, "interpretation",
                           self.limit)  # fmt: skip

@@ -152,13 +152,14 @@ COMMUNICATION = "?E"
 
 #: The environments a program may name (``environment = light`` in ``.lsys``) and the
 #: options each takes, with their defaults (numbers, or a word for ``shape``).  Their code
-#: lives with what they sense: :mod:`sylva.environments` (light, obstacle) and
+#: lives with what they sense: :mod:`sylva.environments` (light, obstacle, density) and
 #: :mod:`sylva.world.environment` (world); :mod:`sylva.lsystem` only knows their names.
 ENVIRONMENTS: dict[str, dict[str, float | str]] = {
     "light": {"voxel": 1.0, "shadow": 1.0, "falloff": 2.0, "depth": 4.0, "full": 1.0,
               "cone": 90.0, "leaves": 1.0, "segments": 0.0},
     "obstacle": {"shape": "sphere", "x": 0.0, "y": 0.0, "z": 0.0, "r": 1.0, "sx": 1.0,
                  "sy": 1.0, "sz": 1.0},
+    "density": {"radius": 1.0, "planar": 0.0},
     "world": {"seed": 1.0, "x": 0.0, "z": 0.0, "size": 32.0, "scale": 1.0, "rock_x": 0.0,
               "rock_y": 0.0, "rock_z": 0.0, "rock_r": 0.0},
 }  # fmt: skip

@@ -100,6 +100,9 @@ class Camera:
         Visible world height at the target (orthographic modes).
     near, far : float or None
         Clip planes; ``None`` lets the renderer fit them to what it draws.
+    roll : float
+        Degrees the camera turns about its view axis, counter-clockwise as seen from the
+        eye (so the picture turns clockwise); cpfg's ``twist`` is ``-twist / 10``.
     """
 
     mode: str = "perspective"
@@ -111,6 +114,7 @@ class Camera:
     height: float = 10.0
     near: float | None = None
     far: float | None = None
+    roll: float = 0.0
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -140,6 +144,7 @@ class Camera:
         fov: float = 35.0,
         aspect: float = 1.0,
         margin: float = 0.05,
+        roll: float = 0.0,
     ) -> Camera:
         """A camera that frames ``scene`` for the given view direction.
 
@@ -161,6 +166,8 @@ class Camera:
             Width / height of the image the camera is for.
         margin : float
             Fraction of the image left empty on the tightest side.
+        roll : float
+            Degrees about the view axis (:attr:`roll`).
 
         Returns
         -------
@@ -174,7 +181,7 @@ class Camera:
         b = _bounds_of(scene)
         center = 0.5 * (b[0] + b[1])
         tgt = center if target is None else np.asarray(target, np.float64).reshape(3)
-        probe = cls(mode=mode, target=tgt, yaw=yaw, pitch=pitch, fov=fov)
+        probe = cls(mode=mode, target=tgt, yaw=yaw, pitch=pitch, fov=fov, roll=roll)
         r, u, back = probe.basis()
         rel = box_corners(b) - tgt
         x, y, z = rel @ r, rel @ u, rel @ back  # z > 0 is towards the eye
@@ -197,8 +204,50 @@ class Camera:
                 height *= float(distance) / fit
                 dist = float(distance)
         return cls(
-            mode=mode, target=tgt, yaw=yaw, pitch=pitch, distance=dist, fov=fov, height=height
+            mode=mode, target=tgt, yaw=yaw, pitch=pitch, distance=dist, fov=fov, height=height,
+            roll=roll,
         )
+
+    @classmethod
+    def from_view(
+        cls,
+        scene,
+        viewpoint=(0.0, 0.0, 1.0),
+        reference=(0.0, 0.0, 0.0),
+        *,
+        twist: float = 0.0,
+        projection: str = "parallel",
+        scale: float = 1.0,
+        aspect: float = 1.0,
+        fov: float = 35.0,
+    ) -> Camera:
+        """The camera of a cpfg view file, framing ``scene``.
+
+        cpfg looks from ``viewpoint`` towards the ``view reference point``, with world
+        ``+Y`` up turned by ``twist`` (tenths of a degree, as cpfg reads it) about the view
+        axis, ``parallel`` (orthographic) or ``perspective``, and fits the object's box to
+        its window, times the ``scale factor``.
+
+        Examples
+        --------
+        >>> box = np.array([[-1.0, 0, -1], [1, 4, 1]])
+        >>> cam = Camera.from_view(box, (0, 0, 5), (0, 0, 0), twist=900)
+        >>> cam.mode, round(cam.roll, 6), np.round(cam.basis()[1], 6).tolist()
+        ('orthographic', -90.0, [1.0, 0.0, 0.0])
+        """
+        d = np.asarray(viewpoint, np.float64).reshape(3) - np.asarray(reference, np.float64)
+        n = float(np.linalg.norm(d))
+        d = d / n if n > 0 else np.array([0.0, 0.0, -1.0])  # cpfg's default view normal
+        pitch = math.degrees(math.asin(max(-1.0, min(1.0, float(d[1])))))
+        yaw = math.degrees(math.atan2(float(d[0]), float(d[2])))
+        if abs(d[0]) < 1e-12 and abs(d[2]) < 1e-12:
+            yaw = 0.0
+        mode = "perspective" if str(projection).strip().lower() == "perspective" else (
+            "orthographic")
+        s = float(scale) if math.isfinite(scale) and scale > 0 else 1.0
+        return cls.auto(scene, mode, yaw=yaw, pitch=float(np.clip(pitch, -89.9, 89.9)),
+                        fov=fov, aspect=aspect, margin=1.0 - 0.95 * s,
+                        roll=-0.1 * float(twist))  # fmt: skip
 
     def orbit(self, yaw: float = 0.0, pitch: float = 0.0) -> Camera:
         """A copy turned by ``yaw`` and ``pitch`` degrees (a no-op in 2D: rotation is locked)."""
@@ -214,6 +263,9 @@ class Camera:
         back = np.array([math.cos(p) * math.sin(y), math.sin(p), math.cos(p) * math.cos(y)])
         right = np.array([math.cos(y), 0.0, -math.sin(y)])
         up = np.cross(back, right)
+        if self.roll:
+            c, s = math.cos(math.radians(self.roll)), math.sin(math.radians(self.roll))
+            right, up = c * right + s * up, c * up - s * right
         return right, up, back
 
     @property

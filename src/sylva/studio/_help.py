@@ -28,7 +28,10 @@ _OPCODE_TEXT = {
     "POLY_VERTEX": "Record a polygon vertex at the turtle's position.",
     "CUT": "Cut the rest of the branch.",
     "WIDTH_ADD": "Add thick_delta to the thickness (X(x): set the thickness to x).",
-    "WIDTH_MUL": "Multiply the width by thick_factor (X(w): set the width to w).",
+    "WIDTH_MUL": "Multiply the width by thick_factor, or subtract width_step (cpfg) "
+                 "(X(w): set the width to w).",
+    "WIDTH_INC": "Add width_step to the width, cpfg's line width increment (X(w): set the "
+                 "width to w).",
     "COLOR_ADD": "Add color_delta to the colour (X(r, g, b): set the colour).",
     "COLOR_NEXT": "Next colour index (X(i): set the index to i).",
     "COLOR_PREV": "Previous colour index (X(i): set the index to i).",

@@ -84,7 +84,8 @@ C_ELAST = 31  # initial elasticity e
 C_ESTEP = 32  # elasticity increment of @Ti / @Td
 C_TMODE = 33  # 1: cpfg's @T modules (tropism index first), 0: sylva's / L-Py's
 C_TON = 34  # 1 when tropism may bend the word (an elasticity or an @ module): walk's flag
-NC = 35
+C_WMODE = 35  # 1: cpfg's widths (``!`` subtracts width_step, ``#`` adds it), 0: ABOP's
+NC = 36
 
 
 MASK32 = 0xFFFFFFFF
@@ -747,11 +748,18 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
         elif op == T.WIDTH_MUL:
             if npar > 0:
                 st[S_RAD] = values[a] * cfg[C_WSCALE]
+            elif cfg[C_WMODE] != 0.0:  # cpfg: less the line width increment
+                st[S_RAD] = max(st[S_RAD] - cfg[C_RAD_D], 0.0)
             else:
                 st[S_RAD] *= cfg[C_RAD_F]
         elif op == T.SUBCALL:  # ?(n, s) of a sub-L-system, or its end ?(0, 1/s): width × s
             if npar >= 2:
                 st[S_RAD] *= values[a + 1]
+        elif op == T.WIDTH_INC:
+            if npar > 0:
+                st[S_RAD] = values[a] * cfg[C_WSCALE]
+            else:
+                st[S_RAD] = max(st[S_RAD] + cfg[C_RAD_D], 0.0)
         elif op == T.COLOR_ADD:
             for k in range(3):
                 if npar >= 3:

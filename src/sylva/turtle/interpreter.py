@@ -80,8 +80,8 @@ GRAVITY = (0.0, -1.0, 0.0)
 # Setting names each dialect understands (besides its DEFAULTS).
 _EXTRA = {
     "lsys": {"ignore", "axiom", "turtle", *_TROPISM},
-    "abop": {"palette", "color", "bg", "turtle", "angle", "delta", "width", *_TROPISM,
-             "surfaces", "colormap", "materials"},
+    "abop": {"palette", "color", "bg", "turtle", "angle", "delta", "width", "width_step",
+             *_TROPISM, "surfaces", "colormap", "materials"},
     "classic": {"angle", "thickness", "radius", "turtle", "iteration"},
     "engine": {"turtle", "seed", "noise_seed", "salt"},
 }
@@ -213,6 +213,9 @@ def _configure(dialect: str, s: dict, seed: int | None):
         width = s.get("width", s["thick"])
         cfg[K.C_RAD] = float(width) / 2.0  # type: ignore[arg-type]
         cfg[K.C_RAD_F] = _num(s, "thick_factor")
+        if "width_step" in s:  # cpfg's line width increment: ! and # step by it
+            cfg[K.C_WMODE] = 1.0
+            cfg[K.C_RAD_D] = _num(s, "width_step") / 2.0
         cidx = int(_num(s, "color_index"))
         if cidx < 0:
             raise TurtleSettingsError(f"color_index must be >= 0, got {cidx}")

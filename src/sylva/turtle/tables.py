@@ -12,7 +12,9 @@ Tables
     move without recording one, ``+ -`` turn left/right about U, ``& ^`` pitch down/up about L,
     ``\\ /`` roll left/right about H, ``|`` turn around, ``$`` level (``L = V×H/|V×H|``, ``U =
     H×L``, ``V`` up), ``[ ]`` push/pop, ``{ } .`` polygons, ``%`` cut the rest of the branch,
-    ``!`` width ×``thick_factor`` (``!(w)`` sets the width), ``; '`` next colour index (``;(i)``
+    ``!`` width ×``thick_factor`` (``!(w)`` sets the width; with the setting ``width_step``,
+    cpfg's ``line width increment``, ``!`` subtracts it, as cpfg does, and ``#`` adds it; ``#(w)``
+    sets the width), ``; '`` next colour index (``;(i)``
     sets it), ``,`` previous colour index, ``~`` a predefined surface (``~(s)`` or ``~l(s)``
     scales it: the surface ``l`` of the view file, sylva's ``~"leaf"`` / ``~"petal"``, else
     sylva's leaf; :mod:`sylva.geometry.surfaces`), ``?(n, s)`` a sub-L-system's call whose
@@ -104,6 +106,7 @@ RESET_SCALE = 36  # engine S
 BUFFER = 37  # engine 0-9 (argument: the buffer)
 AT = 38  # @ (abop, lsys): cpfg's functions, named by the next module (argument: AT_*)
 SUBCALL = 39  # ? (abop): a sub-L-system's call ?(n, s) or end: the width times s
+WIDTH_INC = 40  # # (abop): += width_step (cpfg's line width increment), #(w) sets
 
 # the functions after ``@``: each is the argument of the letter that names it
 AT_SPHERE = 1  # @O(d): a sphere of diameter d (default: the width)
@@ -158,6 +161,7 @@ TABLES: Mapping[str, Mapping[str, int]] = {
         ".": POLY_VERTEX,
         "%": CUT,
         "!": WIDTH_MUL,
+        "#": WIDTH_INC,
         ";": COLOR_NEXT,
         "'": COLOR_NEXT,
         ",": COLOR_PREV,

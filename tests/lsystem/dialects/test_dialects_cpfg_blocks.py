@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sylva.errors import LSystemSyntaxError, SylvaError
-from sylva.lsystem import derive, loads
+from sylva.errors import SylvaError
+from sylva.lsystem import Derivation, derive, loads
 from sylva.lsystem.dialects import cpfg, dumps
 
 
@@ -158,11 +158,21 @@ def test_cpfg_at_functions_read_and_drawn():
     assert interpret(derive(plain, 0), plain).n_polygons == 0
 
 
-def test_a_block_that_assigns_a_global_is_an_error_with_its_place():
-    text = "Lsystem: 1\nStart: {n = 0;}\nAxiom: A\nA : 1 {n = n + 1;} --> B\nendlsystem\n"
-    with pytest.raises(LSystemSyntaxError, match="global variable 'n'") as e:
-        loads(text, filename="plant.l", view=False)
-    assert (e.value.line, e.value.column) == (4, 8)
+def test_a_block_that_assigns_a_global_carries_it_to_the_next_application():
+    # cpfg applies productions module by module, left to right: each A sees the count so
+    # far, the B after them the total, the homomorphism the value the step left
+    text = ("Lsystem: 1\nStart: {n = 0;}\nderivation length: 1\nAxiom: AAAB\n"
+            "A : 1 {n = n + 1;} --> A(n)\nB : n >= 3 --> C(n)\nhomomorphism\n"
+            "C(x) --> F(n)\nendlsystem\n")  # fmt: skip
+    p = loads(text, filename="plant.l", view=False)
+    d = Derivation(p)
+    assert str(d.advance(1)) == "A(1)A(2)A(3)C(3)"
+    assert str(d.render_word()) == "A(1)A(2)A(3)F(3)"
+    assert str(Derivation(p).advance(1)) == "A(1)A(2)A(3)C(3)"  # each derivation afresh
+    # a condition reads the running value: only the first I sees go == 1
+    q = loads("Lsystem: 1\nStart: {go = 1;}\nderivation length: 1\nAxiom: IIII\n"
+              "I : go == 1 {go = 0;} --> J\nendlsystem\n", view=False)  # fmt: skip
+    assert str(Derivation(q).advance(1)) == "JIII"
 
 
 def test_programs_with_blocks_have_no_lsys_spelling():

@@ -17,10 +17,13 @@ cpfg gives it.  A block reads the rule's parameters (and may assign them: ``{t=t
 :data:`~._cpfg_statements.STEP_BUDGET` statements and loop turns in one run stops with a
 :class:`~sylva.errors.SylvaError` naming its file and line.
 
-Not supported (an error that names them, when the file is read): assigning a global variable
-(``count = count + 1`` where ``count`` is a ``Start:`` global: in cpfg the value carries from
-one application to the next, an order sylva's vectorised step does not have), writing an
-array element, and declaring arrays in a production block.
+A block that assigns a global variable (``count = count + 1`` where ``count`` is a ``Start:``
+global) changes it for the applications that follow, as in cpfg: the engine then applies the
+program's productions one module at a time, in word order (cpfg's own order), and the
+conditions, blocks and successors read the global's running value
+(:attr:`Block.globals_written`, the program's ``statements.written``).  Not supported (an
+error that names them, when the file is read): writing an array element, and declaring
+arrays in a production block.
 """
 
 from __future__ import annotations
@@ -32,7 +35,7 @@ from lark import Token, Tree
 
 from ...errors import SylvaError
 from ..expr import FUNCTIONS
-from ._cpfg_statements import STEP_BUDGET
+from ._cpfg_statements import _OUTPUT, STEP_BUDGET
 
 __all__ = ["Block", "Runtime"]
 
@@ -72,6 +75,8 @@ class Block:
         self.runtime = runtime
         self.where = where
         self.source = source
+        #: the globals it assigns: cpfg carries them from one application to the next
+        self.globals_written: frozenset[str] = frozenset()
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Block):
@@ -91,9 +96,21 @@ class Block:
         consts = dict(constants or {})
 
         def run(env, n):
+            if self.globals_written and n > 1:  # one application after the other
+                rows = []
+                for r in range(n):
+                    one = {k: np.asarray(v)[r : r + 1] for k, v in env.items()}
+                    rows.append((one, run(one, 1)))
+                for k in env:
+                    env[k] = np.concatenate([one[k] for one, _ in rows])
+                for k in {k for one, _ in rows for k in one} - set(env):
+                    env[k] = np.concatenate([one[k] for one, _ in rows])
+                return np.concatenate([ok for _, ok in rows])
             g = self.runtime.globals
             back, ren = self._back, self.rename
             vals = {back.get(k, k): np.asarray(v, np.float64) for k, v in env.items()}
+            for name in self.globals_written:  # their running values
+                vals[back.get(name, name)] = np.full(n, float(g.values.get(name, 0.0)))
             for name in self.outputs:
                 vals.setdefault(back.get(name, name), np.zeros(n))
             ctx = _Ctx(g, consts, n, self.where)
@@ -105,6 +122,8 @@ class Block:
                 if self.post is not None and ok.any():
                     ctx.exec(self.post, vals, ok)
                     env.update({ren.get(k, k): v for k, v in vals.items()})
+                for name in self.globals_written:  # carried to the next application
+                    g.values[name] = float(vals[back.get(name, name)][-1])
             except _Budget:
                 raise SylvaError(f"{self.where}: the statement block ran past "
                                  f"{STEP_BUDGET:,} steps (a loop that never ends?); "
@@ -286,7 +305,7 @@ class _Ctx:
 
     def _call(self, name, args, vals, mask) -> np.ndarray:
         n = self.n
-        if name in ("printf", "fprintf", "fflush"):
+        if name in _OUTPUT:  # output only: sylva prints and writes nothing
             return np.zeros(n)
         x = [self.eval(a, vals) for a in args]
         g = self.g

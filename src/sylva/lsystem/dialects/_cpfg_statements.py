@@ -280,6 +280,11 @@ def _srand(g: Globals, s: float) -> float:
     return 0.0
 
 
+#: cpfg's output calls: ``printf``, and C's file output that cpfg's blocks may use
+#: (``fp = fopen("out.txt", "w"); fprintf(fp, …); fclose(fp);``); sylva runs them as
+#: nothing (``fopen`` gives 0) and writes no file.
+_OUTPUT = frozenset({"printf", "fprintf", "fflush", "fopen", "fclose", "fputs", "puts"})
+
 _CPFG = {
     "ran": (1, lambda g, x: float(g.rng.random() * x)),
     "nran": (2, lambda g, m, s: float(g.rng.normal(m, s))),
@@ -298,7 +303,7 @@ _CPFG = {
 
 
 def _call(name: str, args, g: Globals, where: str) -> float:
-    if name in ("printf", "fprintf", "fflush"):  # output only: sylva prints nothing
+    if name in _OUTPUT:  # output only: sylva prints and writes nothing
         return 0.0
     if name in g.functions and name != "__ids__":
         return float(g.functions[name](*[_eval(a, g, where) for a in args]))
@@ -336,6 +341,13 @@ class Schedule:
         self._before = before  # (tree, where) or None
         self._after = after
         self.source = source
+        #: the globals production blocks assign (the engine's one-module-at-a-time road)
+        self.written: frozenset[str] = frozenset()
+
+    def live_values(self) -> dict:
+        """The running globals, as production blocks leave them."""
+        g = self.runtime.globals if self.runtime is not None else self.initial
+        return g.values
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Schedule):

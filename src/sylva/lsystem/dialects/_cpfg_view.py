@@ -8,6 +8,10 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
     the width ``thick``, when ``line style:`` is ``polygon`` or ``cylinder`` (a width in
     units, as sylva draws); with cpfg's default ``pixel`` style the width is in pixels of the
     screen, which sylva's cylinders do not have, and a warning says so.
+``line width increment: d``
+    ``width_step``: what cpfg's ``!`` subtracts from the width and ``#`` adds to it (in
+    units, with ``polygon`` or ``cylinder`` lines, as the initial width; 0 when the file
+    does not say, as in cpfg, so a plain ``!`` or ``#`` keeps the width).
 ``line style: pixel | polygon | cylinder | wireframe``
     decides what the width means (above).
 ``tropism direction: x, y, z`` (normalised), ``initial elasticity: e``, ``elasticity increment: d``
@@ -28,12 +32,16 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
     the functions ``func(k, x)`` and curves ``curveX(k, t)`` … of expressions and blocks
     (:mod:`._cpfg_functions`).
 
-Every other line (``projection``, ``viewpoint``, ``view reference point``, ``twist``,
-``scale``, ``front distance``, ``back distance``, ``z buffer``, ``render mode``, ``light:``,
-``texture:``, ``color increment``, ``line width increment``, ``contour:``, ``generalized
-cylinders`` …, and lines sylva does not know) is reported once as a
-:class:`~sylva.errors.SylvaWarning` naming the file and line, never dropped silently.
-Settings of the ``.l`` itself win over the view file's.
+``viewpoint``, ``view reference point``, ``twist``, ``projection``, ``scale factor``
+    the camera (:func:`read_camera`): ``sylva render`` of a cpfg file looks from the
+    viewpoint to the reference point, twisted, parallel or in perspective, the plant
+    fitted to the image times the scale factor (``sylva.render.Camera.from_view``).
+
+Every other line (``front distance``, ``back distance``, ``z buffer``, ``render mode``, ``light:``,
+``texture:``, ``color increment``, ``contour:``, ``generalized cylinders`` …, and lines
+sylva does not know) is reported once as a :class:`~sylva.errors.SylvaWarning` naming the
+file and line, never dropped silently.  Settings of the ``.l`` itself win over the view
+file's.
 """
 
 from __future__ import annotations
@@ -52,11 +60,6 @@ _LINE = re.compile(r"\s*([A-Za-z][A-Za-z _-]*?)\s*:(.*)\Z")
 _NUMBER = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)")
 #: Lines of cpfg's view files that sylva knows but does not draw, with what it lacks.
 _UNHONOURED = {
-    "projection": "the camera is chosen by the renderer (yaw, pitch)",
-    "viewpoint": "the camera is chosen by the renderer (yaw, pitch)",
-    "view reference point": "the camera is chosen by the renderer (yaw, pitch)",
-    "twist": "the camera is chosen by the renderer (yaw, pitch)",
-    "scale": "the renderer fits the plant to the image",
     "front distance": "the renderer clips nothing",
     "back distance": "the renderer clips nothing",
     "z buffer": "the renderer always hides what is behind",
@@ -64,13 +67,18 @@ _UNHONOURED = {
     "light": "the renderer's lights are its own",
     "texture": "textures of cpfg surfaces are not read",
     "color increment": "colour indices step by 1",
-    "line width increment": "the width module '#' is not drawn",
     "contour": "contours of generalised cylinders are not read",
     "generalized cylinders": "generalised cylinders are drawn as plain segments",
     "maximum depth": "the stack depth is not limited",
     "box": "bounding boxes are not drawn",
     "shadow map": "the renderer's shadows are its own",
 }
+
+
+#: The camera lines: not settings of the program; ``sylva render`` and the corpus runner
+#: place their camera with them (:func:`read_camera`, ``sylva.render.Camera.from_view``).
+_CAMERA = frozenset({"projection", "viewpoint", "view reference point", "twist", "scale",
+                     "scale factor"})  # fmt: skip
 
 
 def view_path(lsystem_file: str | None) -> Path | None:
@@ -119,10 +127,13 @@ def read_view(text: str, filename: str | None = None) -> dict[str, object]:
             continue
         m = _LINE.match(line)
         key = " ".join(m.group(1).lower().split()) if m else ""
-        if m is None or (key not in _UNHONOURED and key not in _HONOURED):
+        if m is None or (key not in _UNHONOURED and key not in _HONOURED
+                         and key not in _CAMERA):
             warnings.warn(f"{filename or '<view>'}:{number}: unknown view setting "
                           f"{line.strip()!r}; sylva ignores it", SylvaWarning,
                           stacklevel=4)  # fmt: skip
+            continue
+        if key in _CAMERA:  # the renderer's, through read_camera
             continue
         if key in _UNHONOURED:
             warnings.warn(f"{filename or '<view>'}:{number}: view setting {key!r} is not "
@@ -133,54 +144,81 @@ def read_view(text: str, filename: str | None = None) -> dict[str, object]:
             style = m.group(2).strip().lower()
     settings: dict[str, object] = {}
     for number, key, value, at in found:
-
-        def err(pos, message=None, _n=number, _at=at, _k=key):
-            return LSystemSyntaxError(message or f"{_k}: expected a number", filename=filename,
-                                      line=_n, column=_at + pos + 1,
-                                      source_line=source[_n - 1].rstrip("\r"))  # fmt: skip
-
-        if key == "angle increment":
-            settings["rot"] = _numbers(value, 1, err)[0]
-        elif key == "angle factor":
-            n = _numbers(value, 1, err)[0]
-            if n == 0:
-                raise err(0, "angle factor: expected a number other than 0")
-            settings["rot"] = 360.0 / n
-        elif key == "initial line width":
-            w = _numbers(value, 1, err)[0]
-            if style in ("polygon", "polygons", "cylinder", "cylinders"):
-                settings["thick"] = w
-            else:
-                warnings.warn(f"{filename or '<view>'}:{number}: 'initial line width' is in "
-                              f"pixels with line style {style!r}; not honoured (sylva draws "
-                              "widths in units: set line style: cylinder)", SylvaWarning,
-                              stacklevel=4)  # fmt: skip
-        elif key == "line style":
-            if style == "wireframe":  # cpfg draws lines: as pixel, sylva's tubes
-                warnings.warn(f"{filename or '<view>'}:{number}: line style 'wireframe' is "
-                              "drawn as 'pixel' (sylva's tubes)", SylvaWarning,
-                              stacklevel=4)  # fmt: skip
-            elif style not in ("pixel", "pixels", "polygon", "polygons", "cylinder",
-                               "cylinders"):  # fmt: skip
-                raise err(0, f"line style {style!r}: expected pixel, polygon, cylinder or "
-                          "wireframe")  # fmt: skip
-        elif key == "tropism direction":
-            t = _numbers(value, 3, err)
-            norm = math.sqrt(sum(c * c for c in t))
-            if norm == 0.0:
-                raise err(0, "the tropism direction is the zero vector; expected a direction "
-                          "such as 0,-1,0")  # fmt: skip
-            settings["tropism"] = tuple(c / norm for c in t)
-        elif key == "initial elasticity":
-            settings["elasticity"] = _numbers(value, 1, err)[0]
-        elif key == "elasticity increment":
-            settings["elasticity_step"] = _numbers(value, 1, err)[0]
-        elif key in _FILES_KEYS:
-            _files(settings, key, value, err, filename, number)
+        try:
+            _honour(settings, number, key, value, at, style, filename, source)
+        except _Unreadable as exc:  # cpfg says "Invalid parameters" and keeps its default
+            warnings.warn(f"{filename or '<view>'}:{number}:{exc.column}: {key}: {exc.what} "
+                          f"{exc.text!r} is not a number; the setting keeps its default (as "
+                          "cpfg does)", SylvaWarning, stacklevel=4)  # fmt: skip
     return settings
 
 
+class _Unreadable(Exception):
+    def __init__(self, column: int, text: str, what: str = "the value") -> None:
+        self.column, self.text, self.what = column, text, what
+
+
+def _honour(settings, number, key, value, at, style, filename, source) -> None:
+    """Set what the view line ``key: value`` sets."""
+
+    def err(pos, message=None, _n=number, _at=at, _k=key):
+        if message is None:  # a value cpfg's fscanf cannot read: a warning
+            return _Unreadable(_at + pos + 1, value.strip())
+        return LSystemSyntaxError(message, filename=filename, line=_n,
+                                  column=_at + pos + 1,
+                                  source_line=source[_n - 1].rstrip("\r"))  # fmt: skip
+
+    if key == "angle increment":
+        settings["rot"] = _numbers(value, 1, err)[0]
+    elif key == "angle factor":
+        n = _numbers(value, 1, err)[0]
+        if n == 0:
+            raise err(0, "angle factor: expected a number other than 0")
+        settings["rot"] = 360.0 / n
+    elif key == "initial line width":
+        w = _numbers(value, 1, err)[0]
+        if style in ("polygon", "polygons", "cylinder", "cylinders"):
+            settings["thick"] = w
+        else:
+            warnings.warn(f"{filename or '<view>'}:{number}: 'initial line width' is in "
+                          f"pixels with line style {style!r}; not honoured (sylva draws "
+                          "widths in units: set line style: cylinder)", SylvaWarning,
+                          stacklevel=4)  # fmt: skip
+    elif key == "line width increment":
+        w = _numbers(value, 1, err)[0]
+        if style in ("polygon", "polygons", "cylinder", "cylinders"):
+            settings["width_step"] = w
+        else:
+            warnings.warn(f"{filename or '<view>'}:{number}: 'line width increment' is in "
+                          f"pixels with line style {style!r}; not honoured (sylva draws "
+                          "widths in units: set line style: cylinder)", SylvaWarning,
+                          stacklevel=4)  # fmt: skip
+    elif key == "line style":
+        if style == "wireframe":  # cpfg draws lines: as pixel, sylva's tubes
+            warnings.warn(f"{filename or '<view>'}:{number}: line style 'wireframe' is "
+                          "drawn as 'pixel' (sylva's tubes)", SylvaWarning,
+                          stacklevel=4)  # fmt: skip
+        elif style not in ("pixel", "pixels", "polygon", "polygons", "cylinder",
+                           "cylinders"):  # fmt: skip
+            raise err(0, f"line style {style!r}: expected pixel, polygon, cylinder or "
+                      "wireframe")  # fmt: skip
+    elif key == "tropism direction":
+        t = _numbers(value, 3, err)
+        norm = math.sqrt(sum(c * c for c in t))
+        if norm == 0.0:
+            raise err(0, "the tropism direction is the zero vector; expected a direction "
+                      "such as 0,-1,0")  # fmt: skip
+        settings["tropism"] = tuple(c / norm for c in t)
+    elif key == "initial elasticity":
+        settings["elasticity"] = _numbers(value, 1, err)[0]
+    elif key == "elasticity increment":
+        settings["elasticity_step"] = _numbers(value, 1, err)[0]
+    elif key in _FILES_KEYS:
+        _files(settings, key, value, err, filename, number)
+
+
 _HONOURED = frozenset({"angle increment", "angle factor", "initial line width", "line style",
+                       "line width increment",
                        "tropism direction", "initial elasticity",
                        "elasticity increment", "function", "function set", "curve",
                        "surface", "color map", "colormap", "material",
@@ -213,9 +251,10 @@ _CAMERA_KEYS = {"viewpoint": 3, "view reference point": 3, "twist": 1, "scale fa
 def read_camera(view, filename: str | None = None) -> dict[str, object]:
     """The camera lines of a view file as plain values: ``viewpoint`` and ``view reference
     point`` (3 floats each), ``twist`` (degrees), ``projection`` (``"parallel"`` or
-    ``"perspective"``) and ``scale`` (the ``scale factor``); only the lines present (empty
-    for no file).  ``view`` as in :func:`load_view`; a renderer makes its camera from them
-    (the corpus runner: the eye on the line from the reference point to the viewpoint)."""
+    ``"perspective"``) and ``scale`` (the ``scale factor``), and how lines are drawn:
+    ``line style`` (``"pixel"`` …) and ``line width`` (the ``initial line width``); only the
+    lines present (empty for no file).  ``view`` as in :func:`load_view`; ``sylva render``
+    and the corpus runner make their camera from them (``sylva.render.Camera.from_view``)."""
     if view is False:
         return {}
     path = view_path(filename) if view is None else Path(view)
@@ -230,6 +269,12 @@ def read_camera(view, filename: str | None = None) -> dict[str, object]:
         value = m.group(2)
         if key == "projection":
             out["projection"] = value.strip().lower()
+        elif key == "line style":  # how wide lines are drawn: pixels or units
+            out["line style"] = (value.split() or ["pixel"])[0].lower()
+        elif key == "initial line width":
+            nums = re.findall(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?", value)
+            if nums:
+                out["line width"] = float(nums[0])
         elif key in _CAMERA_KEYS:
             nums = [float(x) for x in re.findall(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?",
                                                   value)][: _CAMERA_KEYS[key]]  # fmt: skip

@@ -69,6 +69,7 @@ from ..ast import Program, Span
 from ..expr import evaluate_constant
 from . import (
     _cpfg_blocks,
+    _cpfg_env,
     _cpfg_functions,
     _cpfg_production,
     _cpfg_statements,
@@ -89,8 +90,8 @@ _BLOCK = re.compile(r"\s*(define|start|starteach|endeach|end)\s*:\s*(?=\{)", re.
 _UNSUPPORTED = re.compile(r"\s*(ring\s+l-?system|start\s*:|starteach\s*:|endeach\s*:"
                           r"|end\s*:|define\s*:|group\b|sub-?l-?system)",
                           re.IGNORECASE)  # fmt: skip
-_UNSUPPORTED_WHY = {"ring l-system": "ring L-systems, whose first and last modules are "
-                    "neighbours, are not implemented"}  # fmt: skip
+_UNSUPPORTED_WHY: dict[str, str] = {}
+_RING = re.compile(r"\s*ring\s+l-?system\s*\Z", re.IGNORECASE)
 #: A line that begins a production whose arrow comes later: ``M(t) : 1 {x=0.5*R^t;}``.
 _HEAD = re.compile(r"[^{}]*:\s*\{|[^{}]*:[^{}]*\{[^}]*(?<![=!<>])=(?!=)|.*:\s*\Z"
                    r"|[^:(]*(?:\([^)]*\))?[^:(]*[<>][^:]*:(?!\s*[-+]?[\d.]+\s*\Z)")
@@ -213,6 +214,17 @@ def _quote_equals(word: str) -> str:
 _ASSIGNED = re.compile(r"\b([A-Za-z_][A-Za-z0-9_]*)\s*(?:[-+*/]?=(?!=)|\+\+|--)")
 
 
+_PROBABILITY = re.compile(r"\s*(?:[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[A-Za-z_]\w*)\s*\Z")
+
+
+def _condition_head(text: str) -> bool:
+    """Whether ``text`` is a production's head whose arrow comes on a later line: it has a
+    ``:`` outside parentheses followed by a condition (``@M(x,y,z) : (x<0)``), not by a
+    successor's probability (``… : 0.4``, ``… : P``)."""
+    k = _outside_parens(text, ":")
+    return k >= 0 and not _PROBABILITY.match(text[k + 1 :])
+
+
 def _outside_parens(text: str, char: str) -> int:
     """The first index of ``char`` outside parentheses and braces (or -1)."""
     depth = 0
@@ -273,7 +285,7 @@ def _logical_lines(pre: _cpp.Result) -> list[_cpp.Line]:
         continues = open_at is not None and plain and (
             forced or ("-->" not in text and not _KEY.match(text) and not _SECTION.match(text)
                        and not _UNSUPPORTED.match(text) and not _HEAD.match(text)
-                       and not _other_arrow(text)
+                       and not _other_arrow(text) and not _condition_head(text)
                        and not (axiom_open and _outside_parens(text, ":") >= 0)))  # fmt: skip
         if continues:
             body = line.slice(0, len(text.rstrip()))
@@ -325,14 +337,20 @@ def _remap(span: Span | None, lines: list[_cpp.Line]) -> Span | None:
 
 
 def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
-          materials=None) -> Program:
+          materials=None, environment=None) -> Program:
     """Read a cpfg L-system (see the module notes); errors name the file, line and column.
 
     ``view`` is the view file (:mod:`._cpfg_view`): a path, ``None`` for the ``.v`` beside
     ``filename`` (same stem) if there is one, or ``False`` for none.  Its settings apply
     where the L-system does not set its own; lines sylva cannot honour are warned about
     (:class:`~sylva.errors.SylvaWarning`).
+
+    ``environment`` is the environment file (``cpfg -e plant.e``) of an open L-system: its
+    program is answered by the built-in environment :mod:`._cpfg_env` maps it to (the
+    program's ``environment`` setting), or it is an
+    :class:`~._cpfg_env.EnvironmentProgramError` naming the program.
     """
+    env_spec = None if environment is None else _cpfg_env.environment_spec(environment)
     pre = _cpp.preprocess(text, filename)
     lines = [_quote_hash(line) for line in _logical_lines(pre)]
     out: list[str] = []
@@ -341,6 +359,8 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
     render = False
     ended = False
     trop_at = None
+    ring = False
+    seen_rule = False
     section = "production"
     depths: dict[str, tuple[str, LSystemSyntaxError]] = {}
     recursive = _homomorphism_has_depth([ln.text for ln in lines])
@@ -368,6 +388,11 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
         if ended or not line.strip():
             emit("")
             continue
+        if logical.define is not None and seen_rule and logical.define in pre.values:
+            # cpp's #define may follow the rules; its value is known: set it before them
+            top.append((f"{logical.define} = {pre.values[logical.define]!r}", logical))
+            emit("")
+            continue
         if logical.define is not None:
             emit(f"{logical.define} = {_power(line.strip())}")
             lead = len(line) - len(line.lstrip())
@@ -390,8 +415,16 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
                 top.append((f"{name} = {value!r}", logical))  # Start: runs before all
             emit("")
             continue
+        if _RING.match(line):
+            ring = True
+            emit("")
+            continue
         if m := _UNSUPPORTED.match(line):
             construct = " ".join(m.group(1).split())
+            if construct.lower().startswith("ring"):
+                raise where("expected 'ring lsystem' alone on its line (cpfg's ring "
+                            "L-system, whose last module is followed by its first)",
+                            m.start(1) + 1)  # fmt: skip
             raise where(f"cpfg's {construct!r} is not supported by sylva's cpfg reader "
                         f"({_UNSUPPORTED_WHY.get(construct.lower(), 'not implemented yet')})",
                         m.start(1) + 1)  # fmt: skip
@@ -441,6 +474,7 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
                 emit(f"{key} = {_in_parens_power(value)}")
             continue
         if "-->" in line:
+            seen_rule = True
             for piece in _multi_predecessor(line):
                 rule, parts[len(out) + 1], blocks = _production(piece, render, where)
                 if blocks is not None:
@@ -487,6 +521,8 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
         raise _relocate(err, src, parts, pre) from None
     settings = dict(program.settings)
     settings.setdefault("turtle", "abop")
+    if env_spec is not None:
+        settings["environment"] = env_spec
     if "tropism" in settings:  # cpfg normalises the direction (interpret.c)
         t = settings["tropism"]
         norm = sum(c * c for c in t) ** 0.5  # type: ignore[union-attr]
@@ -495,6 +531,7 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
         settings["tropism"] = tuple(c / norm for c in t)  # type: ignore[union-attr]
     for key, value in _cpfg_view.load_view(view, filename).items():
         settings.setdefault(key, value)
+    settings.setdefault("width_step", 0.0)  # cpfg's ! and # step by the view's increment
     fields = {}
     for field, (text, at) in depths.items():
         try:
@@ -512,10 +549,13 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
     rules = tuple(r if r.span is None else replace(r, span=_remap(r.span, src))
                   for r in program.rules)  # fmt: skip
     if block_src:
-        rules = _attach_blocks(program.rules, rules, made,
-                               (set(globals_.values) - set(pre.values)) | each_names, len(top))
+        rules, written = _attach_blocks(program.rules, rules, made,
+                                        (set(globals_.values) - set(pre.values)) | each_names,
+                                        len(top))  # fmt: skip
+        if written:
+            statements.written = written
     return program.replace(settings=settings, dialect="cpfg", name=name or program.name,
-                           steps_at=at, rules=rules, statements=statements,
+                           steps_at=at, rules=rules, statements=statements, ring=ring,
                            **fields)  # fmt: skip
 
 
@@ -601,9 +641,11 @@ def _make_blocks(block_src: dict, runtime, pre, each: dict, top: list, lines) ->
 
 
 def _attach_blocks(raw_rules, rules, made: dict, globals_names: set, shift: int) -> tuple:
-    """``rules`` with their blocks (a rule with blocks is conditional: ``1`` without one);
-    a block that assigns a global variable is an error."""
+    """``rules`` with their blocks (a rule with blocks is conditional: ``1`` without one),
+    and the globals the blocks assign (the engine then applies the productions one module
+    at a time, in word order, as cpfg does, so each application sees the last one's)."""
     out = []
+    written: set[str] = set()
     for raw, rule in zip(raw_rules, rules, strict=True):
         entry = made.get(raw.span.line - shift) if raw.span is not None else None
         if entry is None:
@@ -613,16 +655,14 @@ def _attach_blocks(raw_rules, rules, made: dict, globals_names: set, shift: int)
         params = {n for p in (*rule.left, rule.predecessor, *rule.right) for n in p.params}
         clash = sorted((block.assigned - params) & globals_names)
         if clash:
-            raise where(f"this production's block assigns the global variable {clash[0]!r}: "
-                        "a global changed by each application in turn is not supported "
-                        "(sylva applies a rule to all its modules at once); expected a "
-                        "variable of the block's own", col + 1)  # fmt: skip
+            block.globals_written = frozenset(block.rename.get(n, n) for n in clash)
+            written |= block.globals_written
         from ..ast import Num
 
         out.append(replace(rule, block=block,
                            condition=rule.condition if rule.condition is not None
                            else Num(1.0)))  # fmt: skip
-    return tuple(out)
+    return tuple(out), frozenset(written)
 
 
 def _new_globals(seed: int, functions: dict):

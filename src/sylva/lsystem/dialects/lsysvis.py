@@ -37,9 +37,11 @@ Choices where the thesis is silent (seed 001 §9)
   expression cannot read ``rot``.  Assigning a name twice is an error.
 * **Colours** ``bg`` and ``color`` are clamped to [0, 1] as the thesis says; ``color_delta``
   is not.  The axiom's parameters are evaluated at once (the program stores numbers).
-* **Brackets** must balance in the axiom, in every successor and in a right context; a left
-  context holds no brackets; brackets never carry parameters and are never predecessors.
-  A rule binding one name twice is an error.
+* **Brackets** must balance in the axiom and in every successor; a right context may leave
+  them open, as cpfg's do (``A > [B``: a branch that begins with ``B`` follows; ``F > G]H``:
+  ``G`` ends the branch and ``H`` follows it; matched module by module, see
+  :mod:`sylva.lsystem._walk`); a left context holds no brackets; brackets never carry
+  parameters and are never predecessors.  A rule binding one name twice is an error.
 
 Extensions (so that every dialect converts to ``.lsys`` and back)
 ------------------------------------------------------------------
@@ -170,6 +172,7 @@ NUMERIC_SETTINGS: tuple[str, ...] = (
     "shrink",
     "elasticity",
     "elasticity_step",
+    "width_step",
 )
 #: Three-component special variables, and whether each is clamped to [0, 1] (the colours
 #: ``bg``, ``color``, ``color_delta`` and the tropism vector).
@@ -591,8 +594,9 @@ def _evaluate(expr: Expr, column: int, where: Where, constants: Mapping[str, flo
     return value
 
 
-def _balance(items: list[_Item], where: Where, what: str) -> None:
-    """Check that the brackets of ``items`` balance, and that they carry no parameters."""
+def _balance(items: list[_Item], where: Where, what: str, open_ok: bool = False) -> None:
+    """Check that the brackets of ``items`` balance, and that they carry no parameters
+    (``open_ok``: a right context may leave its brackets open, as cpfg's do)."""
     stack: list[_Item] = []
     for it in items:
         if not it.bracket:
@@ -605,10 +609,12 @@ def _balance(items: list[_Item], where: Where, what: str) -> None:
         if it.symbol == "[":
             stack.append(it)
         elif not stack:
+            if open_ok:
+                continue
             raise where.semantic(f"unmatched ']' in {what}; expected a '[' before it", it.column)
         else:
             stack.pop()
-    if stack:
+    if stack and not open_ok:
         raise where.semantic(f"unclosed '[' in {what}; expected a matching ']'", stack[-1].column)
 
 
@@ -720,7 +726,7 @@ def _build_rule(parts, where: Where, constants: Collection[str] | None) -> Rule:
         items, gt_col = rctx
         if not items:
             raise where.error("empty right context; expected modules after '>'", gt_col)
-        _balance(items, where, "the right context")
+        _balance(items, where, "the right context", open_ok=True)
         right = [pattern(it) for it in items]
 
     if constants is None:
