@@ -823,7 +823,8 @@ app.exportImage = exportImage;
 
 // ------------------------------------------------------------------------- menus, docks
 const actions = {
-  new: newFile, open: openDialog, save, "save-as": saveAs,
+  new: newFile, open: openDialog, "save-as": saveAs,
+  save: () => (app.mode === "texture" ? app.texture.save() : save()),
   "export-image": exportImageDialog, "export-scad": () => exportMesh("scad"),
   derive: deriveSteps, reset: resetAction, step: () => simpleAction("step", { n: 1 }),
   back: () => simpleAction("back"), stop,
@@ -892,7 +893,7 @@ for (const r of $$("input[name=camera-mode]")) {
 }
 document.addEventListener("keydown", (e) => {
   if (e.key === "F4") { e.preventDefault(); viewer.resetCamera(); }
-  if ((e.ctrlKey || e.metaKey) && e.key === "s" && !e.defaultPrevented) { e.preventDefault(); save(); }
+  if ((e.ctrlKey || e.metaKey) && e.key === "s" && !e.defaultPrevented) { e.preventDefault(); actions.save(); }
   if ((e.ctrlKey || e.metaKey) && e.key === "Enter" && !e.defaultPrevented) { e.preventDefault(); deriveSteps(); }
 });
 window.addEventListener("beforeunload", (e) => {
