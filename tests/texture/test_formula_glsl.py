@@ -108,3 +108,19 @@ def test_formula_nodes_feed_the_rest_of_the_graph():
     gpu = _gpu_or_skip(g)
     assert cpu[..., :3].std() > 0.05
     assert np.abs(gpu - cpu).max() < 1e-4
+
+
+def test_a_formulas_own_names_are_valid_glsl():
+    # x_ would be u_x__r in the numba lines: GLSL reserves names with "__"
+    src = """names {
+init:
+  x_ = #pixel * 2
+  a__b = real(x_) + 1
+final:
+  #index = a__b + imag(x_)
+}
+"""
+    g = tg.Graph(tg.formula(source=src, center=[0.3, -0.2], width=2.0))
+    assert "__" not in g.glsl().split("sylva_formula1(float")[1]
+    cpu = g.evaluate(SHAPE, dtype=np.float64)
+    assert np.abs(_gpu_or_skip(g) - cpu).max() < 1e-5

@@ -96,7 +96,15 @@ def formula_glsl(code, q, fname: str) -> str:
     out = [f"float {fname}(float pr, float pi, float in1, float in2, float in3) {{"]
     declared: set[str] = set()
     depth = 0  # open blocks
-    for raw in code.body:
+    # the formula's own names (u_NAME, u_NAME_r, u_NAME_i) as fv0, fv1, ...: GLSL reserves
+    # names with "__" in them (a user's x_ would make u_x__r)
+    names: dict[str, str] = {}
+    own = re.compile(r"\bu_[A-Za-z0-9_]+")
+
+    def rename(m):
+        return names.setdefault(m.group(0), f"fv{len(names)}")
+
+    for raw in (own.sub(rename, line) for line in code.body):
         ind = (len(raw) - len(raw.lstrip(" "))) // 4
         line = raw.strip()
         if line == "else:":
