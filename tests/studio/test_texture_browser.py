@@ -44,7 +44,7 @@ def shot(page) -> np.ndarray:
     return np.asarray(Image.open(io.BytesIO(data)).convert("RGB")).astype(float)
 
 
-def test_texture_mode_shows_the_graphs_image_and_marks_a_bad_line(page):
+def test_texture_mode_shows_the_graphs_image_and_marks_a_bad_line(page, workspace):
     page.click("[data-mode-button=texture]")
     until(page, "window.studio.texture && window.studio.texture.shown >= 1 "
                 "&& !window.studio.texture.busy")
@@ -91,4 +91,15 @@ def test_texture_mode_shows_the_graphs_image_and_marks_a_bad_line(page):
     until(page, f"window.studio.texture.shown > {n} && !window.studio.texture.busy")
     assert page.is_hidden("#tex-error") and page.locator(
         "#tex-editor .cm-error-line").count() == 0
+    # Save: the TOML as edited and its image at the graph's size, in the workspace
+    page.fill("#tex-path", "browser/ship.toml")
+    page.click("#tex-save")
+    until(page, "document.querySelector('#st-message').textContent.startsWith('Saved')")
+    saved = (workspace / "browser" / "ship.toml").read_text(encoding="utf-8")
+    assert saved == page.evaluate("window.studio.texture.editor.text")
+    from PIL import Image
+
+    with Image.open(workspace / "browser" / "ship.png") as im:
+        assert np.array_equal(np.asarray(im.convert("RGB")), tg.loads(saved).image())
+    assert "browser/ship.toml" in page.inner_text("#tex-files")
     assert not page.errors, page.errors
