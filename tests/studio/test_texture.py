@@ -116,3 +116,15 @@ def test_save_writes_the_toml_and_its_png_together(client, workspace):
     assert listed == ["tex/cells.toml"]
     assert client.get("/api/texture/file", params={"path": "tex/cells.toml"}).json()[
         "text"] == text
+
+
+def test_a_huge_graph_previews_small_but_is_not_rendered_whole(client, workspace):
+    g = tg.from_recipe({"kind": "marble", "size": [4096, 2048], "seed": 3})
+    r = client.post("/api/texture", json={"text": g.dumps(), "side": 64})
+    assert r.status_code == 200 and (r.json()["width"], r.json()["height"]) == (64, 32)
+    for call in (lambda: client.post("/api/texture", json={"text": g.dumps(), "side": 0}),
+                 lambda: client.put("/api/texture/file", json={"path": "huge.toml",
+                                                               "text": g.dumps()})):
+        r = call()
+        assert r.status_code == 400 and "2048 pixels a side" in r.json()["message"]
+    assert not (workspace / "huge.toml").exists()

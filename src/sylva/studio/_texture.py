@@ -71,9 +71,9 @@ def node_list(g) -> list[dict]:
     return out
 
 
-def _size_of(g) -> tuple[int, int]:
+def _size_of(g, *, full: bool = True) -> tuple[int, int]:
     w, h = g.size or (512, 512)
-    if max(w, h) > MAX_SIDE:
+    if full and max(w, h) > MAX_SIDE:
         raise SylvaError(f"the graph's size {w}x{h} is larger than the Studio renders "
                          f"({MAX_SIDE} pixels a side)")
     return int(w), int(h)
@@ -104,13 +104,13 @@ def render(text: str, *, side: int | None = PREVIEW_SIDE, filename: str | None =
     """
     t0 = time.perf_counter()
     g = _graph(text, filename)
-    w, h = _size_of(g)
+    w, h = _size_of(g, full=side is None)
     if side is not None and max(w, h) > side:
         k = side / max(w, h)
         w, h = max(1, round(w * k)), max(1, round(h * k))
     image = g.image((h, w))
     png = _png(image)
-    return {"png": png, "width": w, "height": h, "size": list(_size_of(g)),
+    return {"png": png, "width": w, "height": h, "size": list(_size_of(g, full=False)),
             "nodes": node_list(g), "output": g.output.spec.output,
             "ms": (time.perf_counter() - t0) * 1e3}
 
@@ -124,7 +124,7 @@ def save(workspace, rel: object, text: str, *, overwrite: bool) -> dict:
     path = workspace.resolve(rel, suffixes=GRAPH_SUFFIXES)
     png_path = path.with_suffix(".png")
     g = _graph(text, str(rel))  # a text that does not read is not saved
-    png = _png(g.image())
+    png = _png(g.image(_size_of(g)[::-1]))
     try:
         for p in (path, png_path):
             if p.exists() and not overwrite:
