@@ -117,5 +117,4 @@ def test_nodes_without_glsl_are_errors():
         tg.Graph(tg.worley(scale=3.0, density=2.0)).glsl()
     with pytest.raises(GraphError, match="no GLSL for ifs"):
         tg.Graph(tg.ifs()).glsl()
-    with pytest.raises(GraphError, match="no GLSL for mandelbrot"):
-        tg.Graph(tg.mandelbrot()).glsl()
+    # escape-time fractals and formula nodes have GLSL now: tests/texture/test_formula_glsl.py

@@ -16,6 +16,15 @@
 ``GET  world/biomes.png``  the last world's biome map
 ``GET  surfaces.glsl``   the GLSL of the bark and leaf texture graphs, which the viewer
                          calls on plant surfaces (the functions the exports bake)
+``GET  texture/presets`` Texture mode: the shipped presets (each one a graph)
+``GET  texture/preset``  ``?name=``: a preset's graph as TOML
+``POST texture``         ``{text, side?}``: read and render a graph's TOML (the CPU
+                         kernel; ``side``: the image's longer side, 256 by default, 0 for
+                         the graph's size): ``{png (base64), width, height, nodes, ...}``;
+                         a bad text: ``400`` with ``line`` and ``column``
+``PUT  texture/file``    ``{path, text, overwrite}``: save the graph (``.toml``) and its
+                         image at its size (the same name, ``.png``) together, atomically
+``GET  texture/files``   the workspace's graph files; ``GET texture/file?path=`` one's text
 =======================  =============================================================
 """
 
@@ -28,7 +37,8 @@ from starlette.responses import JSONResponse, Response
 from starlette.routing import Route
 
 from ..errors import SylvaError
-from . import _debug, _grown, _work
+from . import _debug, _grown, _texture, _work
+from ._workspace import WorkspaceError
 from .app import ApiError, _body, _derive, _int, _json, _need, _once, _studio
 
 __all__ = ["routes"]
@@ -192,6 +202,89 @@ async def surfaces_glsl(request: Request) -> Response:
                     headers={"cache-control": "no-cache"})
 
 
+def _graph_error(exc: SylvaError) -> ApiError:
+    """A graph text that does not read: the message, and the line and column the
+    loader found (``None`` when it names none)."""
+    return ApiError(400, "invalid", str(exc), line=getattr(exc, "line", None),
+                    column=getattr(exc, "column", None),
+                    detail=getattr(exc, "message", str(exc)))
+
+
+def _graph_text(studio, data) -> str:
+    text = data.get("text")
+    if not isinstance(text, str):
+        raise ApiError(400, "bad_request", "text must be the graph's TOML, a string")
+    if len(text) > studio.limits.max_text:
+        raise ApiError(413, "too_large",
+                       f"the graph is longer than {studio.limits.max_text:,} characters")
+    return text
+
+
+async def texture_presets(request: Request) -> JSONResponse:
+    studio = _studio(request)
+    presets = await studio.light(_texture.preset_list)
+    return JSONResponse({"presets": presets, "preview_side": _texture.PREVIEW_SIDE})
+
+
+async def texture_preset(request: Request) -> JSONResponse:
+    studio = _studio(request)
+    name = request.query_params.get("name", "")
+    try:
+        text = await studio.light(_texture.preset_text, name)
+    except SylvaError as exc:
+        raise ApiError(404, "not_found", str(exc)) from None
+    return JSONResponse({"name": name, "text": text})
+
+
+async def texture(request: Request) -> JSONResponse:
+    import base64
+
+    studio = _studio(request)
+    data = await _json(request)
+    text = _graph_text(studio, data)
+    side = _int(data.get("side", _texture.PREVIEW_SIDE), "side", 0, _texture.MAX_SIDE)
+    filename = data.get("filename") if isinstance(data.get("filename"), str) else None
+    session = studio.session(request)
+    try:
+        out = await studio.run(session, _once(_texture.render, text, side=side or None,
+                                              filename=filename))
+    except SylvaError as exc:
+        raise _graph_error(exc) from None
+    return JSONResponse({**out, "png": base64.b64encode(out["png"]).decode("ascii")})
+
+
+async def texture_save(request: Request) -> JSONResponse:
+    studio = _studio(request)
+    data = await _json(request)
+    text = _graph_text(studio, data)
+    session = studio.session(request)
+    path, overwrite = data.get("path"), bool(data.get("overwrite"))
+    try:
+        return JSONResponse(await studio.run(session, _once(
+            _texture.save, studio.workspace, path, text, overwrite=overwrite)))
+    except SylvaError as exc:
+        if isinstance(exc, WorkspaceError):
+            raise  # answered with its own status (409 exists, 403 outside, ...)
+        raise _graph_error(exc) from None
+
+
+async def texture_files(request: Request) -> JSONResponse:
+    studio = _studio(request)
+    studio.session(request)
+    listing = await studio.light(lambda: studio.workspace.list(
+        suffixes=_texture.GRAPH_SUFFIXES))
+    return JSONResponse({"root": studio.workspace.root.name, "files": listing})
+
+
+async def texture_file(request: Request) -> JSONResponse:
+    studio = _studio(request)
+    studio.session(request)
+    path = request.query_params.get("path")
+    text = await studio.light(lambda: studio.workspace.read(
+        path, studio.limits.max_text * 4, suffixes=_texture.GRAPH_SUFFIXES))
+    return JSONResponse({"path": path, "text": text})
+
+
 def routes() -> list[Route]:
     """The routes of this module, mounted under ``/api`` by :func:`~.app.create_app`."""
     return [
@@ -206,4 +299,10 @@ def routes() -> list[Route]:
         Route("/grown.glb", grown_glb),
         Route("/world/biomes.png", biomes),
         Route("/surfaces.glsl", surfaces_glsl),
+        Route("/texture/presets", texture_presets),
+        Route("/texture/preset", texture_preset),
+        Route("/texture", texture, methods=["POST"]),
+        Route("/texture/file", texture_save, methods=["PUT"]),
+        Route("/texture/file", texture_file, methods=["GET"]),
+        Route("/texture/files", texture_files),
     ]

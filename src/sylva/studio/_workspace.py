@@ -64,9 +64,9 @@ class Workspace:
         if not self.root.is_dir():
             raise WorkspaceError(f"workspace {self.root} is not a folder")
 
-    def resolve(self, rel: object) -> Path:
+    def resolve(self, rel: object, *, suffixes: tuple[str, ...] = SUFFIXES) -> Path:
         """The absolute path of ``rel`` (a relative, ``/``-separated path), checked to stay
-        inside the workspace."""
+        inside the workspace and to end in one of ``suffixes``."""
         if not isinstance(rel, str) or not rel.strip():
             raise WorkspaceError("give a file path relative to the workspace")
         if len(rel) > 255 or "\x00" in rel or "\\" in rel or ":" in rel:
@@ -78,9 +78,9 @@ class Workspace:
         if pure.is_absolute() or any(part in ("..", ".") or part.startswith(".")
                                      for part in pure.parts):
             raise WorkspaceError(f"{rel!r} leaves the workspace or names a hidden file", 403)
-        if pure.suffix.lower() not in SUFFIXES:
+        if pure.suffix.lower() not in suffixes:
             raise WorkspaceError(
-                f"{rel!r}: the Studio opens and saves {', '.join(SUFFIXES)} files only"
+                f"{rel!r}: the Studio opens and saves {', '.join(suffixes)} files only"
             )
         path = (self.root / Path(*pure.parts)).resolve()
         if not path.is_relative_to(self.root):
@@ -90,8 +90,9 @@ class Workspace:
     def relative(self, path: Path) -> str:
         return path.relative_to(self.root).as_posix()
 
-    def list(self) -> list[dict]:
-        """Every definition file in the workspace (hidden folders skipped), sorted."""
+    def list(self, *, suffixes: tuple[str, ...] = SUFFIXES) -> list[dict]:
+        """Every file ending in one of ``suffixes`` (default: the definition files) in the
+        workspace (hidden folders skipped), sorted."""
         out: list[dict] = []
         for dirpath, dirnames, filenames in os.walk(self.root):
             here = Path(dirpath)
@@ -99,7 +100,7 @@ class Workspace:
             dirnames[:] = sorted(d for d in dirnames if not d.startswith(".")
                                  and depth < _MAX_DEPTH)
             for name in sorted(filenames):
-                if name.startswith(".") or Path(name).suffix.lower() not in SUFFIXES:
+                if name.startswith(".") or Path(name).suffix.lower() not in suffixes:
                     continue
                 p = here / name
                 try:
@@ -114,8 +115,9 @@ class Workspace:
                     return out
         return out
 
-    def read(self, rel: object, max_bytes: int) -> str:
-        path = self.resolve(rel)
+    def read(self, rel: object, max_bytes: int, *,
+             suffixes: tuple[str, ...] = SUFFIXES) -> str:
+        path = self.resolve(rel, suffixes=suffixes)
         try:
             if not path.is_file():
                 raise WorkspaceError(f"{rel}: no such file in the workspace", 404)

@@ -778,13 +778,19 @@ function filenameOf(res, fallback) {
 
 // What the exports write: the L-system, or the tree or world of those modes.
 function exportOf() {
+  if (app.mode === "texture") return null;
   if (app.mode === "tree" || app.mode === "world") return app.grownKind === app.mode ? app.mode : null;
   return app.state ? "lsystem" : null;
 }
 
+function nothingToExport() {
+  if (app.mode === "texture") return "Texture mode saves its image with Save TOML + PNG";
+  return app.mode === "lsystem" ? "Derive an L-system first" : `Grow a ${app.mode} first`;
+}
+
 async function exportMesh(fmt) {
   const of = exportOf();
-  if (!of) { message(app.mode === "lsystem" ? "Derive an L-system first" : `Grow a ${app.mode} first`, "error"); return; }
+  if (!of) { message(nothingToExport(), "error"); return; }
   const r = await api(`export.${fmt}?of=${of}`, { raw: true });
   if (!r.ok) { message(r.data.message, "error"); return; }
   download(await r.res.blob(), filenameOf(r.res, `plant.${fmt}`));
@@ -792,7 +798,7 @@ async function exportMesh(fmt) {
 }
 
 function exportImageDialog() {
-  if (!exportOf()) { message(app.mode === "lsystem" ? "Derive an L-system first" : `Grow a ${app.mode} first`, "error"); return; }
+  if (!exportOf()) { message(nothingToExport(), "error"); return; }
   const dlg = $("#dlg-export");
   $("#export-focus").checked = $("#opt-focus").checked;
   dlg.returnValue = "";
@@ -823,7 +829,8 @@ app.exportImage = exportImage;
 
 // ------------------------------------------------------------------------- menus, docks
 const actions = {
-  new: newFile, open: openDialog, save, "save-as": saveAs,
+  new: newFile, open: openDialog, "save-as": saveAs,
+  save: () => (app.mode === "texture" ? app.texture.save() : save()),
   "export-image": exportImageDialog, "export-scad": () => exportMesh("scad"),
   derive: deriveSteps, reset: resetAction, step: () => simpleAction("step", { n: 1 }),
   back: () => simpleAction("back"), stop,
@@ -892,7 +899,7 @@ for (const r of $$("input[name=camera-mode]")) {
 }
 document.addEventListener("keydown", (e) => {
   if (e.key === "F4") { e.preventDefault(); viewer.resetCamera(); }
-  if ((e.ctrlKey || e.metaKey) && e.key === "s" && !e.defaultPrevented) { e.preventDefault(); save(); }
+  if ((e.ctrlKey || e.metaKey) && e.key === "s" && !e.defaultPrevented) { e.preventDefault(); actions.save(); }
   if ((e.ctrlKey || e.metaKey) && e.key === "Enter" && !e.defaultPrevented) { e.preventDefault(); deriveSteps(); }
 });
 window.addEventListener("beforeunload", (e) => {

@@ -63,6 +63,32 @@ const lsysLanguage = StreamLanguage.define({
   languageData: { commentTokens: { line: "#" } },
 });
 
+// TOML, for the texture graphs of Texture mode: comments, table headers, keys, strings,
+// numbers and booleans
+export const tomlLanguage = StreamLanguage.define({
+  name: "toml",
+  startState: () => ({ multi: null }),
+  token(stream, state) {
+    if (state.multi) {
+      if (stream.skipTo(state.multi)) { stream.match(state.multi); state.multi = null; }
+      else stream.skipToEnd();
+      return "string";
+    }
+    if (stream.eatSpace()) return null;
+    if (stream.match("#")) { stream.skipToEnd(); return "comment"; }
+    if (stream.sol() && stream.match(/^\[\[?[^\]]*\]\]?/)) return "typeName";
+    const q = stream.match(/^('''|""")/);
+    if (q) { state.multi = q[1]; return "string"; }
+    if (stream.match(/^"(?:[^"\\]|\\.)*"?/) || stream.match(/^'[^']*'?/)) return "string";
+    if (stream.match(/^(true|false)\b/)) return "keyword";
+    if (stream.match(/^[-+]?(\d[\d_]*\.?[\d_]*(e[-+]?\d+)?|inf|nan)/i)) return "number";
+    if (stream.match(/^[A-Za-z0-9_-]+(?=\s*=)/)) return "definition";
+    stream.next();
+    return "operator";
+  },
+  languageData: { commentTokens: { line: "#" } },
+});
+
 const highlight = HighlightStyle.define([
   { tag: tags.comment, color: "#8a8a8a", fontStyle: "italic" },
   { tag: tags.keyword, color: "#7a2d91", fontWeight: "bold" },
@@ -94,7 +120,7 @@ const errorLine = StateField.define({
 });
 
 export class Editor {
-  constructor(parent, { onChange, onCursor, onRun, onSave } = {}) {
+  constructor(parent, { onChange, onCursor, onRun, onSave, language = lsysLanguage } = {}) {
     this.onChange = onChange || (() => {});
     this.onCursor = onCursor || (() => {});
     const runKeys = keymap.of([
@@ -108,7 +134,7 @@ export class Editor {
         extensions: [
           lineNumbers(), highlightActiveLineGutter(), history(), drawSelection(),
           bracketMatching(), highlightActiveLine(), highlightSelectionMatches(),
-          lsysLanguage, syntaxHighlighting(highlight), lintGutter(), errorLine, runKeys,
+          language, syntaxHighlighting(highlight), lintGutter(), errorLine, runKeys,
           keymap.of([...defaultKeymap, ...historyKeymap, ...searchKeymap, indentWithTab]),
           EditorView.updateListener.of((u) => {
             if (u.docChanged) {

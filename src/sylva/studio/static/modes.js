@@ -2,6 +2,7 @@
 // wind sliders, growth playback) and World mode (seed, size, the biome map beside the 3D
 // view), drawn by the same viewer as the L-systems.
 import { checkNumber, markBad, markOk } from "./checks.js";
+import { initTexture } from "./texture.js";
 
 const $ = (sel) => document.querySelector(sel);
 const $$ = (sel) => Array.from(document.querySelectorAll(sel));
@@ -28,11 +29,13 @@ export function initModes(ctx) {
       viewer.setMode("perspective");
       viewer.setBackground([0.62, 0.78, 0.94]);
       if (mode === "tree") openTree();
+      else if (mode === "texture") app.texture.open();
       else if (app.world) drawGrown({ fit: true });
     }
     viewer.resize();
   }
   app.setMode = setMode;
+  initTexture(ctx);
   for (const b of $$("[data-mode-button]")) b.onclick = () => setMode(b.dataset.modeButton);
 
   // ---------------------------------------------------------------- tree

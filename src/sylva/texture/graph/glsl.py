@@ -10,10 +10,12 @@ improved Perlin, simplex and Worley generators (2D and 3D, with ``time``; fBm, t
 ridged; tiling for the lattice kinds and Worley; Worley F1-F3 and their combinations, every
 metric, on the jittered grid, with the kernel's 32-bit hashes), every modifier, combiner,
 selector, transformer and colour node, and the noise patterns (marble, wood, clouds,
-granite, bark, leaf, grass: written as graphs of primitives by :mod:`._glsl_patterns`).
-Escape-time fractals and formula nodes, IFS and L-system textures, Worley orders above F3,
-Worley's Poisson density, 4D or tileable simplex and generators with their own ``warp``
-raise a :class:`GraphError` naming the node.
+granite, bark, leaf, grass: written as graphs of primitives by :mod:`._glsl_patterns`), and
+escape-time fractals and formula nodes (the formula language's GLSL, :mod:`._formula_glsl`:
+complex values as ``vec2``, the loop with its bailout, the colouring index; float32, so it
+matches the CPU away from the set's boundary).  IFS and L-system textures, Worley orders
+above F3, Worley's Poisson density, 4D or tileable simplex and generators with their own
+``warp`` raise a :class:`GraphError` naming the node.
 
 Examples
 --------
@@ -340,6 +342,7 @@ class _Glsl:
         self.n = 0
         self.need_g3 = False
         self.need_worley = False
+        self.need_complex = False
         self.overrides, self.keep = {}, []  # pattern lowering: per-generator planning
         self.tables = {}
 
@@ -380,8 +383,7 @@ class _Glsl:
         if cat == "pattern":
             return self.pattern(node, ctx)
         if cat == "fractal":
-            raise _err(node, "type", f"no GLSL for {t} nodes (they are computed on the CPU "
-                                     "image grid); use generators and modifiers")
+            return self.formula(node, base, ctx)
         if cat == "transformer":
             return self.transform(node, base, ctx)
         if cat == "colour":
@@ -426,6 +428,37 @@ class _Glsl:
         c = self.inp(node, "control", ctx)
         lo, hi, fo = (_fl(_f(node.param(k), node, k)) for k in ("lower", "upper", "falloff"))
         return self.var(f"sylva_select({a}, {b}, {c}, {lo}, {hi}, {fo})")
+
+    def formula(self, node, base, ctx):
+        """An escape-time fractal or formula node: the formula language's GLSL
+        (:mod:`._formula_glsl`) at the pixel's point of the complex plane, as the CPU
+        kernel maps it (:func:`sylva.texture.fractals._plane`)."""
+        from . import _formula
+        from ._formula_glsl import formula_glsl
+
+        if len(self.shape) != 2:
+            raise _err(node, "type", f"a {node.type} node needs a 2D image")
+        code = _formula.for_node(node)
+        q = code.values(node)
+        c = node.param("center")
+        try:
+            c = complex(*c) if isinstance(c, list | tuple) else complex(c)
+            width = float(node.param("width"))
+            if not (width > 0 and math.isfinite(width)):
+                raise ValueError(f"width must be positive, got {width}")
+        except (TypeError, ValueError) as exc:
+            raise _err(node, "center", f"{node.type}: bad center or width: {exc}") from None
+        self.n += 1
+        fname = f"{self.tag}sylva_formula{self.n}"
+        self.decls.append(formula_glsl(code, q, fname))
+        self.need_complex = True
+        px = width / self.nx
+        pr = self.var(f"{_fl(c.real)} + ({base[0]} * {_fl(self.nx)} - "
+                      f"{_fl((self.nx - 1) / 2.0)}) * {_fl(px)}")
+        pi = self.var(f"{_fl(c.imag)} + ({_fl((self.ny - 1) / 2.0)} - {base[1]} * "
+                      f"{_fl(self.nx)}) * {_fl(px)}")
+        ins = ", ".join(self.inp(node, k, ctx, 0.0) for k in ("in1", "in2", "in3"))
+        return self.var(f"{fname}({pr}, {pi}, {ins})")
 
     def pattern(self, node, ctx):
         from ._glsl_patterns import lower
@@ -674,7 +707,7 @@ def _function(graph, name, shape, tag):
     typ = "vec4" if graph.output.spec.output == COLOUR else "float"
     text = "\n".join([*g.decls, "", f"{typ} {name}(vec3 q) {{", *g.body,
                       f"    return {res};", "}", ""])
-    return text, (g.need_g3, g.need_worley)
+    return text, (g.need_g3, g.need_worley, g.need_complex)
 
 
 def compile_glsl(graph, *, name="sylva_texture", shape=None) -> str:
@@ -718,10 +751,14 @@ def compile_glsl_library(graphs, *, shape=None) -> str:
     >>> "float a(vec3 q)" in src and "float b(vec3 q)" in src
     True
     """
-    parts, g3, worley = [], False, False
+    from ._formula_glsl import COMPLEX_HELPERS
+
+    parts, g3, worley, cplx = [], False, False, False
     for name, graph in graphs.items():
-        text, (n3, nw) = _function(graph, name, shape, "" if len(graphs) == 1 else name + "_")
+        text, (n3, nw, nc) = _function(graph, name, shape,
+                                       "" if len(graphs) == 1 else name + "_")
         parts.append(text)
-        g3, worley = g3 or n3, worley or nw
-    head = _COMMON + (_G3 if g3 else "") + (_WORLEY_COMMON if worley else "")
+        g3, worley, cplx = g3 or n3, worley or nw, cplx or nc
+    head = _COMMON + (_G3 if g3 else "") + (_WORLEY_COMMON if worley else "") + (
+        COMPLEX_HELPERS if cplx else "")
     return "\n".join([head, *parts])
