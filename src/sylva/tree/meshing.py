@@ -371,5 +371,5 @@ def _filled(geo: TreeGeometry, specs: dict, mat_names: list, db, bark, leaves, b
     tm = TreeMesh(mesh, geo, J, L, FL, nb)
     from .lod import with_wind
 
-    with_wind(tm)
+    with_wind(tm, (live, nv))
     return tm
