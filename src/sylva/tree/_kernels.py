@@ -220,3 +220,50 @@ def seed_state(words):
         else:
             out[i // 2] |= v << np.uint64(32)
     return out
+
+
+@njit(cache=True)
+def leaf_fill(pos, fr, sx, size, bv, buv, btri, flutter, tint, live, ljoint, base, V, N, UV, C,
+              I, J, L, FL):
+    """The leaf blades of a mesh written into its float32 arrays from row ``base`` on (see
+    :func:`sylva.tree.meshing.build_tree_mesh`, whose NumPy road computes the same numbers
+    in float64, in the same order, before the cast).
+
+    Leaf ``q`` (``pos[q]``, frame ``fr[q]``, width ``sx[q]``·``size[q]``, length ``size[q]``)
+    gets the blade ``bv`` (uv ``buv``, triangles ``btri``): vertex ``pos + (f₀·x + f₁·y) +
+    f₂·z`` of its scaled blade vertex, the normal ``f₂``, the colour ``tint[q]`` with alpha 1,
+    joint ``ljoint[q]``, leaf ``live[q]`` and the flutter ``f₂ · ((y_blade · size) ·
+    flutter)``; triangles go to ``I`` from row ``q · len(btri)`` of the leaf part."""
+    nv = bv.shape[0]
+    nt = btri.shape[0]
+    for q in range(pos.shape[0]):
+        s = size[q]
+        w = sx[q] * s
+        f2x, f2y, f2z = fr[q, 0, 2], fr[q, 1, 2], fr[q, 2, 2]
+        v0 = base + q * nv
+        for v in range(nv):
+            lx = bv[v, 0] * w
+            ly = bv[v, 1] * s
+            lz = bv[v, 2] * s
+            k = v0 + v
+            for i in range(3):
+                V[k, i] = np.float32(pos[q, i] + (fr[q, i, 0] * lx + fr[q, i, 1] * ly
+                                                  + fr[q, i, 2] * lz))
+            N[k, 0] = np.float32(f2x)
+            N[k, 1] = np.float32(f2y)
+            N[k, 2] = np.float32(f2z)
+            UV[k, 0] = np.float32(buv[v, 0])
+            UV[k, 1] = np.float32(buv[v, 1])
+            for c in range(3):
+                C[k, c] = np.float32(tint[q, c])
+            C[k, 3] = np.float32(1.0)
+            J[k] = ljoint[q]
+            L[k] = live[q]
+            a = bv[v, 1] * s * flutter
+            FL[k, 0] = np.float32(f2x * a)
+            FL[k, 1] = np.float32(f2y * a)
+            FL[k, 2] = np.float32(f2z * a)
+        t0 = q * nt
+        for t in range(nt):
+            for c in range(3):
+                I[t0 + t, c] = np.uint32(btri[t, c] + v0)

@@ -87,11 +87,12 @@ class TreeTurtle:
         self.context = Context(default_material)
         self.component = None
         self.stems: list[Stem] = []
-        self._jm: list[np.ndarray] = []
+        self._jm: list[tuple[np.ndarray, np.ndarray]] = []  # (frames, positions) per call
         self._jp: list[np.ndarray] = []
-        self._jl: list[np.ndarray] = []
+        self._jl: list[int] = []  # the stem level of each stem_points call
         self._jr: list[np.ndarray] = []
-        self._jc: list[np.ndarray] = []
+        self._jc: list[int] = []  # the component id of each call
+        self._jn: list[int] = []  # joints added by each call
         self._nj = 0
         self._leaves: list[tuple] = []
         self._leaf_groups = 0
@@ -133,15 +134,13 @@ class TreeTurtle:
         new = np.arange(self._nj, self._nj + n)
         ids[start:] = new
         parents = np.concatenate([[parent_joint], new[:-1]])
-        jm = np.zeros((n, 4, 4))
-        jm[:, :3, :3] = wf[start:]
-        jm[:, :3, 3] = wp[start:]
-        jm[:, 3, 3] = 1.0
-        self._jm.append(jm)
+        # the joint matrices, levels and components are assembled once, in finish()
+        self._jm.append((wf[start:], wp[start:]))
         self._jp.append(parents)
-        self._jl.append(np.full(n, stem.level, np.int32))
+        self._jl.append(stem.level)
         self._jr.append(r[start:])
-        self._jc.append(np.full(n, getattr(self.component, "id", -1), np.int64))
+        self._jc.append(getattr(self.component, "id", -1))
+        self._jn.append(n)
         self._nj += n
         stem.add_points(wp[start:], wf[start:], r[start:], new)
         return ids
@@ -161,6 +160,15 @@ class TreeTurtle:
                              np.asarray(joints, np.int64), g))
         return g
 
+    def _joint_matrices(self) -> np.ndarray:
+        """``float64[j, 4, 4]``: every joint's frame and position as one matrix."""
+        jm = np.zeros((self._nj, 4, 4))
+        if self._jm:
+            jm[:, :3, :3] = np.concatenate([f for f, _ in self._jm])
+            jm[:, :3, 3] = np.concatenate([p for _, p in self._jm])
+        jm[:, 3, 3] = 1.0
+        return jm
+
     def finish(self) -> TreeGeometry:
         def cat(xs, shape, dtype):
             return np.concatenate(xs).astype(dtype) if xs else np.zeros(shape, dtype)
@@ -169,11 +177,11 @@ class TreeTurtle:
         k = sum(len(x[0]) for x in lv)
         return TreeGeometry(
             stems=self.stems,
-            joint_matrix=cat(self._jm, (0, 4, 4), np.float64),
+            joint_matrix=self._joint_matrices(),
             joint_parent=cat(self._jp, (0,), np.int64),
-            joint_level=cat(self._jl, (0,), np.int32),
+            joint_level=np.repeat(np.array(self._jl, np.int32), self._jn),
             joint_radius=cat(self._jr, (0,), np.float64),
-            joint_component=cat(self._jc, (0,), np.int64),
+            joint_component=np.repeat(np.array(self._jc, np.int64), self._jn),
             leaf_pos=cat([x[0] for x in lv], (0, 3), np.float64),
             leaf_frame=cat([x[1] for x in lv], (0, 3, 3), np.float64),
             leaf_size=cat([x[2] for x in lv], (0,), np.float64),

@@ -83,10 +83,40 @@ def tree_wind(tm: TreeMesh) -> np.ndarray:
     return wind_attribute(level, phase, reach[j], flutter)
 
 
-def with_wind(tm: TreeMesh) -> Mesh:
-    """The tree mesh with its ``WIND`` attribute set (the same object)."""
-    tm.mesh.attributes = {**(tm.mesh.attributes or {}), "WIND": tree_wind(tm)}
+def with_wind(tm: TreeMesh, blades: tuple[np.ndarray, int] | None = None) -> Mesh:
+    """The tree mesh with its ``WIND`` attribute set (the same object).  ``blades``: the
+    live leaf indices and the vertices per blade when the leaves follow the bark in blocks
+    of that many vertices each (the mesher's layout), for :func:`_blade_wind`."""
+    wind = tree_wind(tm) if blades is None else _blade_wind(tm, *blades)
+    tm.mesh.attributes = {**(tm.mesh.attributes or {}), "WIND": wind}
     return tm.mesh
+
+
+def _blade_wind(tm: TreeMesh, live: np.ndarray, nv: int) -> np.ndarray:
+    """:func:`tree_wind` of a mesh whose leaf ``live[q]`` has the ``nv`` vertices from
+    ``n_bark_vertices + q · nv`` on: the same numbers (each column is an element-wise
+    function of the vertex's joint or leaf, its flutter over its blade's largest), with the
+    per-leaf columns worked out once per leaf rather than once per vertex."""
+    geo = tm.geometry
+    nb, q = tm.n_bark_vertices, len(live)
+    if geo.n_joints == 0 or not q:
+        return tree_wind(tm)
+    reach = _joint_reach(geo)
+    out = np.empty((nb + q * nv, 4), np.float32)
+    jb = np.clip(tm.vertex_joint[:nb], 0, geo.n_joints - 1)
+    out[:nb, 0] = geo.joint_level[jb]
+    out[:nb, 1] = np.mod(phase_of(geo.joint_component[jb]), 1.0)
+    out[:nb, 2] = np.clip(reach[jb].astype(np.float32), 0.0, 1.0)
+    out[:nb, 3] = 0.0
+    jl = np.clip(tm.vertex_joint[nb::nv], 0, geo.n_joints - 1)
+    blade = out[nb:].reshape(q, nv, 4)
+    blade[:, :, 0] = (geo.joint_level[jl].astype(np.float64) + 1.0).astype(np.float32)[:, None]
+    blade[:, :, 1] = np.mod(phase_of(live, 11), 1.0)[:, None]
+    blade[:, :, 2] = np.clip(reach[jl].astype(np.float32), 0.0, 1.0)[:, None]
+    fl = np.linalg.norm(tm.flutter[nb:], axis=1).reshape(q, nv)
+    top = np.maximum(fl.max(axis=1), 0.0).astype(np.float64)
+    blade[:, :, 3] = np.clip((fl / np.maximum(top, 1e-12)[:, None]).astype(np.float32), 0.0, 1.0)
+    return out
 
 
 def _reduced_stems(geo: TreeGeometry, sides: int, every: int, drop: float) -> list:

@@ -45,7 +45,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _jit
 from ..geometry.mesh import Mesh
+from ._kernels import leaf_fill
 from .geometry_turtle import TreeGeometry
 from .materials import MaterialDatabase
 from .stem import stems_to_arrays
@@ -56,6 +58,10 @@ __all__ = ["LEAF_SHAPES", "TreeMesh", "build_tree_mesh", "leaf_blade", "leaf_out
 LEAF_SHAPES = ("blade", "ellipse", "disc", "triangle", "palm", "square", "hexagon", "needles",
                "oak", "ovate")
 """The ``LeafShape`` values by number (a name, or one of the aliases below, also works)."""
+
+_LEAF_VERTICES = 200_000
+"""Leaf vertices up to which a mesh is filled by NumPy while :func:`~sylva.tree._kernels.leaf_fill`
+is not compiled (a sapling; a mature tree compiles it, ``sylva warmup`` does ahead)."""
 
 _ALIASES = {"default": 0, "pointed": 0, "oval": 1, "round": 2, "circle": 2, "hex": 6}
 
@@ -267,6 +273,13 @@ def build_tree_mesh(geo: TreeGeometry, materials: MaterialDatabase | None = None
         nv = len(bv)
         if leaf_shape_index(leaf_shape) == 2:  # a disc is round whatever LeafScaleX says
             width = np.ones_like(width)
+        q = len(live)
+        mid, var = _leaf_materials(geo.leaf_material, live, mat_id, specs)
+        tint = 1.0 + var[:, None] * rng.uniform(-1.0, 1.0, (q, 3)) * np.array([0.6, 1.0, 0.5])
+        tint = np.clip(tint * (1.0 + var[:, None] * rng.uniform(-1, 1, (q, 1))), 0.3, 1.6)
+        if not _jit.cold(leaf_fill, q * nv, _LEAF_VERTICES):
+            return _filled(geo, specs, mat_names, db, (v, n, uv, tri, vj, bark_mids),
+                           (pos, fr, width, size, live, mid, tint), (bv, buv, btri), flutter)
         local = bv[None, :, :] * np.stack([width * size, size, size], 1)[:, None, :]
         # the frame times each blade vertex, summed in einsum("kij,kvj->kvi")'s order (the
         # same numbers, in two thirds of its time)
@@ -276,14 +289,8 @@ def build_tree_mesh(geo: TreeGeometry, materials: MaterialDatabase | None = None
         # normals: the blade's +z, bent a little outward along the blade for softer shading
         nz = fr[:, :, 2]
         wn = np.repeat(nz[:, None, :], nv, axis=1)
-        q = len(live)
         base = nb
         idx = (btri[None, :, :] + (base + nv * np.arange(q))[:, None, None]).reshape(-1, 3)
-        names = [geo.leaf_material[i] for i in live]
-        mid = np.array([mat_id(nm, "leaf") for nm in names])
-        var = np.array([specs[nm].variation for nm in names])
-        tint = 1.0 + var[:, None] * rng.uniform(-1.0, 1.0, (q, 3)) * np.array([0.6, 1.0, 0.5])
-        tint = np.clip(tint * (1.0 + var[:, None] * rng.uniform(-1, 1, (q, 1))), 0.3, 1.6)
         cols = np.concatenate([np.repeat(tint[:, None, :], nv, axis=1),
                                np.ones((q, nv, 1))], axis=2).reshape(-1, 4)
         verts.append(wv.reshape(-1, 3))
@@ -310,4 +317,59 @@ def build_tree_mesh(geo: TreeGeometry, materials: MaterialDatabase | None = None
     from .lod import with_wind  # the WIND vertex data (sylva.geometry.lod's layout)
 
     with_wind(tm)
+    return tm
+
+
+def _leaf_materials(names: list, live: np.ndarray, mat_id, specs: dict):
+    """The material id (int64, numbered in order of first use) and the tint variation of each
+    live leaf, looked up once per distinct material name."""
+    if len(live) != len(names):
+        names = [names[i] for i in live.tolist()]
+    keys = list(dict.fromkeys(names))
+    ids = [mat_id(nm, "leaf") for nm in keys]
+    var = np.array([specs[nm].variation for nm in keys])
+    if len(keys) == 1:
+        return np.full(len(names), ids[0], np.int64), np.full(len(names), var[0])
+    slot = {nm: i for i, nm in enumerate(keys)}
+    k = np.fromiter(map(slot.__getitem__, names), np.int64, len(names))
+    return np.array(ids, np.int64)[k], var[k]
+
+
+def _filled(geo: TreeGeometry, specs: dict, mat_names: list, db, bark, leaves, blade,
+            flutter: float) -> TreeMesh:
+    """The mesh written straight into its float32 arrays (bark rows first, then the leaves
+    by :func:`~sylva.tree._kernels.leaf_fill`): the numbers of the NumPy road of
+    :func:`build_tree_mesh`, without its float64 copies of a million leaf vertices."""
+    v, n, uv, tri, vj, bark_mids = bark
+    pos, fr, width, size, live, mid, tint = leaves
+    bv, buv, btri = blade
+    nb, q, nv, nt = len(v), len(live), len(bv), len(btri)
+    tot, ntb = nb + q * nv, len(tri)
+    V = np.empty((tot, 3), np.float32)
+    N = np.empty((tot, 3), np.float32)
+    UV = np.empty((tot, 2), np.float32)
+    C = np.empty((tot, 4), np.float32)
+    I = np.empty((ntb + q * nt, 3), np.uint32)
+    M = np.empty(ntb + q * nt, np.int32)
+    J = np.empty(tot, np.int64)
+    L = np.empty(tot, np.int64)
+    FL = np.empty((tot, 3), np.float32)
+    V[:nb], N[:nb], UV[:nb], C[:nb] = v, n, uv, 1.0
+    I[:ntb], M[:ntb], J[:nb], L[:nb], FL[:nb] = tri, bark_mids, vj, -1, 0.0
+    M[ntb:].reshape(q, nt)[:] = mid[:, None]
+    leaf_fill(np.ascontiguousarray(pos, np.float64), np.ascontiguousarray(fr, np.float64),
+              np.ascontiguousarray(width, np.float64), np.ascontiguousarray(size, np.float64),
+              np.ascontiguousarray(bv, np.float64), np.ascontiguousarray(buv, np.float64),
+              np.ascontiguousarray(btri, np.int64), float(flutter),
+              np.ascontiguousarray(tint, np.float64), np.ascontiguousarray(live, np.int64),
+              np.ascontiguousarray(geo.leaf_joint[live], np.int64), nb, V, N, UV, C, I[ntb:],
+              J, L, FL)
+    mesh = Mesh(V, I, normals=N, uvs=UV, colors=C, material_ids=M,
+                materials=[specs[nm].to_material() for nm in mat_names] or None, name="tree")
+    if not mat_names:
+        mesh.materials = [db.get("bark").to_material()]
+    tm = TreeMesh(mesh, geo, J, L, FL, nb)
+    from .lod import with_wind
+
+    with_wind(tm, (live, nv))
     return tm
