@@ -582,7 +582,7 @@ def _step_general(
     ignored = comp.ignored_for(word) if any(cr.rule.has_context for cr in rs.rules) else None
     nparams = word.nparams if word.has_params else None
     order = ([(s, np.array([p])) for p, s in enumerate(ids.tolist()) if s in rs.by_symbol]
-             if rs.live else [(s, np.flatnonzero(ids == s)) for s in rs.by_symbol])  # fmt: skip
+             if rs.live else ((s, np.flatnonzero(ids == s)) for s in rs.by_symbol))  # fmt: skip
     for sym, undecided in order:
         tiers = rs.by_symbol[sym]
         if undecided.size == 0:
