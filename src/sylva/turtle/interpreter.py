@@ -210,6 +210,7 @@ def _configure(dialect: str, s: dict, seed: int | None):
             palette, table = palette_materials(read_materials(s["materials"]))
         elif s.get("colormap") is not None:  # cpfg -m file.map
             palette = read_colormap(s["colormap"])
+            bg = tuple(float(c) for c in palette[0])  # cpfg clears its window to entry 0
         width = s.get("width", s["thick"])
         cfg[K.C_RAD] = float(width) / 2.0  # type: ignore[arg-type]
         cfg[K.C_RAD_F] = _num(s, "thick_factor")

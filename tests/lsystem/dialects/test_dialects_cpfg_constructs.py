@@ -215,3 +215,25 @@ def test_pixel_lines_keep_their_width_in_pixels(tmp_path):
     assert view_line_pixels(args, plant) == 5.0
     (tmp_path / "plant.v").write_text("line style: cylinder\ninitial line width: 0.3\n")
     assert view_line_pixels(args, sylva.grow(str(tmp_path / "plant.l"))) is None  # units
+
+
+def test_command_line_colour_map_colours_the_lines_and_clears_the_window(tmp_path):
+    # cpfg -m plant.map plant.l: the map named on the command line gives index n its
+    # colour and entry 0 is the window's background (vlab's 01-Introduction leaves: black
+    # background, yellow lines of index 1)
+    from sylva.geometry.colormaps import read_colormap, write_colormap
+    from sylva.turtle import interpret
+
+    write_colormap([(0.0, 0.0, 0.0), (1.0, 1.0, 0.0), (0.0, 0.5, 0.0)], tmp_path / "p.map")
+    (tmp_path / "p.v").write_text("initial color: 1\ncolor map: other.map\n")
+    write_colormap([(1.0, 1.0, 1.0), (0.0, 0.0, 1.0)], tmp_path / "other.map")
+    text = "Lsystem: 0\nAxiom: F;F\nendlsystem\n"
+    p = cpfg.parse(text, str(tmp_path / "p.l"), view=tmp_path / "p.v",
+                   colormap=tmp_path / "p.map")  # fmt: skip
+    assert p.settings["colormap"] == str(tmp_path / "p.map")  # -m wins over the view's
+    g = interpret(Derivation(p).word, p)
+    want = read_colormap(tmp_path / "p.map")
+    assert np.allclose(g.seg_color, want[[1, 2]], atol=1e-6)  # ; steps to index 2
+    assert np.allclose(g.background, want[0])
+    plain = cpfg.parse(text, str(tmp_path / "p.l"), view=tmp_path / "p.v")
+    assert plain.settings["colormap"] == str(tmp_path / "other.map")  # the view's map
