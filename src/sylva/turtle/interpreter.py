@@ -344,6 +344,8 @@ def _run(word, program, dialect, seed, overrides, trace_on):
 def _run_word(word, program, dialect, seed, overrides, trace_on):
     dialect, s = _settings(program, dialect, overrides)
     cfg, palette, materials, vertex_colors, bg = _configure(dialect, s, seed)
+    if dialect == "abop" and getattr(program, "dialect", None) == "cpfg":
+        cfg[K.C_PMODE] = 1.0  # a cpfg file's { . } as cpfg builds polygons
     ops, arg = compile_table(TABLES[dialect], word.alphabet.names, ARGS.get(dialect))
     if dialect == "abop":  # cpfg's ?(n, s): the sub-L-system drawn s times as large
         word = scale_word(word, ops, arg, cfg[K.C_LEN], cfg[K.C_LEAF])

@@ -237,3 +237,21 @@ def test_command_line_colour_map_colours_the_lines_and_clears_the_window(tmp_pat
     assert np.allclose(g.background, want[0])
     plain = cpfg.parse(text, str(tmp_path / "p.l"), view=tmp_path / "p.v")
     assert plain.settings["colormap"] == str(tmp_path / "other.map")  # the view's map
+
+
+def test_polygons_gather_vertices_as_cpfg_does():
+    # cpfg's interpret.c: { adds no vertex, '.' and each F (and f) add one, and F still
+    # draws its line (vlab's ConcavePolygons: {.,L--S--...} with S --> F@c, one filled
+    # gasket outlined by its edges; sylva's own rule kept only the '.' vertex: nothing)
+    from sylva.turtle import interpret
+
+    p = cpfg.parse("Lsystem: 0\nAxiom: {.F(1)+(90)F(1)+(90)F(1)}\nendlsystem\n", view=False)
+    g = interpret(Derivation(p).word, p)
+    assert g.n_polygons == 1 and g.n_segments == 3
+    v = np.asarray(g.poly_vertices)
+    assert np.allclose(v[:, :2], [[0, 0], [0, 1], [-1, 1], [-1, 0]], atol=1e-9)
+    p = cpfg.parse("Lsystem: 0\nAxiom: f(5){F(1)+(90)f(1)+(90)F(1)}\nendlsystem\n", view=False)
+    g = interpret(Derivation(p).word, p)
+    v = np.asarray(g.poly_vertices)  # no vertex where { stands (0, 5): a triangle
+    assert np.allclose(v[:, :2], [[0, 6], [-1, 6], [-1, 5]], atol=1e-9)
+    assert g.n_segments == 2  # the F edges drawn, the f edge not
