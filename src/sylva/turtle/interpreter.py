@@ -44,6 +44,7 @@ from ..lsystem.ast import Program
 from ..lsystem.lstring import ModuleString
 from . import _surfaces
 from . import tables as T
+from ._gcylinder import cylinder_word
 from ._subscale import scale_word
 from .tables import ARGS, DEFAULTS, PALETTE, TABLES, compile_table
 
@@ -346,6 +347,7 @@ def _run_word(word, program, dialect, seed, overrides, trace_on):
     cfg, palette, materials, vertex_colors, bg = _configure(dialect, s, seed)
     if dialect == "abop" and getattr(program, "dialect", None) == "cpfg":
         cfg[K.C_PMODE] = 1.0  # a cpfg file's { . } as cpfg builds polygons
+        word = cylinder_word(word)  # @Gs ... @Ge: the f path drawn (_gcylinder)
     ops, arg = compile_table(TABLES[dialect], word.alphabet.names, ARGS.get(dialect))
     if dialect == "abop":  # cpfg's ?(n, s): the sub-L-system drawn s times as large
         word = scale_word(word, ops, arg, cfg[K.C_LEN], cfg[K.C_LEAF])

@@ -255,3 +255,19 @@ def test_polygons_gather_vertices_as_cpfg_does():
     v = np.asarray(g.poly_vertices)  # no vertex where { stands (0, 5): a triangle
     assert np.allclose(v[:, :2], [[0, 6], [-1, 6], [-1, 5]], atol=1e-9)
     assert g.n_segments == 2  # the F edges drawn, the f edge not
+
+
+def test_generalised_cylinder_draws_its_f_path():
+    # vlab's Horneophyton: #(w) @Gs f(l) @Gc [ ... f @Gc ... ] @Ge: the stems are the
+    # cylinder's path of f moves, drawn nothing before; the branch inherits the open
+    # cylinder, the f after @Ge stays a move
+    from sylva.turtle import interpret
+
+    text = ("Lsystem: 0\nAxiom: #(0.5)@Gsf(2)@Gc(4)[+(90)f(1)@Gc(4)]f(1)@Ge(4)f(3)F(1)\n"
+            "endlsystem\n")  # fmt: skip
+    p = cpfg.parse(text, view=False)
+    g = interpret(Derivation(p).word, p)
+    assert g.n_segments == 4  # f(2), the branch's f(1), f(1); not f(3); and the F
+    ends = np.asarray(g.seg_end)[:, :2]
+    assert np.allclose(ends, [[0, 2], [-1, 2], [0, 3], [0, 7]], atol=1e-9)
+    assert np.allclose(np.asarray(g.seg_radius)[:3], 0.25)  # the width at the path
