@@ -875,11 +875,15 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                 if has_par and j < n:
                     ka = offsets[j]
                     kn = offsets[j + 1] - ka
+                other = False  # cpfg's @Ts(k, 0) of a tropism k > 1: switched off, as it is
                 if cfg[C_TMODE] != 0.0:  # cpfg: the tropism's index, then the value
+                    other = kn > 0 and values[ka] != 1.0
                     ka += 1
                     kn -= 1
                 e = st[S_ELAST]
-                if sub == AT_TS:
+                if other:
+                    pass
+                elif sub == AT_TS:
                     e = values[ka] if kn > 0 else 0.0
                 elif sub == AT_TI:
                     e += values[ka] if kn > 0 else cfg[C_ESTEP]

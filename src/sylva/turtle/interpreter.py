@@ -328,11 +328,13 @@ def _check_at(word: ModuleString, ops: np.ndarray, arg: np.ndarray, cpfg: bool) 
         settable = tee & np.isin(sub, [T.AT_TS, T.AT_TI, T.AT_TD])  # not @Tx, @Tf
         for p in at[settable].tolist():
             a, b = word.offsets[p + 2], word.offsets[p + 3]
-            if b > a and word.values[a] != 1.0:
+            zero = (sub[at == p][0] == T.AT_TS and (b - a < 2 or word.values[a + 1] == 0.0))
+            if b > a and word.values[a] != 1.0 and not zero:  # @Ts(k, 0): k stays off
                 raise TurtleSettingsError(
                     f"module {p + 2} of the word: @T{names[word.ids[p + 2]]} names tropism "
                     f"{word.values[a]:g}; expected 1 (sylva has one tropism, the view "
-                    "file's 'tropism direction:')"
+                    "file's 'tropism direction:'; another is accepted only switched off, "
+                    "@Ts(k, 0))"
                 )
 
 

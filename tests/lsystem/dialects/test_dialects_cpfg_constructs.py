@@ -271,3 +271,21 @@ def test_generalised_cylinder_draws_its_f_path():
     ends = np.asarray(g.seg_end)[:, :2]
     assert np.allclose(ends, [[0, 2], [-1, 2], [0, 3], [0, 7]], atol=1e-9)
     assert np.allclose(np.asarray(g.seg_radius)[:3], 0.25)  # the width at the path
+
+
+def test_a_second_tropism_switched_off_is_accepted():
+    # vlab's 11-CPFG/Tropisms: N --> @Ts(1,0)@Ts(2,0)@Ts(3,0) with every strength 0;
+    # @Ts(k, 0) of a tropism sylva lacks changes nothing, and leaves tropism 1 as it was
+    from sylva.errors import SylvaError
+    from sylva.turtle import interpret
+
+    def ends(axiom):
+        p = cpfg.parse(f"Lsystem: 0\ntropism direction: 1,0,0\nAxiom: {axiom}\n"
+                       "endlsystem\n", view=False)  # fmt: skip
+        return np.asarray(interpret(Derivation(p).word, p).seg_end)
+
+    bent = ends("@Ts(1,0.5)FF")
+    assert not np.allclose(bent[:, 0], 0.0)  # the tropism bends toward +x
+    assert np.allclose(ends("@Ts(1,0.5)@Ts(2,0)@Ts(3,0)FF"), bent)
+    with pytest.raises(SylvaError, match=r"names tropism 2; expected 1"):
+        ends("@Ts(2,0.3)FF")
