@@ -155,22 +155,18 @@ def _run(model: str, files: dict, size: int, render: bool, queue) -> None:
             from sylva.turtle import interpret
 
             rw = d.render_word()
-            geometry = interpret(rw, program, seed=seed)
+            pixels = line_pixels(files["view"])
+            # cpfg's pixel lines: the initial width and those #(w) / !(w) set are pixels on
+            # the screen; the turtle draws them as units, then every segment's radius
+            # scales by the image's units per pixel (the plant fills the image)
+            over = {"thick": pixels} if pixels is not None else {}
+            geometry = interpret(rw, program, seed=seed, **over)
+            if pixels is not None and geometry.n_segments:
+                lo, hi = geometry.bounds()
+                extent = float(np.max(np.asarray(hi) - np.asarray(lo)))
+                geometry.seg_radius = (geometry.seg_radius * (extent / size)).astype(np.float32)
             scene = build_mesh(geometry, detail=4)
             out["triangles"] = sum(int(m.n_triangles) for m in scene.meshes)
-            pixels = line_pixels(files["view"])
-            if pixels is not None and out["triangles"] and geometry.n_segments:
-                # cpfg's pixel lines: the initial width is ``pixels`` on the screen, and
-                # #(w) / ! change it in pixels too, so every radius scales by one factor
-                from sylva.turtle.tables import DEFAULTS
-
-                lo, hi = scene.bounds()
-                extent = float(np.max(np.asarray(hi) - np.asarray(lo)))
-                r0 = float(program.settings.get("thick", DEFAULTS["abop"]["thick"])) / 2
-                if r0 > 0:
-                    factor = 0.5 * pixels * extent / size / r0
-                    geometry.seg_radius = (geometry.seg_radius * factor).astype(np.float32)
-                    scene = build_mesh(geometry, detail=4)
             if out["triangles"]:
                 cam = camera_from_view(files["view"], scene)
                 bg = geometry.background if geometry.background is not None else (0, 0, 0)
