@@ -114,6 +114,18 @@ def camera_from_view(view, scene):
                             scale=float(cam.get("scale", 1.0)))  # fmt: skip
 
 
+def line_pixels(view) -> float | None:
+    """How many pixels wide cpfg draws the lines of a view file (its ``initial line
+    width`` with ``line style: pixel``, cpfg's default style, else None: widths in units);
+    the runner draws them so, as ``sylva render`` does."""
+    from sylva.lsystem.dialects._cpfg_view import read_camera
+
+    cam = read_camera(view or False)
+    if cam.get("line style", "pixel") not in ("pixel", "pixels", "wireframe"):
+        return None
+    return float(cam.get("line width", 1.0))
+
+
 def _run(model: str, files: dict, size: int, render: bool, queue) -> None:
     out: dict = {}
     try:
@@ -143,13 +155,24 @@ def _run(model: str, files: dict, size: int, render: bool, queue) -> None:
             from sylva.turtle import interpret
 
             rw = d.render_word()
-            geometry = interpret(rw, program, seed=seed)
+            pixels = line_pixels(files["view"])
+            # cpfg's pixel lines: the initial width and those #(w) / !(w) set are pixels on
+            # the screen; the turtle draws them as units, then every segment's radius
+            # scales by the image's units per pixel (the plant fills the image)
+            over = {"thick": pixels} if pixels is not None else {}
+            geometry = interpret(rw, program, seed=seed, **over)
+            if pixels is not None and geometry.n_segments:
+                lo, hi = geometry.bounds()
+                extent = float(np.max(np.asarray(hi) - np.asarray(lo)))
+                geometry.seg_radius = (geometry.seg_radius * (extent / size)).astype(np.float32)
             scene = build_mesh(geometry, detail=4)
             out["triangles"] = sum(int(m.n_triangles) for m in scene.meshes)
             if out["triangles"]:
                 cam = camera_from_view(files["view"], scene)
+                bg = geometry.background if geometry.background is not None else (0, 0, 0)
                 image = sylva.render.render(scene, (size, size), cam, shadows=False, msaa=0,
-                                            ground=False, textures=False)  # fmt: skip
+                                            ground=False, textures=False,
+                                            bg=bg)  # fmt: skip
                 out["image"] = np.asarray(image.convert("RGB")).tobytes()
             out["total_s"] = time.perf_counter() - t0
     except Exception as e:  # noqa: BLE001 - the runner reports every failure
@@ -177,22 +200,51 @@ def run_one(model: Path, files: dict, timeout: float, size: int, render: bool) -
     return out
 
 
-def contact_sheet(results: list, size: int, path: Path) -> None:
+def _icon(model: Path, size: int):
+    """cpfg's own picture of the model: the object's ``icon`` (an SGI RGB image that vlab
+    saves from cpfg's window), scaled to ``size``; None when the object has none."""
+    from PIL import Image
+
+    path = model.parent / "icon"
+    if not path.is_file():
+        return None
+    try:
+        with Image.open(path) as im:
+            return im.convert("RGB").resize((size, size))
+    except Exception:  # noqa: BLE001 - an unreadable icon: the sheet leaves the cell blank
+        return None
+
+
+def contact_sheet(results: list, size: int, path: Path, cols: int = 4) -> None:
+    """Write the contact sheet to ``path``: per model, cpfg's icon (left) beside sylva's
+    render (right), with the model's name and status under the pair."""
     from PIL import Image, ImageDraw
 
-    cols = 10
     rows = (len(results) + cols - 1) // cols
-    sheet = Image.new("RGB", (cols * size, rows * (size + 14)), "white")
+    cell_w, cell_h = 2 * size + 8, size + 28
+    sheet = Image.new("RGB", (cols * cell_w, rows * cell_h), "white")
     draw = ImageDraw.Draw(sheet)
-    for k, (name, out) in enumerate(results):
-        x, y = (k % cols) * size, (k // cols) * (size + 14)
-        if "image" in out:
-            sheet.paste(Image.frombytes("RGB", (size, size), out["image"]), (x, y))
+    for k, (name, model, out) in enumerate(results):
+        x, y = (k % cols) * cell_w, (k // cols) * cell_h
+        icon = _icon(model, size)
+        if icon is not None:
+            sheet.paste(icon, (x, y))
         else:
-            draw.rectangle([x + 2, y + 2, x + size - 3, y + size - 3], outline="red")
-            draw.text((x + 6, y + 6), out["status"][:28], fill="red")
-        draw.text((x + 2, y + size), name[-32:], fill="black")
-    sheet.save(path)
+            draw.text((x + 6, y + 6), "no icon", fill="gray")
+        if "image" in out:
+            sheet.paste(Image.frombytes("RGB", (size, size), out["image"]), (x + size, y))
+        else:
+            draw.rectangle([x + size + 2, y + 2, x + 2 * size - 3, y + size - 3], outline="red")
+            draw.text((x + size + 6, y + 6), out["status"][:28], fill="red")
+        draw.text((x + 2, y + size + 1), name[-(2 * size // 6):], fill="black")
+        status = out["status"]
+        if status == "derived":
+            status += f"  {out.get('triangles', 0)} triangles"
+        draw.text((x + 2, y + size + 13), status[: 2 * size // 6], fill="black")
+    from sylva._atomic import atomic_path
+
+    with atomic_path(path) as tmp:
+        sheet.save(tmp, format="PNG")
 
 
 def main(argv=None) -> int:
@@ -200,8 +252,10 @@ def main(argv=None) -> int:
     ap.add_argument("vlab", type=Path)
     ap.add_argument("--timeout", type=float, default=60.0)
     ap.add_argument("--size", type=int, default=200)
-    ap.add_argument("--sheet", type=Path, default=Path("cpfg_corpus.png"))
-    ap.add_argument("--only", default=None)
+    ap.add_argument("--sheet", type=Path, default=Path("cpfg_corpus.png"),
+                    help="where the contact sheet goes (cpfg's icon left, sylva right)")
+    ap.add_argument("--only", default=None,
+                    help="run only the models whose path contains SUBSTRING")
     ap.add_argument("--no-render", action="store_true")
     args = ap.parse_args(argv)
     import sylva.lsystem.dialects.cpfg  # noqa: F401 - loaded once, shared by the children
@@ -212,7 +266,10 @@ def main(argv=None) -> int:
         import sylva.render  # noqa: F401
     models = find_models(args.vlab)
     if args.only:
-        models = [m for m in models if args.only in str(m)]
+        # the path as printed (``10-manuals/11-CPFG/...``, vlab's ``ext/`` folders left
+        # out) or as on disk
+        models = [m for m in models if args.only in str(m)
+                  or args.only in str(m.relative_to(args.vlab / "oofs")).replace("ext/", "")]
     counts: dict[str, int] = {}
     results = []
     for model in models:
@@ -240,7 +297,7 @@ def main(argv=None) -> int:
         elif status == "timeout":
             line += f"  (over {args.timeout:g}s)"
         print(line, flush=True)
-        results.append((name, out))
+        results.append((name, model, out))
     print()
     print(f"{len(models)} models: " + ", ".join(f"{v} {k}" for k, v in sorted(counts.items())))
     if not args.no_render and results:

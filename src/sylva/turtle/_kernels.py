@@ -85,7 +85,9 @@ C_ESTEP = 32  # elasticity increment of @Ti / @Td
 C_TMODE = 33  # 1: cpfg's @T modules (tropism index first), 0: sylva's / L-Py's
 C_TON = 34  # 1 when tropism may bend the word (an elasticity or an @ module): walk's flag
 C_WMODE = 35  # 1: cpfg's widths (``!`` subtracts width_step, ``#`` adds it), 0: ABOP's
-NC = 36
+C_PMODE = 36  # 1: cpfg's polygons (interpret.c: ``{`` adds no vertex; ``.``, F and f each add
+#   one; F still draws its line), 0: sylva's (``{`` and every move add one, dropped if ``.``)
+NC = 37
 
 
 MASK32 = 0xFFFFFFFF
@@ -562,7 +564,7 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
             if op == T.DRAW or op == T.DRAW_NOREC:
                 s = uint64(ns)  # unsigned: no negative-index checks on the ~30 stores below
                 ns += 1
-                if npstack == 0 and length != 0.0:
+                if (npstack == 0 or cfg[C_PMODE] != 0.0) and length != 0.0:
                     seg_start[s, 0] = x0
                     seg_start[s, 1] = y0
                     seg_start[s, 2] = z0
@@ -617,7 +619,7 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                 tmp_pos[ntmp, 1] = st[S_POS + 1]
                 tmp_pos[ntmp, 2] = st[S_POS + 2]
                 tmp_owner[ntmp] = pstack[npstack - 1]
-                tmp_implicit[ntmp] = True
+                tmp_implicit[ntmp] = cfg[C_PMODE] == 0.0  # cpfg: kept beside the dots
                 ntmp += 1
             if tropism and st[S_ELAST] != 0.0:  # after each step (ABOP §2.3)
                 _bend(st, cfg[C_TROP], cfg[C_TROP + 1], cfg[C_TROP + 2])
@@ -692,12 +694,13 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
             else:
                 pinfo_mat[pid] = np.int32(np.int64(st[S_CIDX]) % npal)
             pinfo_mod[pid] = i
-            tmp_pos[ntmp, 0] = st[S_POS]
-            tmp_pos[ntmp, 1] = st[S_POS + 1]
-            tmp_pos[ntmp, 2] = st[S_POS + 2]
-            tmp_owner[ntmp] = pid
-            tmp_implicit[ntmp] = True
-            ntmp += 1
+            if cfg[C_PMODE] == 0.0:  # cpfg's { adds no vertex of its own
+                tmp_pos[ntmp, 0] = st[S_POS]
+                tmp_pos[ntmp, 1] = st[S_POS + 1]
+                tmp_pos[ntmp, 2] = st[S_POS + 2]
+                tmp_owner[ntmp] = pid
+                tmp_implicit[ntmp] = True
+                ntmp += 1
         elif op == T.POLY_VERTEX:
             if npstack > 0:
                 pid = pstack[npstack - 1]
@@ -872,11 +875,15 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                 if has_par and j < n:
                     ka = offsets[j]
                     kn = offsets[j + 1] - ka
+                other = False  # cpfg's @Ts(k, 0) of a tropism k > 1: switched off, as it is
                 if cfg[C_TMODE] != 0.0:  # cpfg: the tropism's index, then the value
+                    other = kn > 0 and values[ka] != 1.0
                     ka += 1
                     kn -= 1
                 e = st[S_ELAST]
-                if sub == AT_TS:
+                if other:
+                    pass
+                elif sub == AT_TS:
                     e = values[ka] if kn > 0 else 0.0
                 elif sub == AT_TI:
                     e += values[ka] if kn > 0 else cfg[C_ESTEP]

@@ -44,6 +44,7 @@ from ..lsystem.ast import Program
 from ..lsystem.lstring import ModuleString
 from . import _surfaces
 from . import tables as T
+from ._gcylinder import cylinder_word
 from ._subscale import scale_word
 from .tables import ARGS, DEFAULTS, PALETTE, TABLES, compile_table
 
@@ -210,6 +211,7 @@ def _configure(dialect: str, s: dict, seed: int | None):
             palette, table = palette_materials(read_materials(s["materials"]))
         elif s.get("colormap") is not None:  # cpfg -m file.map
             palette = read_colormap(s["colormap"])
+            bg = tuple(float(c) for c in palette[0])  # cpfg clears its window to entry 0
         width = s.get("width", s["thick"])
         cfg[K.C_RAD] = float(width) / 2.0  # type: ignore[arg-type]
         cfg[K.C_RAD_F] = _num(s, "thick_factor")
@@ -326,11 +328,13 @@ def _check_at(word: ModuleString, ops: np.ndarray, arg: np.ndarray, cpfg: bool) 
         settable = tee & np.isin(sub, [T.AT_TS, T.AT_TI, T.AT_TD])  # not @Tx, @Tf
         for p in at[settable].tolist():
             a, b = word.offsets[p + 2], word.offsets[p + 3]
-            if b > a and word.values[a] != 1.0:
+            zero = (sub[at == p][0] == T.AT_TS and (b - a < 2 or word.values[a + 1] == 0.0))
+            if b > a and word.values[a] != 1.0 and not zero:  # @Ts(k, 0): k stays off
                 raise TurtleSettingsError(
                     f"module {p + 2} of the word: @T{names[word.ids[p + 2]]} names tropism "
                     f"{word.values[a]:g}; expected 1 (sylva has one tropism, the view "
-                    "file's 'tropism direction:')"
+                    "file's 'tropism direction:'; another is accepted only switched off, "
+                    "@Ts(k, 0))"
                 )
 
 
@@ -343,6 +347,9 @@ def _run(word, program, dialect, seed, overrides, trace_on):
 def _run_word(word, program, dialect, seed, overrides, trace_on):
     dialect, s = _settings(program, dialect, overrides)
     cfg, palette, materials, vertex_colors, bg = _configure(dialect, s, seed)
+    if dialect == "abop" and getattr(program, "dialect", None) == "cpfg":
+        cfg[K.C_PMODE] = 1.0  # a cpfg file's { . } as cpfg builds polygons
+        word = cylinder_word(word)  # @Gs ... @Ge: the f path drawn (_gcylinder)
     ops, arg = compile_table(TABLES[dialect], word.alphabet.names, ARGS.get(dialect))
     if dialect == "abop":  # cpfg's ?(n, s): the sub-L-system drawn s times as large
         word = scale_word(word, ops, arg, cfg[K.C_LEN], cfg[K.C_LEAF])

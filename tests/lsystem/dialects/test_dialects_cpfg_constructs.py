@@ -215,3 +215,77 @@ def test_pixel_lines_keep_their_width_in_pixels(tmp_path):
     assert view_line_pixels(args, plant) == 5.0
     (tmp_path / "plant.v").write_text("line style: cylinder\ninitial line width: 0.3\n")
     assert view_line_pixels(args, sylva.grow(str(tmp_path / "plant.l"))) is None  # units
+
+
+def test_command_line_colour_map_colours_the_lines_and_clears_the_window(tmp_path):
+    # cpfg -m plant.map plant.l: the map named on the command line gives index n its
+    # colour and entry 0 is the window's background (vlab's 01-Introduction leaves: black
+    # background, yellow lines of index 1)
+    from sylva.geometry.colormaps import read_colormap, write_colormap
+    from sylva.turtle import interpret
+
+    write_colormap([(0.0, 0.0, 0.0), (1.0, 1.0, 0.0), (0.0, 0.5, 0.0)], tmp_path / "p.map")
+    (tmp_path / "p.v").write_text("initial color: 1\ncolor map: other.map\n")
+    write_colormap([(1.0, 1.0, 1.0), (0.0, 0.0, 1.0)], tmp_path / "other.map")
+    text = "Lsystem: 0\nAxiom: F;F\nendlsystem\n"
+    p = cpfg.parse(text, str(tmp_path / "p.l"), view=tmp_path / "p.v",
+                   colormap=tmp_path / "p.map")  # fmt: skip
+    assert p.settings["colormap"] == str(tmp_path / "p.map")  # -m wins over the view's
+    g = interpret(Derivation(p).word, p)
+    want = read_colormap(tmp_path / "p.map")
+    assert np.allclose(g.seg_color, want[[1, 2]], atol=1e-6)  # ; steps to index 2
+    assert np.allclose(g.background, want[0])
+    plain = cpfg.parse(text, str(tmp_path / "p.l"), view=tmp_path / "p.v")
+    assert plain.settings["colormap"] == str(tmp_path / "other.map")  # the view's map
+
+
+def test_polygons_gather_vertices_as_cpfg_does():
+    # cpfg's interpret.c: { adds no vertex, '.' and each F (and f) add one, and F still
+    # draws its line (vlab's ConcavePolygons: {.,L--S--...} with S --> F@c, one filled
+    # gasket outlined by its edges; sylva's own rule kept only the '.' vertex: nothing)
+    from sylva.turtle import interpret
+
+    p = cpfg.parse("Lsystem: 0\nAxiom: {.F(1)+(90)F(1)+(90)F(1)}\nendlsystem\n", view=False)
+    g = interpret(Derivation(p).word, p)
+    assert g.n_polygons == 1 and g.n_segments == 3
+    v = np.asarray(g.poly_vertices)
+    assert np.allclose(v[:, :2], [[0, 0], [0, 1], [-1, 1], [-1, 0]], atol=1e-9)
+    p = cpfg.parse("Lsystem: 0\nAxiom: f(5){F(1)+(90)f(1)+(90)F(1)}\nendlsystem\n", view=False)
+    g = interpret(Derivation(p).word, p)
+    v = np.asarray(g.poly_vertices)  # no vertex where { stands (0, 5): a triangle
+    assert np.allclose(v[:, :2], [[0, 6], [-1, 6], [-1, 5]], atol=1e-9)
+    assert g.n_segments == 2  # the F edges drawn, the f edge not
+
+
+def test_generalised_cylinder_draws_its_f_path():
+    # vlab's Horneophyton: #(w) @Gs f(l) @Gc [ ... f @Gc ... ] @Ge: the stems are the
+    # cylinder's path of f moves, drawn nothing before; the branch inherits the open
+    # cylinder, the f after @Ge stays a move
+    from sylva.turtle import interpret
+
+    text = ("Lsystem: 0\nAxiom: #(0.5)@Gsf(2)@Gc(4)[+(90)f(1)@Gc(4)]f(1)@Ge(4)f(3)F(1)\n"
+            "endlsystem\n")  # fmt: skip
+    p = cpfg.parse(text, view=False)
+    g = interpret(Derivation(p).word, p)
+    assert g.n_segments == 4  # f(2), the branch's f(1), f(1); not f(3); and the F
+    ends = np.asarray(g.seg_end)[:, :2]
+    assert np.allclose(ends, [[0, 2], [-1, 2], [0, 3], [0, 7]], atol=1e-9)
+    assert np.allclose(np.asarray(g.seg_radius)[:3], 0.25)  # the width at the path
+
+
+def test_a_second_tropism_switched_off_is_accepted():
+    # vlab's 11-CPFG/Tropisms: N --> @Ts(1,0)@Ts(2,0)@Ts(3,0) with every strength 0;
+    # @Ts(k, 0) of a tropism sylva lacks changes nothing, and leaves tropism 1 as it was
+    from sylva.errors import SylvaError
+    from sylva.turtle import interpret
+
+    def ends(axiom):
+        p = cpfg.parse(f"Lsystem: 0\ntropism direction: 1,0,0\nAxiom: {axiom}\n"
+                       "endlsystem\n", view=False)  # fmt: skip
+        return np.asarray(interpret(Derivation(p).word, p).seg_end)
+
+    bent = ends("@Ts(1,0.5)FF")
+    assert not np.allclose(bent[:, 0], 0.0)  # the tropism bends toward +x
+    assert np.allclose(ends("@Ts(1,0.5)@Ts(2,0)@Ts(3,0)FF"), bent)
+    with pytest.raises(SylvaError, match=r"names tropism 2; expected 1"):
+        ends("@Ts(2,0.3)FF")

@@ -345,6 +345,10 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
     where the L-system does not set its own; lines sylva cannot honour are warned about
     (:class:`~sylva.errors.SylvaWarning`).
 
+    ``colormap`` and ``materials`` are the colour map (``cpfg -m file.map``) and material
+    file (``cpfg -M file.mat``) of cpfg's command line (paths): they replace the view
+    file's ``color map:`` / ``material:`` (settings ``colormap`` and ``materials``).
+
     ``environment`` is the environment file (``cpfg -e plant.e``) of an open L-system: its
     program is answered by the built-in environment :mod:`._cpfg_env` maps it to (the
     program's ``environment`` setting), or it is an
@@ -532,6 +536,14 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
     for key, value in _cpfg_view.load_view(view, filename).items():
         settings.setdefault(key, value)
     settings.setdefault("width_step", 0.0)  # cpfg's ! and # step by the view's increment
+    # cpfg's command line (-m file.map, -M file.mat) names the colours: they win over the
+    # view file's, as cpfg's options do
+    if materials is not None:
+        settings["materials"] = str(materials)
+        settings.pop("colormap", None)
+    elif colormap is not None:
+        settings["colormap"] = str(colormap)
+        settings.pop("materials", None)
     fields = {}
     for field, (text, at) in depths.items():
         try:
