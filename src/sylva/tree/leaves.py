@@ -127,8 +127,10 @@ class Leaves(Component):
         tree = self.tree
         plan = self.branch.plan
         age = (t - self.birth) / max(tree.leaf_unfold, 1e-6)
-        size = self.size * np.clip(age, 0.0, 1.0) ** 0.7
-        size = size * np.clip(self.death - t, 0.0, 1.0)
+        # np.minimum(np.maximum(0, x), 1) is np.clip(x, 0, 1) bit for bit, without its
+        # Python-level dispatch (weber_penn.envelope)
+        size = self.size * np.minimum(np.maximum(0.0, age), 1.0) ** 0.7
+        size = size * np.minimum(np.maximum(0.0, self.death - t), 1.0)
         size[self.birth > t] = 0.0
         if plan.shed is not None:  # a shed branch drops its leaves before it goes
             size = size * min(max(1.0 - (t - plan.shed) / LEAF_FALL, 0.0), 1.0)

@@ -148,11 +148,20 @@ def envelope(ratio, prune: tuple[float, float, float, float] | None = None):
     width, peak, low, high = prune or (0.5, 0.5, 0.5, 0.5)
     peak = min(max(peak, 1e-6), 1 - 1e-6)
     r = np.asarray(ratio, np.float64)
-    c = np.clip(r, 0.0, 1.0)
+    # np.clip's values bit for bit (NaN and -0 kept; tests/tree/test_clip_speed.py), without
+    # its Python-level dispatch: the pruning trials call this thousands of times
+    c = np.minimum(np.maximum(0.0, r), 1.0)
     upper = (c / (1.0 - peak)) ** high
     lower = ((1.0 - c) / peak) ** low
     out = width * np.where(c < 1.0 - peak, upper, lower)
     return np.where((r >= 0.0) & (r <= 1.0), out, 0.0)
+
+
+def _clip03(x: float) -> float:
+    """``float(np.clip(x, 0.0, 3.0))`` bit for bit (NaN and -0 kept), without NumPy."""
+    if x < 0.0:
+        return 0.0
+    return 3.0 if x > 3.0 else x
 
 
 def _rx(a: float) -> np.ndarray:
@@ -290,7 +299,7 @@ class StemPlan:
             tree.pf("ThickenTime", level=lv, default=2.5 * self.grow_time).value, 1e-3
         )
         self.bud_delay = max(tree.pf("BudDelay", level=lv, default=0.3).value, 0.0)
-        self.taper = float(np.clip(tree.pf("Taper", level=lv, default=1.0).value, 0.0, 3.0))
+        self.taper = _clip03(float(tree.pf("Taper", level=lv, default=1.0).value))
         # the periodic taper is drawn where its nodes (one per stem diameter) can be seen
         self.taper_drawn = self.taper
         if self.taper > 2.0 and self.length / (2.0 * self.radius) > _MAX_NODES:
@@ -543,7 +552,7 @@ class Branch(Component):
 
     @staticmethod
     def _matrix(p: np.ndarray, f: np.ndarray) -> np.ndarray:
-        m = np.eye(4)
+        m = _EYE4.copy()
         m[:3, :3] = f
         m[:3, 3] = p
         return m
@@ -551,7 +560,7 @@ class Branch(Component):
     @staticmethod
     def _inverse(p: np.ndarray, f: np.ndarray) -> np.ndarray:
         """The inverse of :meth:`_matrix` (``f`` is a rotation: its transpose inverts it)."""
-        m = np.eye(4)
+        m = _EYE4.copy()
         m[:3, :3] = f.T
         m[:3, 3] = -(f.T @ p)
         return m
