@@ -51,3 +51,19 @@ def test_a_pruned_tree_is_the_tree_of_the_reference_envelope(monkeypatch):
     assert len(slow.branches()) > 20
     for field in ("joint_matrix", "joint_parent", "leaf_pos", "leaf_frame", "leaf_size"):
         assert getattr(qgeo, field).tobytes() == getattr(sgeo, field).tobytes(), field
+
+
+def test_the_leaves_lookups_are_where_many_bit_for_bit():
+    """The leaves place themselves with ``_where_points`` (positions) and
+    ``_segments_at`` (frames): the numbers of ``Branch._where_many``, on every run."""
+    t = Tree("silver_birch", seed=4, quality=0.3).grow(8.0)
+    rng = np.random.default_rng(1)
+    runs = t.branches()
+    assert len(runs) > 20
+    for b in runs:
+        s = np.concatenate([[b.arc0, b.arc1, b.arc0 - 1.0, b.arc1 + 1.0],
+                            rng.uniform(b.arc0, b.arc1, 7)])
+        i, p, f = b._where_many(s)
+        j, q = b._where_points(s)
+        assert i.tobytes() == j.tobytes() and p.tobytes() == q.tobytes()
+        assert b.frames[b._segments_at(s) + 1].tobytes() == f.tobytes()

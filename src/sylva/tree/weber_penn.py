@@ -588,11 +588,22 @@ class Branch(Component):
     def _where_many(self, s: np.ndarray):
         """Vector form of :meth:`_where`: int[n], float[n, 3], float[n, 3, 3]."""
         seg = self.plan.seg_length
-        i = np.minimum(np.maximum(((s - self.arc0) // seg).astype(np.int64), 0),
-                       self.k1 - self.k0 - 1)
+        i = self._segments_at(s)
         f = self.frames[i + 1]
         p = self.points[i] + f[:, :, 1] * (s - self.arc0 - i * seg)[:, None]
         return i, p, f
+
+    def _segments_at(self, s: np.ndarray) -> np.ndarray:
+        """The local segment index at each arc length ``s`` (of :meth:`_where_many`)."""
+        return np.minimum(np.maximum(((s - self.arc0) // self.plan.seg_length).astype(
+            np.int64), 0), self.k1 - self.k0 - 1)
+
+    def _where_points(self, s: np.ndarray):
+        """:meth:`_where_many` without the frames: int[n], float[n, 3] (the same numbers)."""
+        i = self._segments_at(s)
+        p = self.points[i] + self.frames[i + 1, :, 1] * (
+            s - self.arc0 - i * self.plan.seg_length)[:, None]
+        return i, p
 
     def _plan_children(self, rng) -> list[tuple]:
         plan, tree = self.plan, self.plan.tree
