@@ -16,7 +16,7 @@ from sylva.tree import Tree
 from sylva.tree import weber_penn as wp
 
 
-def _envelope_exit_by_branches(plan, key, world):
+def _envelope_exit_by_branches(plan, key, world, memo=None):
     """The pruning trial as it was before the quick road (a slow reference): the trial
     stem and its split clones are built as full Branch components."""
     tree = plan.tree
@@ -98,4 +98,32 @@ def test_skipped_draws_are_the_draws_of_the_runs(name):
                 assert np.array_equal(f, c.frames[0])
             split += 1
         assert rng.bit_generator.state == b.rng.bit_generator.state, b.key
+    assert split > 5
+
+
+@pytest.mark.parametrize("name", ["weeping_willow", "hill_cherry"])
+def test_the_trials_remembered_draws_are_the_draws_of_the_runs(name):
+    """The pruning trials of one stem read each run's stream once (``_TrialStream``): the
+    counts, the step reached and the split frames are those of the grown runs' own
+    streams, read in any order (a later trial may ask for an earlier step)."""
+    t = Tree(name, seed=2, quality=0.3).grow(10.0)
+    seed = t.seed & 0xFFFFFFFF
+    split = 0
+    for b in t.branches():
+        clones = [c for c in b.primary.children if isinstance(c, wp.Branch)]
+        if not clones:
+            continue
+        ts = wp._TrialStream(seed, *b.key)
+        ts.uniform_at(40)  # moved past the steps asked next: it must start again
+        for _ in range(2):  # drawn, then remembered
+            pos = wp._skipped_draws(b.plan, b.arc0, b.arc1, b.share, ts.uniform_at)
+            frames = ts.split_frames(b.plan, b.n_split, pos)
+            assert len(frames) == len(clones)
+            for f, c in zip(frames, clones):
+                assert f.tobytes() == c.frames[0].tobytes()
+        rng = np.random.default_rng([seed, *b.key])
+        rng.bit_generator.advance(pos)
+        wp._split_frames(b.plan, b.n_split, rng)
+        assert rng.bit_generator.state == b.rng.bit_generator.state, b.key
+        split += 1
     assert split > 5

@@ -50,6 +50,8 @@ def _fast() -> bool:
     from .. import _jit
 
     env = os.environ.get("SYLVA_JIT", "")
+    if not env and _state["fast"]:
+        return True  # decided (the common case: skip the look-ups below)
     if env == "never":
         return False
     if env == "always" or _jit._small.get() == "off":
@@ -67,7 +69,7 @@ def stream(*words: int) -> np.random.Generator:
 
     ``words`` are non-negative integers (a seed masked to 32 bits and a component's key).
     """
-    if _fast() and all(0 <= w < _WORD for w in words):
+    if _fast() and min(words) >= 0 and max(words) < _WORD:
         state = seed_state(np.array(words, np.int64))
         return np.random.Generator(np.random.PCG64(_Hashed(state)))
     return np.random.default_rng(list(words))

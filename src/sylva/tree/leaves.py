@@ -127,8 +127,10 @@ class Leaves(Component):
         tree = self.tree
         plan = self.branch.plan
         age = (t - self.birth) / max(tree.leaf_unfold, 1e-6)
-        size = self.size * np.clip(age, 0.0, 1.0) ** 0.7
-        size = size * np.clip(self.death - t, 0.0, 1.0)
+        # np.minimum(np.maximum(0, x), 1) is np.clip(x, 0, 1) bit for bit, without its
+        # Python-level dispatch (weber_penn.envelope)
+        size = self.size * np.minimum(np.maximum(0.0, age), 1.0) ** 0.7
+        size = size * np.minimum(np.maximum(0.0, self.death - t), 1.0)
         size[self.birth > t] = 0.0
         if plan.shed is not None:  # a shed branch drops its leaves before it goes
             size = size * min(max(1.0 - (t - plan.shed) / LEAF_FALL, 0.0), 1.0)
@@ -165,7 +167,7 @@ class Leaves(Component):
         if not np.any(out):
             return
         size = sizes[out]
-        i, pos, _ = b._where_many(self.arc[out])
+        i, pos = b._where_points(self.arc[out])
         jn = b._seg_joints[np.minimum(i, len(b._seg_joints) - 1)]
         width = self.tree.leaf_width_of(self.leaf_level)
         turtle.leaves(pos, self.frame[out], size, width, self.materials(out), jn)
@@ -247,7 +249,7 @@ def _crown_leaves(branch, rng):
         phi = np.radians(rng.uniform(0, 360) + sides * a)
     theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
     twist = np.radians(rng.uniform(-30, 30, n))  # a petiole twist
-    _, _, f = branch._where_many(arcs)
+    f = branch.frames[branch._segments_at(arcs) + 1]
     frames = f @ _ry_many(phi) @ _rx_many(theta) @ _ry_many(twist)
     sizes = scale.value + rng.uniform(-1, 1, n) * abs(scale.deviation)
     return arcs, frames, sizes
@@ -295,7 +297,7 @@ def _juvenile_leaves(branch):
     phi = np.radians(rng.uniform(0, 360) + np.cumsum(
         np.full(n, rot.value if rot.value >= 0 else 137.5)))
     theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
-    _, _, f = branch._where_many(arcs)
+    f = branch.frames[branch._segments_at(arcs) + 1]
     frames = f @ _ry_many(phi) @ _rx_many(theta)
     sizes = scale.value + rng.uniform(-1, 1, n) * abs(scale.deviation)
     return arcs, frames, sizes, birth, death

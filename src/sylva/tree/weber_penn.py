@@ -148,11 +148,20 @@ def envelope(ratio, prune: tuple[float, float, float, float] | None = None):
     width, peak, low, high = prune or (0.5, 0.5, 0.5, 0.5)
     peak = min(max(peak, 1e-6), 1 - 1e-6)
     r = np.asarray(ratio, np.float64)
-    c = np.clip(r, 0.0, 1.0)
+    # np.clip's values bit for bit (NaN and -0 kept; tests/tree/test_clip_speed.py), without
+    # its Python-level dispatch: the pruning trials call this thousands of times
+    c = np.minimum(np.maximum(0.0, r), 1.0)
     upper = (c / (1.0 - peak)) ** high
     lower = ((1.0 - c) / peak) ** low
     out = width * np.where(c < 1.0 - peak, upper, lower)
     return np.where((r >= 0.0) & (r <= 1.0), out, 0.0)
+
+
+def _clip03(x: float) -> float:
+    """``float(np.clip(x, 0.0, 3.0))`` bit for bit (NaN and -0 kept), without NumPy."""
+    if x < 0.0:
+        return 0.0
+    return 3.0 if x > 3.0 else x
 
 
 def _rx(a: float) -> np.ndarray:
@@ -290,7 +299,7 @@ class StemPlan:
             tree.pf("ThickenTime", level=lv, default=2.5 * self.grow_time).value, 1e-3
         )
         self.bud_delay = max(tree.pf("BudDelay", level=lv, default=0.3).value, 0.0)
-        self.taper = float(np.clip(tree.pf("Taper", level=lv, default=1.0).value, 0.0, 3.0))
+        self.taper = _clip03(float(tree.pf("Taper", level=lv, default=1.0).value))
         # the periodic taper is drawn where its nodes (one per stem diameter) can be seen
         self.taper_drawn = self.taper
         if self.taper > 2.0 and self.length / (2.0 * self.radius) > _MAX_NODES:
@@ -398,13 +407,15 @@ class StemPlan:
 
 
 def _run_curve(plan: StemPlan, k0: int, frame: np.ndarray, split_error: float,
-               parent_world: np.ndarray | None, bend):
+               parent_world: np.ndarray | None, bend, memo: dict | None = None):
     """The split and the mature curve of a run of ``plan`` from segment ``k0``: ``(k1,
     n_split, split_error, F, P)`` (frames float[m + 1, 3, 3] and points float[m + 1, 3] in
     the run's frame, ``m = k1 − k0``).  ``bend(F, P, curve, seg, up_local, attraction,
     parent_world)`` is the segment loop of attraction up and ground clearance
     (:meth:`Branch._bend`); :class:`Branch` and the pruning trials (:func:`_envelope_exit`)
-    both grow their runs here."""
+    both grow their runs here.  ``memo`` (the trials of one stem) remembers the turned
+    frames of a run by its curve, segments and first frame: they do not depend on the
+    trial's length (a dict the caller keeps; ``None``: none)."""
     tree = plan.tree
     res = plan.curve_res
     seg = plan.seg_length
@@ -436,11 +447,21 @@ def _run_curve(plan: StemPlan, k0: int, frame: np.ndarray, split_error: float,
     up_local = None
     if attraction and parent_world is not None:
         up_local = parent_world[:3, :3].T @ _UP
+    if up_local is not None:  # the segment loop fills F[1:] and P[1:] from F[0], P[0]
+        bend(F, P, plan.curve[k0:k1], seg, up_local, attraction / (2.0 * res), parent_world)
+        return k1, n_split, err, F, P
     # fast path: every segment turns about its own x axis, so the turns add up
-    F[1:] = frame @ _rx_many(np.cumsum(plan.curve[k0:k1]))
+    if memo is None:
+        F[1:] = frame @ _rx_many(np.cumsum(plan.curve[k0:k1]))
+    else:
+        mk = ("F", plan.curve.tobytes(), k0, k1, frame.tobytes())
+        turned = memo.get(mk)
+        if turned is None:
+            turned = memo[mk] = frame @ _rx_many(np.cumsum(plan.curve[k0:k1]))
+        F[1:] = turned
     P[1:] = np.cumsum(F[1:, :, 1] * seg, axis=0)
-    sequential = up_local is not None
-    if parent_world is not None and not sequential:
+    sequential = False
+    if parent_world is not None:
         y = P[1:] @ parent_world[1, :3] + parent_world[1, 3]
         sequential = bool(np.any(y < clearance))
     if sequential:
@@ -543,7 +564,7 @@ class Branch(Component):
 
     @staticmethod
     def _matrix(p: np.ndarray, f: np.ndarray) -> np.ndarray:
-        m = np.eye(4)
+        m = _EYE4.copy()
         m[:3, :3] = f
         m[:3, 3] = p
         return m
@@ -551,7 +572,7 @@ class Branch(Component):
     @staticmethod
     def _inverse(p: np.ndarray, f: np.ndarray) -> np.ndarray:
         """The inverse of :meth:`_matrix` (``f`` is a rotation: its transpose inverts it)."""
-        m = np.eye(4)
+        m = _EYE4.copy()
         m[:3, :3] = f.T
         m[:3, 3] = -(f.T @ p)
         return m
@@ -567,11 +588,22 @@ class Branch(Component):
     def _where_many(self, s: np.ndarray):
         """Vector form of :meth:`_where`: int[n], float[n, 3], float[n, 3, 3]."""
         seg = self.plan.seg_length
-        i = np.minimum(np.maximum(((s - self.arc0) // seg).astype(np.int64), 0),
-                       self.k1 - self.k0 - 1)
+        i = self._segments_at(s)
         f = self.frames[i + 1]
         p = self.points[i] + f[:, :, 1] * (s - self.arc0 - i * seg)[:, None]
         return i, p, f
+
+    def _segments_at(self, s: np.ndarray) -> np.ndarray:
+        """The local segment index at each arc length ``s`` (of :meth:`_where_many`)."""
+        return np.minimum(np.maximum(((s - self.arc0) // self.plan.seg_length).astype(
+            np.int64), 0), self.k1 - self.k0 - 1)
+
+    def _where_points(self, s: np.ndarray):
+        """:meth:`_where_many` without the frames: int[n], float[n, 3] (the same numbers)."""
+        i = self._segments_at(s)
+        p = self.points[i] + self.frames[i + 1, :, 1] * (
+            s - self.arc0 - i * self.plan.seg_length)[:, None]
+        return i, p
 
     def _plan_children(self, rng) -> list[tuple]:
         plan, tree = self.plan, self.plan.tree
@@ -881,32 +913,95 @@ def _skip_run_draws(plan: StemPlan, arc0: float, arc1: float, k1: int, share: fl
     before its split: its buds (:meth:`Branch._bud_run`) and its crown leaves
     (:func:`~sylva.tree.leaves._crown_leaves`), without planning them.  Each uniform double
     is one step of the PCG64 stream, so the draws whose values do not decide a count are
-    skipped by ``advance``; the two that decide the counts are drawn.  Must follow those
-    two functions draw for draw (``tests/tree/test_pruning_speed.py`` checks it on every
-    run of several species)."""
+    skipped by ``advance``; the two that decide the counts are drawn
+    (:func:`_skipped_draws`).  Must follow those two functions draw for draw
+    (``tests/tree/test_pruning_speed.py`` checks it on every run of several species)."""
+    at = [0]
+
+    def uniform_at(pos: int) -> float:
+        if pos > at[0]:
+            rng.bit_generator.advance(pos - at[0])
+        at[0] = pos + 1
+        return rng.uniform()
+
+    end = _skipped_draws(plan, arc0, arc1, share, uniform_at)
+    if end > at[0]:
+        rng.bit_generator.advance(end - at[0])
+
+
+def _skipped_draws(plan: StemPlan, arc0: float, arc1: float, share: float,
+                   uniform_at) -> int:
+    """The number of steps of a run's stream that its buds and crown leaves take (see
+    :func:`_skip_run_draws`); ``uniform_at(pos)`` is the uniform double at step ``pos`` of
+    the stream (the two that decide the counts)."""
     tree = plan.tree
     lv = plan.level
+    pos = 0
     if lv + 1 < tree.levels and plan.n_children > 0:  # Branch._plan_children
         per_len = share * plan.n_children / max(plan.length - plan.base_length, 1e-9)
         lo = max(arc0, plan.base_length)
         if arc1 > lo:
-            n = int(math.floor(per_len * (arc1 - lo) + rng.uniform()))
+            n = int(math.floor(per_len * (arc1 - lo) + uniform_at(pos)))
+            pos += 1
             if n > 0:
                 rot = tree.pf("Rotate", level=lv + 1, default=140.0)
                 down = tree.pf("DownAngle", level=lv + 1, default=45.0)
                 per = 1 + (1 if rot.value < 0 or rot.deviation else 0) + (
                     1 if down.deviation > 0 else 0)
-                rng.bit_generator.advance(1 + n * per)
+                pos += 1 + n * per
     if lv == tree.levels - 1 and plan.n_leaves > 0:  # leaves._crown_leaves
         if tree.leaf_arrangement == "fan":
-            return  # the fan sits at the tip: a run that splits (the only one asked) has none
+            return pos  # the fan sits at the tip: a run that splits (the only one asked) has none
         want = plan.n_leaves * (arc1 - arc0) / plan.length * share
-        n = int(math.floor(want + rng.uniform()))
+        n = int(math.floor(want + uniform_at(pos)))
+        pos += 1
         if n > 0:
-            rng.bit_generator.advance(5 * n + 1)
+            pos += 5 * n + 1
+    return pos
 
 
-def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray) -> float | None:
+class _TrialStream:
+    """A run's stream as the pruning trials of one stem read it: the uniform double at a
+    step, and the split frames from a step, each drawn once and remembered (the trials of
+    one stem regrow the same runs from the same streams; only the lengths, and so the
+    counts of the skipped draws, may differ)."""
+
+    __slots__ = ("words", "rng", "pos", "seen")
+
+    def __init__(self, *words: int) -> None:
+        self.words = words
+        self.rng = None
+        self.pos = 0
+        self.seen: dict = {}
+
+    def at(self, pos: int) -> np.random.Generator:
+        """The generator moved to step ``pos`` (a fresh one when this one is past it)."""
+        if self.rng is None or self.pos > pos:
+            self.rng, self.pos = stream(*self.words), 0
+        if pos > self.pos:
+            self.rng.bit_generator.advance(pos - self.pos)
+        self.pos = pos
+        return self.rng
+
+    def uniform_at(self, pos: int) -> float:
+        v = self.seen.get(pos)
+        if v is None:
+            v = self.seen[pos] = self.at(pos).uniform()
+            self.pos = pos + 1
+        return v
+
+    def split_frames(self, plan: StemPlan, n: int, pos: int) -> list[np.ndarray]:
+        """:func:`_split_frames` drawn from step ``pos`` (remembered)."""
+        k = ("split", pos, n, plan.level)
+        frames = self.seen.get(k)
+        if frames is None:
+            frames = self.seen[k] = _split_frames(plan, n, self.at(pos))
+            self.rng = None  # moved on by an unknown number of steps
+        return frames
+
+
+def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray,
+                   memo: dict | None = None) -> float | None:
     """``None`` when every point of the mature stem (its split clones included) lies inside
     the tree's pruning envelope, else the arc length the stem keeps: the start of the first
     segment that leaves it (the smallest over the clones).
@@ -914,7 +1009,11 @@ def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray) -> float | Non
     The runs are grown as :class:`Branch` grows them (:func:`_run_curve`, the split clones
     of :meth:`Branch._continuations` from the same random streams) but without building
     components, buds or leaves: a split clone's angles only need its parent's stream moved
-    past the parent's own draws (:func:`_skip_run_draws`)."""
+    past the parent's own draws (:func:`_skip_run_draws`).  ``memo`` (a dict kept over the
+    trials of one stem by :func:`_pruned_length`) remembers what the trials share: the runs'
+    turned frames and their streams' draws (:class:`_TrialStream`)."""
+    if memo is None:
+        memo = {}
     tree = plan.tree
     seed = tree.seed & 0xFFFFFFFF
     seg = plan.seg_length
@@ -932,7 +1031,7 @@ def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray) -> float | Non
     keep = None
     while stack:
         k0, frame, bkey, err0, w, share = stack.pop()
-        k1, n_split, err, F, P = _run_curve(plan, k0, frame, err0, w, bend)
+        k1, n_split, err, F, P = _run_curve(plan, k0, frame, err0, w, bend, memo)
         pts = P @ w[:3, :3].T + w[:3, 3]
         out = ~tree.inside_envelope(pts)
         arc0 = k0 * seg
@@ -945,9 +1044,11 @@ def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray) -> float | Non
         if k1 < res and (keep is None or arc1 < keep):
             m = k1 - k0
             nxt = w @ Branch._matrix(P[m], F[m])
-            rng = stream(seed, *bkey)
-            _skip_run_draws(plan, arc0, arc1, k1, share, rng)
-            for c, fc in enumerate(_split_frames(plan, n_split, rng)):
+            draws = memo.get(bkey)
+            if draws is None:
+                draws = memo[bkey] = _TrialStream(seed, *bkey)
+            pos = _skipped_draws(plan, arc0, arc1, share, draws.uniform_at)
+            for c, fc in enumerate(draws.split_frames(plan, n_split, pos)):
                 stack.append((k1, fc, (*bkey, 2, c), err, nxt, share / (n_split + 1)))
     return keep
 
@@ -974,8 +1075,9 @@ def _pruned_length(plan_of, length: float, key: tuple, world: np.ndarray) -> flo
     loses at least 1/15 of the original length (the scheme of the paper's reimplementations,
     e.g. Arbaro); every trial regrows the stem from the same random draws."""
     L = length
+    memo: dict = {}  # what the trials share (see _envelope_exit)
     while L >= 1e-3:
-        keep = _envelope_exit(plan_of(L), key, world)
+        keep = _envelope_exit(plan_of(L), key, world, memo=memo)
         if keep is None:
             return L
         L = min(max(keep, 0.5 * L), L - length / 15.0)

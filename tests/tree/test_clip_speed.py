@@ -1,0 +1,69 @@
+"""The pruning envelope, the stem taper and the leaf sizes clamp their values without
+``np.clip``'s Python-level dispatch (thousands of calls on a few values per tree); the
+clamps must give ``np.clip``'s values bit for bit (NaN and -0 kept, as NumPy's clip keeps
+them), so the trees are the same.  The ``np.clip`` forms are kept here as the slow
+references."""
+
+import math
+import struct
+
+import numpy as np
+
+from sylva.tree import Tree, model
+from sylva.tree import weber_penn as wp
+
+_EDGES = [-math.inf, -2.0, -1e-300, -0.0, 0.0, 5e-324, 0.3, 0.5, 1.0 - 1e-16, 1.0,
+          1.0 + 1e-15, 2.9999999, 3.0, 3.5, math.inf, math.nan]
+
+
+def _envelope_by_clip(ratio, prune=None):
+    """weber_penn.envelope as it was (the reference)."""
+    width, peak, low, high = prune or (0.5, 0.5, 0.5, 0.5)
+    peak = min(max(peak, 1e-6), 1 - 1e-6)
+    r = np.asarray(ratio, np.float64)
+    c = np.clip(r, 0.0, 1.0)
+    upper = (c / (1.0 - peak)) ** high
+    lower = ((1.0 - c) / peak) ** low
+    out = width * np.where(c < 1.0 - peak, upper, lower)
+    return np.where((r >= 0.0) & (r <= 1.0), out, 0.0)
+
+
+def test_the_clamps_are_np_clip_bit_for_bit():
+    rng = np.random.default_rng(3)
+    r = np.concatenate([_EDGES, rng.uniform(-0.5, 1.5, 200)])
+    for prune in (None, (0.5, 0.5, 0.5, 0.5), (0.9, 0.2, 1.3, 0.7), (1.0, 0.6, 3.0, 1.0)):
+        assert wp.envelope(r, prune).tobytes() == _envelope_by_clip(r, prune).tobytes()
+    for x in _EDGES:
+        assert struct.pack("d", wp._clip03(x)) == struct.pack("d", float(np.clip(x, 0.0, 3.0)))
+    # the leaves' form (sizes_at) is the same expression on [0, 1]
+    a = np.array(_EDGES)
+    assert np.minimum(np.maximum(0.0, a), 1.0).tobytes() == np.clip(a, 0.0, 1.0).tobytes()
+
+
+def test_a_pruned_tree_is_the_tree_of_the_reference_envelope(monkeypatch):
+    quick = Tree("weeping_willow", seed=3, quality=0.2).grow(9.0)
+    qgeo = quick.geometry()
+    monkeypatch.setattr(model, "envelope", _envelope_by_clip)
+    slow = Tree("weeping_willow", seed=3, quality=0.2).grow(9.0)
+    sgeo = slow.geometry()
+    assert {b.key: b.plan.length for b in quick.branches()} == {
+        b.key: b.plan.length for b in slow.branches()}
+    assert len(slow.branches()) > 20
+    for field in ("joint_matrix", "joint_parent", "leaf_pos", "leaf_frame", "leaf_size"):
+        assert getattr(qgeo, field).tobytes() == getattr(sgeo, field).tobytes(), field
+
+
+def test_the_leaves_lookups_are_where_many_bit_for_bit():
+    """The leaves place themselves with ``_where_points`` (positions) and
+    ``_segments_at`` (frames): the numbers of ``Branch._where_many``, on every run."""
+    t = Tree("silver_birch", seed=4, quality=0.3).grow(8.0)
+    rng = np.random.default_rng(1)
+    runs = t.branches()
+    assert len(runs) > 20
+    for b in runs:
+        s = np.concatenate([[b.arc0, b.arc1, b.arc0 - 1.0, b.arc1 + 1.0],
+                            rng.uniform(b.arc0, b.arc1, 7)])
+        i, p, f = b._where_many(s)
+        j, q = b._where_points(s)
+        assert i.tobytes() == j.tobytes() and p.tobytes() == q.tobytes()
+        assert b.frames[b._segments_at(s) + 1].tobytes() == f.tobytes()
