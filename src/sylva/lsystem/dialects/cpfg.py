@@ -61,10 +61,11 @@ from __future__ import annotations
 import copy
 import math
 import re
+import warnings
 from dataclasses import replace
 from pathlib import Path
 
-from ...errors import LSystemSyntaxError, SylvaError
+from ...errors import LSystemSyntaxError, SylvaError, SylvaWarning
 from ..ast import Program, Span
 from ..expr import evaluate_constant
 from . import (
@@ -118,6 +119,7 @@ def _other_arrow(text: str) -> bool:
 
 
 _AXIOM = re.compile(r"\s*axiom\s*:", re.IGNORECASE)
+_NEXT_LSYSTEM = re.compile(r"\s*l-?system\s*:", re.IGNORECASE)
 _SECTION = re.compile(r"\s*(homomorphism|decomposition|endlsystem)\b(.*)\Z", re.IGNORECASE)
 
 
@@ -362,6 +364,7 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
     name: str | None = None
     render = False
     ended = False
+    warned_more = False
     trop_at = None
     ring = False
     seen_rule = False
@@ -389,6 +392,13 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
             return pre.error(message, _l.at(column))
 
         line = logical.text.rstrip()
+        if ended and name is not None and not warned_more and _NEXT_LSYSTEM.match(line):
+            warned_more = True
+            file, at_line, at_col = logical.at(1)
+            warnings.warn(f"{file or filename or '<string>'}:{at_line}:{at_col}:"
+                          " a second L-system follows the first one's endlsystem; sylva's cpfg"
+                          " reader reads only the first (its sub-L-system calls ?(n, s) stay"
+                          " plain modules)", SylvaWarning, stacklevel=2)  # fmt: skip
         if ended or not line.strip():
             emit("")
             continue
