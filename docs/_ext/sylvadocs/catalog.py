@@ -232,6 +232,10 @@ MEANINGS: dict[object, Command] = {
                        "turtle's position, oriented by its frame: the Bézier patches of the "
                        "view file's ``surface: l file.s`` (cpfg), sylva's ``~\"leaf\"`` or "
                        "``~\"petal\"``, else sylva's leaf."),
+    "ELASTICITY": Command("``_(e)`` sets the elasticity", "cpfg files only: add the view "
+                          "file's ``elasticity increment`` to the elasticity of its old "
+                          "tropism (``tropism direction:``) for the rest of the branch; "
+                          "elsewhere nothing."),
     "SUBCALL": Command("``?(n, s)``: scale *s*", "Call sub-L-system *n* (up to its ``$``); "
                        "what it draws is *s* times as large: lengths, widths, surfaces, "
                        "spheres (cpfg)."),
@@ -254,7 +258,8 @@ MEANINGS: dict[object, Command] = {
                   "sphere of diameter *d*, ``@v`` rolls to vertical (ABOP's ``$``), "
                   "``@M`` moves to a point without drawing, ``@R`` sets the heading (and "
                   "up), ``@Ts``/``@Ti``/``@Td`` set, raise and lower the elasticity of "
-                  "tropism for the rest of the branch (cpfg files: ``@Ts(1, e)``); "
+                  "tropism for the rest of the branch (cpfg files: ``@Ts(k, e)``, the view "
+                  "file's k-th ``tropism:`` or ``torque:`` line); "
                   "``@o(d)`` and ``@c(r)`` (cpfg's disc and circle) draw a sphere of "
                   "diameter *d* / radius *r*; ``@Gs @Gc @Ge @Gt @Gr`` (generalised "
                   "cylinders), ``@Tx @Tf``, ``@! @# @L`` are read and draw nothing."),
@@ -288,6 +293,7 @@ _DEMO = {
     "COLOR_PREV": ";(5)F{s}F{s}F",
     "ANGLE_ADD": "F+F{s}+F{s}+F",
     "LENGTH_ADD": "F+F{s}+F{s}+F",
+    "ELASTICITY": "F+F{s}F",
     "SURFACE": "F{s}",
     "LEAF": "F{s}",
     "YAW_LEFT": "FFF{s}FFF",

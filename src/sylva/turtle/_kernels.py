@@ -13,6 +13,11 @@ import numpy as np
 from numba import njit, uint64
 
 from . import tables as T
+from ._movements import C_MOV, C_NMOV, MOV_SLOTS, MOV_W, NC_MOV, movement_adjust, old_bend
+from ._movements import S_H as M_H
+from ._movements import S_L as M_L
+from ._movements import S_OLD as M_OLD
+from ._movements import S_U as M_U
 from ._state import COPIED, SPHERE_NP, SPHERE_NV, SPHERE_OFF, SPHERE_V
 from ._state import copy_state as _copy_state
 from .tables import (
@@ -87,7 +92,8 @@ C_TON = 34  # 1 when tropism may bend the word (an elasticity or an @ module): w
 C_WMODE = 35  # 1: cpfg's widths (``!`` subtracts width_step, ``#`` adds it), 0: ABOP's
 C_PMODE = 36  # 1: cpfg's polygons (interpret.c: ``{`` adds no vertex; ``.``, F and f each add
 #   one; F still draws its line), 0: sylva's (``{`` and every move add one, dropped if ``.``)
-NC = 37
+# cpfg's tropism: and torque: lines (_movements: C_NMOV, then MOV_W numbers each)
+NC = NC_MOV
 
 
 MASK32 = 0xFFFFFFFF
@@ -164,6 +170,8 @@ def _rotate(st, a, b, c, s):  # pragma: no cover - compiled
         st[b + k] = -x * s + y * c
 
 
+if (S_H, S_L, S_U, S_ELAST) != (M_H, M_L, M_U, M_OLD):  # pragma: no cover
+    raise ImportError("_movements' state slots differ from the kernel's")
 if NS != COPIED:  # pragma: no cover - a layout change must update _copy_state
     raise ImportError(f"_copy_state copies {COPIED} state elements, the state has {NS}")
 
@@ -554,6 +562,8 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
         if op == T.NOP:
             pass
         elif op == T.DRAW or op == T.DRAW_NOREC or op == T.MOVE or op == T.MOVE_NOREC:
+            if tropism and cfg[C_NMOV] != 0.0:  # cpfg's tropism: and torque: lines, before
+                movement_adjust(st, cfg)
             length = values[a] if npar > 0 else st[S_LEN]
             x0 = st[S_POS]
             y0 = st[S_POS + 1]
@@ -622,7 +632,10 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                 tmp_implicit[ntmp] = cfg[C_PMODE] == 0.0  # cpfg: kept beside the dots
                 ntmp += 1
             if tropism and st[S_ELAST] != 0.0:  # after each step (ABOP §2.3)
-                _bend(st, cfg[C_TROP], cfg[C_TROP + 1], cfg[C_TROP + 2])
+                if cfg[C_TMODE] != 0.0:  # cpfg's old tropism (_movements)
+                    old_bend(st, cfg[C_TROP], cfg[C_TROP + 1], cfg[C_TROP + 2])
+                else:
+                    _bend(st, cfg[C_TROP], cfg[C_TROP + 1], cfg[C_TROP + 2])
         elif op >= T.TURN_LEFT and op <= T.TURN_AROUND:
             if op == T.TURN_AROUND:
                 ang = 180.0
@@ -822,6 +835,9 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                 leaf_col[nl, 2] = 0.10
             leaf_mod[nl] = i
             nl += 1
+        elif tropism and op == T.ELASTICITY:  # cpfg's _: the old tropism's elasticity
+            if cfg[C_TMODE] != 0.0:
+                st[S_ELAST] = values[a] if npar > 0 else st[S_ELAST] + cfg[C_ESTEP]
         elif tropism and op == T.AT:  # cpfg's @: the function is the next module (or two)
             j = i + 1
             code = oparg[ids[j]] if j < n else 0.0
@@ -875,21 +891,26 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                 if has_par and j < n:
                     ka = offsets[j]
                     kn = offsets[j + 1] - ka
-                other = False  # cpfg's @Ts(k, 0) of a tropism k > 1: switched off, as it is
-                if cfg[C_TMODE] != 0.0:  # cpfg: the tropism's index, then the value
-                    other = kn > 0 and values[ka] != 1.0
+                slot = S_ELAST
+                step = cfg[C_ESTEP]
+                if cfg[C_TMODE] != 0.0:  # cpfg: the movement's index, then the value
+                    k = np.int64(values[ka]) - 1 if kn > 0 else -1
+                    if kn > 0 and k >= 0 and k < cfg[C_NMOV] and values[ka] == k + 1:
+                        slot = MOV_SLOTS[k]
+                        step = cfg[C_MOV + MOV_W * k + 7]
+                    else:  # no index, or one of no tropism: line: nothing (cpfg's message)
+                        slot = -1
                     ka += 1
                     kn -= 1
-                e = st[S_ELAST]
-                if other:
-                    pass
-                elif sub == AT_TS:
-                    e = values[ka] if kn > 0 else 0.0
-                elif sub == AT_TI:
-                    e += values[ka] if kn > 0 else cfg[C_ESTEP]
-                elif sub == AT_TD:
-                    e -= values[ka] if kn > 0 else cfg[C_ESTEP]
-                st[S_ELAST] = e
+                if slot >= 0:
+                    e = st[slot]
+                    if sub == AT_TS:
+                        e = values[ka] if kn > 0 else 0.0
+                    elif sub == AT_TI:
+                        e += values[ka] if kn > 0 else step
+                    elif sub == AT_TD:
+                        e -= values[ka] if kn > 0 else step
+                    st[slot] = e
             i = j
         elif engine:
             if op == T.YAW_LEFT:
@@ -1098,6 +1119,8 @@ def walk_word(ids, offsets, values, match, ops, oparg, cfg, palette, trace, blk_
     st[S_SCALE] = cfg[C_BASE]
     if not engine:
         st[S_ELAST] = cfg[C_ELAST]
+        for k in range(np.int64(cfg[C_NMOV])):  # cpfg's movements: their initial E:
+            st[MOV_SLOTS[k]] = cfg[C_MOV + MOV_W * k + 6]
     if engine:
         st[S_YAW] = -90.0
         st[S_PITCH] = 0.0

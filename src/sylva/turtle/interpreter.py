@@ -26,7 +26,9 @@ Examples
 
 from __future__ import annotations
 
+import math
 import threading
+import warnings
 from collections.abc import Mapping
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -35,13 +37,14 @@ import numba
 import numpy as np
 
 from .. import _jit
-from ..errors import SylvaError
+from ..errors import SylvaError, SylvaWarning
 from ..geometry.buffers import empty
 from ..geometry.colormaps import palette_materials, read_colormap, read_materials
 from ..geometry.mesh import Material
 from ..geometry.records import Geometry
 from ..lsystem.ast import Program
 from ..lsystem.lstring import ModuleString
+from . import _movements as M
 from . import _surfaces
 from . import tables as T
 from ._gcylinder import cylinder_word
@@ -82,7 +85,7 @@ GRAVITY = (0.0, -1.0, 0.0)
 _EXTRA = {
     "lsys": {"ignore", "axiom", "turtle", *_TROPISM},
     "abop": {"palette", "color", "bg", "turtle", "angle", "delta", "width", "width_step",
-             *_TROPISM, "surfaces", "colormap", "materials"},
+             *_TROPISM, "tropisms", "surfaces", "colormap", "materials"},
     "classic": {"angle", "thickness", "radius", "turtle", "iteration"},
     "engine": {"turtle", "seed", "noise_seed", "salt"},
 }
@@ -287,10 +290,40 @@ def _tropism(cfg, s: Mapping, program: Program | None, ops: np.ndarray) -> None:
     cfg[K.C_ELAST] = _num(s, "elasticity") if "elasticity" in s else 0.0
     cfg[K.C_ESTEP] = _num(s, "elasticity_step") if "elasticity_step" in s else 0.0
     cfg[K.C_TMODE] = 1.0 if program is not None and program.dialect == "cpfg" else 0.0
-    cfg[K.C_TON] = 1.0 if cfg[K.C_ELAST] != 0.0 or np.any(ops == T.AT) else 0.0
+    moving = False
+    if cfg[K.C_TMODE] != 0.0:
+        moving = _movements(cfg, s.get("tropisms") or ())
+    cfg[K.C_TON] = 1.0 if (cfg[K.C_ELAST] != 0.0 or moving or np.any(ops == T.AT)
+                           or (cfg[K.C_TMODE] != 0.0 and np.any(ops == T.ELASTICITY))) else 0.0
 
 
-def _check_at(word: ModuleString, ops: np.ndarray, arg: np.ndarray, cpfg: bool) -> None:
+def _movements(cfg, movements) -> bool:
+    """cpfg's ``tropism:`` / ``torque:`` lines (the setting ``tropisms``: ``(kind, (x, y,
+    z), angle, elasticity, step)`` each, as the view reader makes them) into ``cfg``;
+    whether one bends from the start."""
+    if len(movements) > M.MAX_MOVEMENTS:
+        raise TurtleSettingsError(f"setting 'tropisms': {len(movements)} tropisms and "
+                                  f"torques; sylva draws at most {M.MAX_MOVEMENTS}")
+    for k, item in enumerate(movements):
+        try:
+            kind, vec, angle, e0, step = item
+            vec = tuple(float(x) for x in vec)
+            angle, e0, step = float(angle), float(e0), float(step)
+        except (TypeError, ValueError):
+            vec = ()
+        if kind not in ("tropism", "torque") or len(vec) != 3:
+            raise TurtleSettingsError(f"setting 'tropisms': entry {k + 1} must be (kind, "
+                                      f"(x, y, z), angle, elasticity, step), got {item!r}")
+        b = M.C_MOV + M.MOV_W * k
+        g = math.radians(angle)
+        cfg[b : b + M.MOV_W] = (float(kind == "torque"), *vec, math.cos(g), math.sin(g), e0,
+                                step)  # fmt: skip
+    cfg[M.C_NMOV] = len(movements)
+    return any(item[3] != 0.0 for item in movements)
+
+
+def _check_at(word: ModuleString, ops: np.ndarray, arg: np.ndarray, cpfg: bool,
+              nmov: int = 0) -> None:
     """Every ``@`` of ``word`` followed by a function the turtle knows (``O v M R T``, and
     ``s i d`` after ``T``), else a :class:`TurtleSettingsError` naming the module."""
     syms = np.flatnonzero(ops == T.AT)  # the alphabet's '@' (no pass over a word without)
@@ -324,18 +357,19 @@ def _check_at(word: ModuleString, ops: np.ndarray, arg: np.ndarray, cpfg: bool) 
         raise TurtleSettingsError(
             f"unknown @ module at module {p} of the word: {got}; expected one of {want}"
         )
-    if cpfg and word.values.size:  # cpfg's @T take the tropism's index first: sylva has one
+    if cpfg and word.values.size:  # cpfg's @T take the movement's index first
         settable = tee & np.isin(sub, [T.AT_TS, T.AT_TI, T.AT_TD])  # not @Tx, @Tf
         for p in at[settable].tolist():
             a, b = word.offsets[p + 2], word.offsets[p + 3]
-            zero = (sub[at == p][0] == T.AT_TS and (b - a < 2 or word.values[a + 1] == 0.0))
-            if b > a and word.values[a] != 1.0 and not zero:  # @Ts(k, 0): k stays off
-                raise TurtleSettingsError(
-                    f"module {p + 2} of the word: @T{names[word.ids[p + 2]]} names tropism "
-                    f"{word.values[a]:g}; expected 1 (sylva has one tropism, the view "
-                    "file's 'tropism direction:'; another is accepted only switched off, "
-                    "@Ts(k, 0))"
-                )
+            k = word.values[a] if b > a else None
+            if k is not None and not (k == int(k) and 1 <= k <= nmov):
+                defined = (f"the view file defines {nmov} (its tropism: and torque: lines)"
+                           if nmov else "the view file has no tropism: or torque: line")
+                warnings.warn(
+                    f"module {p + 2} of the word: @T{names[word.ids[p + 2]]}({k:g}, ...) "
+                    f"names tropism {k:g}, but {defined}; ignored, as cpfg does "
+                    "('Movement index out of range')", SylvaWarning, stacklevel=5)
+                return
 
 
 def _run(word, program, dialect, seed, overrides, trace_on):
@@ -354,10 +388,11 @@ def _run_word(word, program, dialect, seed, overrides, trace_on):
     if dialect == "abop":  # cpfg's ?(n, s): the sub-L-system drawn s times as large
         word = scale_word(word, ops, arg, cfg[K.C_LEN], cfg[K.C_LEAF])
     has_at = "@" in word.alphabet
-    if dialect in ("lsys", "abop") and (has_at or s.get("elasticity")):  # else nothing bends
+    if dialect in ("lsys", "abop") and (has_at or s.get("elasticity") or s.get("tropisms")
+                                        or "_" in word.alphabet):  # else nothing bends
         _tropism(cfg, s, program, ops)
         if has_at:
-            _check_at(word, ops, arg, cfg[K.C_TMODE] != 0.0)
+            _check_at(word, ops, arg, cfg[K.C_TMODE] != 0.0, int(cfg[M.C_NMOV]))
     n = len(word)
     threads = _threads()
     parallel = (threads > 1 and n >= PARALLEL_MIN and cfg[K.C_ENGINE] == 0.0

@@ -26,7 +26,10 @@ Tables
     (and up), ``@Ts @Ti @Td`` set, increase, decrease the elasticity of tropism (ABOP §2.3:
     after every ``F f G g`` the frame turns by ``e·|H × T|`` about ``H × T``; settings
     ``tropism``, ``elasticity``, ``elasticity_step``).  Programs read from cpfg write ``@Ts(1,
-    e)`` (the tropism's index first, cpfg's spelling), the others ``@Ts(e)`` (L-Py's).
+    e)`` (the index of a view file's ``tropism:`` or ``torque:`` line first, cpfg's
+    spelling; :mod:`sylva.turtle._movements`), the others ``@Ts(e)`` (L-Py's).  In cpfg's
+    files ``_`` adds ``elasticity_step`` to the elasticity of the view file's ``tropism
+    direction:`` and ``_(e)`` sets it (cpfg's old tropism); elsewhere ``_`` does nothing.
 ``lsys`` (seed 001, LSysVis Table 3)
     ``F f [ ] + - ^ & \\ / | $`` as above (Table 3 calls ``+``/``-`` yaw, ``^``/``&`` pitch
     and ``\\``/``/`` roll; we keep ABOP's signs), ``!`` adds ``thick_delta`` (``!(x)`` sets
@@ -107,6 +110,7 @@ BUFFER = 37  # engine 0-9 (argument: the buffer)
 AT = 38  # @ (abop, lsys): cpfg's functions, named by the next module (argument: AT_*)
 SUBCALL = 39  # ? (abop): a sub-L-system's call ?(n, s) or end: the width times s
 WIDTH_INC = 40  # # (abop): += width_step (cpfg's line width increment), #(w) sets
+ELASTICITY = 41  # _ (abop, cpfg's files only): += elasticity_step, _(e) sets the elasticity
 
 # the functions after ``@``: each is the argument of the letter that names it
 AT_SPHERE = 1  # @O(d): a sphere of diameter d (default: the width)
@@ -168,6 +172,7 @@ TABLES: Mapping[str, Mapping[str, int]] = {
         "~": SURFACE,
         "@": AT,
         "?": SUBCALL,
+        "_": ELASTICITY,
     },
     "lsys": {
         "F": DRAW,

@@ -273,22 +273,25 @@ def test_generalised_cylinder_draws_its_f_path():
     assert np.allclose(np.asarray(g.seg_radius)[:3], 0.25)  # the width at the path
 
 
-def test_a_second_tropism_switched_off_is_accepted():
-    # vlab's 11-CPFG/Tropisms: N --> @Ts(1,0)@Ts(2,0)@Ts(3,0) with every strength 0;
-    # @Ts(k, 0) of a tropism sylva lacks changes nothing, and leaves tropism 1 as it was
-    from sylva.errors import SylvaError
+def test_a_second_tropism_is_the_view_files_second_tropism_line(tmp_path):
+    # vlab's 11-CPFG/Tropisms: N --> @Ts(1,0)@Ts(2,0)@Ts(3,0) with every strength 0, its
+    # view file two tropism: lines and a torque: line (tests/turtle/test_cpfg_movements.py
+    # checks the bends against the manual's formula)
     from sylva.turtle import interpret
 
+    (tmp_path / "v.v").write_text("tropism: T: 1 0 0\ntropism: T: 0 0 1\ntorque: T: 0 1 0\n")
+
     def ends(axiom):
-        p = cpfg.parse(f"Lsystem: 0\ntropism direction: 1,0,0\nAxiom: {axiom}\n"
-                       "endlsystem\n", view=False)  # fmt: skip
+        p = cpfg.parse(f"Lsystem: 0\nAxiom: {axiom}\nendlsystem\n", view=tmp_path / "v.v")
         return np.asarray(interpret(Derivation(p).word, p).seg_end)
 
     bent = ends("@Ts(1,0.5)FF")
     assert not np.allclose(bent[:, 0], 0.0)  # the tropism bends toward +x
+    assert np.allclose(bent[:, 2], 0.0)
     assert np.allclose(ends("@Ts(1,0.5)@Ts(2,0)@Ts(3,0)FF"), bent)
-    with pytest.raises(SylvaError, match=r"names tropism 2; expected 1"):
-        ends("@Ts(2,0.3)FF")
+    both = ends("@Ts(1,0.5)@Ts(2,0.3)FF")
+    assert both[1, 2] > 0.1  # the second bends toward +z
+    assert np.allclose(ends("@Ts(1,0)@Ts(2,0)@Ts(3,0)FF"), [[0, 1, 0], [0, 2, 0]])
 
 
 def test_a_second_lsystem_in_the_file_is_warned_about_not_dropped_silently():

@@ -15,8 +15,15 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
 ``line style: pixel | polygon | cylinder | wireframe``
     decides what the width means (above).
 ``tropism direction: x, y, z`` (normalised), ``initial elasticity: e``, ``elasticity increment: d``
-    ABOP §2.3's tropism (``tropism``, ``elasticity``, ``elasticity_step``), as when these lines
-    appear in the ``.l``.
+    cpfg's old tropism (``tropism``, ``elasticity``, ``elasticity_step``), as when these lines
+    appear in the ``.l``: after each ``F f G g`` the heading bends toward ``T``
+    (``interpret.c``'s ``bend``); cpfg's ``_`` adds the increment to the elasticity,
+    ``_(e)`` sets it.
+``tropism: T: x y z [A: angle] [I: intensity] [E: elasticity] [S: step]``, ``torque: …``
+    cpfg's movements (setting ``tropisms``, in the file's order: ``@Ts(k, e)``,
+    ``@Ti(k[, d])``, ``@Td(k[, d])`` set and step the elasticity of the k-th): before each
+    ``F f G g`` the tropisms together turn the heading, the torques roll the turtle about
+    it (manual §8.1.8; :mod:`sylva.turtle._movements`).
 
 ``surface: X file.s scale [s t [texture]]``
     the predefined surface drawn by ``~X`` (the setting ``surfaces``: the Bézier patches of
@@ -213,8 +220,71 @@ def _honour(settings, number, key, value, at, style, filename, source) -> None:
         settings["elasticity"] = _numbers(value, 1, err)[0]
     elif key == "elasticity increment":
         settings["elasticity_step"] = _numbers(value, 1, err)[0]
+    elif key in ("tropism", "torque"):
+        movements = settings.get("tropisms", ())
+        if len(movements) == MAX_MOVEMENTS:
+            raise err(0, f"{key}: more than {MAX_MOVEMENTS} tropism and torque lines; sylva "
+                      f"draws at most {MAX_MOVEMENTS}")  # fmt: skip
+        settings["tropisms"] = (*movements, _movement(key, value, err))
     elif key in _FILES_KEYS:
         _files(settings, key, value, err, filename, number)
+
+
+#: The most ``tropism:`` and ``torque:`` lines sylva draws (cpfg allows 10; vlab's models
+#: use up to 4).
+MAX_MOVEMENTS = 4
+_SUB = re.compile(r"([A-Za-z]+)\s*:?")
+
+
+def _movement(key: str, value: str, err) -> tuple:
+    """``(kind, (tx, ty, tz), angle, elasticity, step)`` of a ``tropism:`` or ``torque:``
+    line.  The vector is scaled as cpfg's ``read_movement`` does (``movements.c``): by
+    ``intensity / |T|`` clipped to [-1, 1], so a unit vector of intensity 1 stays one."""
+    vec = None
+    scale = 0.0
+    angle = elasticity = step = 0.0
+    pos = 0
+    while True:
+        while pos < len(value) and value[pos] in " \t,":
+            pos += 1
+        if pos >= len(value):
+            break
+        m = _SUB.match(value, pos)
+        name = m.group(1).upper() if m else ""
+        if name not in ("T", "A", "I", "E", "S"):
+            raise err(pos, f"{key}: unknown subcommand {value[pos:].split()[0]!r}; expected "
+                      "T: x y z, A: angle, I: intensity, E: elasticity or S: step")  # fmt: skip
+        at, pos = pos, m.end()
+        count = 3 if name == "T" else 1
+        want = f"{key}: {name}: expected {count} number{'s' if count > 1 else ''}"
+        numbers = _numbers(value[pos:], count, lambda p, _p=pos, _w=want: err(_p + p, _w))
+        for _ in range(count):  # past the numbers just read
+            m2 = _NUMBER.match(value, pos)
+            pos = m2.end()
+            while pos < len(value) and value[pos] in " ,\t":
+                pos += 1
+        if name == "T":
+            norm = math.sqrt(sum(c * c for c in numbers))
+            if norm == 0.0:
+                raise err(at, f"{key}: the vector T is the zero vector; expected a "
+                          "direction such as 0 1 0")  # fmt: skip
+            vec, scale = numbers, 1.0 / norm
+        elif name == "I":
+            scale *= numbers[0]
+            if scale == 0.0:
+                raise err(at, f"{key}: intensity 0 (or before T:); expected T: x y z "
+                          "first and an intensity other than 0")  # fmt: skip
+            scale = max(-1.0, min(1.0, scale))
+        elif name == "A":
+            angle = numbers[0]
+        elif name == "E":
+            elasticity = numbers[0]
+        else:
+            step = numbers[0]
+    if vec is None:
+        raise err(len(value), f"{key}: expected the vector, T: x y z (cpfg's mandatory "
+                  "subcommand)")  # fmt: skip
+    return (key, tuple(c * scale for c in vec), angle, elasticity, step)
 
 
 _HONOURED = frozenset({"angle increment", "angle factor", "initial line width", "line style",
@@ -222,7 +292,7 @@ _HONOURED = frozenset({"angle increment", "angle factor", "initial line width", 
                        "tropism direction", "initial elasticity",
                        "elasticity increment", "function", "function set", "curve",
                        "surface", "color map", "colormap", "material",
-                       "initial color"})  # fmt: skip
+                       "initial color", "tropism", "torque"})  # fmt: skip
 
 
 def load_view(view, filename: str | None) -> dict[str, object]:
