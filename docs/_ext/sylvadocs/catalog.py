@@ -261,8 +261,10 @@ MEANINGS: dict[object, Command] = {
                   "tropism for the rest of the branch (cpfg files: ``@Ts(k, e)``, the view "
                   "file's k-th ``tropism:`` or ``torque:`` line); "
                   "``@o(d)`` and ``@c(r)`` (cpfg's disc and circle) draw a sphere of "
-                  "diameter *d* / radius *r*; ``@Gs @Gc @Ge @Gt @Gr`` (generalised "
-                  "cylinders), ``@Tx @Tf``, ``@! @# @L`` are read and draw nothing."),
+                  "diameter *d* / radius *r*; ``@Gs @Gc(n) @Ge(n)`` draw a generalised "
+                  "cylinder, n strips of a Hermite curve between control points, "
+                  "``@Gt(a, b)`` sets its tangents (cpfg files); ``@Gr``, ``@Tx @Tf``, "
+                  "``@! @# @L`` are read and draw nothing."),
 }
 
 #: A word that shows each opcode's effect (``{s}``: the symbol itself), per table.

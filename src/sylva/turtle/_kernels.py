@@ -869,6 +869,8 @@ def walk(i, stop, st, stack, depth, base, cnt, word, segs, leaves, polys, blocks
                     npoly += 1
                     poly_off[npoly] = nv
             elif code == AT_G:  # the letter after @G names the cylinder's function
+                if trace:  # the G keeps the pose too
+                    _trace_pose(tr_pos, tr_frame, j, st)
                 j += 1
             elif code == AT_VERTICAL:
                 _level(st)

@@ -44,10 +44,9 @@ from ..geometry.mesh import Material
 from ..geometry.records import Geometry
 from ..lsystem.ast import Program
 from ..lsystem.lstring import ModuleString
+from . import _gcylinder, _surfaces
 from . import _movements as M
-from . import _surfaces
 from . import tables as T
-from ._gcylinder import cylinder_word
 from ._subscale import scale_word
 from .tables import ARGS, DEFAULTS, PALETTE, TABLES, compile_table
 
@@ -381,9 +380,10 @@ def _run(word, program, dialect, seed, overrides, trace_on):
 def _run_word(word, program, dialect, seed, overrides, trace_on):
     dialect, s = _settings(program, dialect, overrides)
     cfg, palette, materials, vertex_colors, bg = _configure(dialect, s, seed)
+    cylinders = None
     if dialect == "abop" and getattr(program, "dialect", None) == "cpfg":
         cfg[K.C_PMODE] = 1.0  # a cpfg file's { . } as cpfg builds polygons
-        word = cylinder_word(word)  # @Gs ... @Ge: the f path drawn (_gcylinder)
+        word, cylinders = _gcylinder.control_word(word)  # @Gs ... @Ge: Hermite curves
     ops, arg = compile_table(TABLES[dialect], word.alphabet.names, ARGS.get(dialect))
     if dialect == "abop":  # cpfg's ?(n, s): the sub-L-system drawn s times as large
         word = scale_word(word, ops, arg, cfg[K.C_LEN], cfg[K.C_LEAF])
@@ -405,10 +405,13 @@ def _run_word(word, program, dialect, seed, overrides, trace_on):
     empty = np.zeros(0, np.int64)
     match = word.match if np.any(ops == T.CUT) else empty
     offsets = word.offsets if word.values.size else empty  # no parameters: none to read
-    args = (word.ids, offsets, word.values, match, ops, arg, cfg, palette, trace_on)
+    walked_trace = trace_on or cylinders is not None  # the curves need the frames
+    args = (word.ids, offsets, word.values, match, ops, arg, cfg, palette, walked_trace)
     out = _walk(args, 0, counts, sel, threads)
     if out[-1] > 0:  # blocks were counted, not written: run again with room for them
         out = _walk(args, out[-1], counts, sel, threads)
+    if cylinders is not None:
+        out = _gcylinder.splice(out, cylinders, trace_on)
     return dialect, s, materials, vertex_colors, bg, out
 
 

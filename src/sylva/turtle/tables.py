@@ -122,7 +122,7 @@ AT_TS = 6  # @Ts: set it
 AT_TI = 7  # @Ti: increase it
 AT_TD = 8  # @Td: decrease it
 AT_CIRCLE = 9  # @c(r) / @o(d): cpfg's circle and disc, drawn as a sphere of that size
-AT_G = 10  # @G followed by s, c, e, t or r: cpfg's generalised cylinders (read, not drawn)
+AT_G = 10  # @G followed by s, c, e, t or r: cpfg's generalised cylinders (_gcylinder)
 AT_NOP = 11  # @! @# @L: cpfg's sides, contour and label settings (read, no drawing)
 AT_TX = 12  # @Tx @Tf: cpfg's texture and tropism-function settings (read, no drawing)
 #: The letters after ``@`` and their functions (``T`` and ``G`` take one more letter).

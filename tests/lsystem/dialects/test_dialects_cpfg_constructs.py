@@ -257,20 +257,22 @@ def test_polygons_gather_vertices_as_cpfg_does():
     assert g.n_segments == 2  # the F edges drawn, the f edge not
 
 
-def test_generalised_cylinder_draws_its_f_path():
+def test_generalised_cylinder_draws_its_curve_through_the_control_points():
     # vlab's Horneophyton: #(w) @Gs f(l) @Gc [ ... f @Gc ... ] @Ge: the stems are the
-    # cylinder's path of f moves, drawn nothing before; the branch inherits the open
-    # cylinder, the f after @Ge stays a move
+    # cylinder's Hermite curves between the control points (tests/turtle/test_gcylinder.py
+    # checks the curve); the branch continues the open cylinder from its last point, the
+    # f after @Ge stays a move and the F draws itself
     from sylva.turtle import interpret
 
     text = ("Lsystem: 0\nAxiom: #(0.5)@Gsf(2)@Gc(4)[+(90)f(1)@Gc(4)]f(1)@Ge(4)f(3)F(1)\n"
             "endlsystem\n")  # fmt: skip
     p = cpfg.parse(text, view=False)
     g = interpret(Derivation(p).word, p)
-    assert g.n_segments == 4  # f(2), the branch's f(1), f(1); not f(3); and the F
+    assert g.n_segments == 1 + 3 * 4  # the F, then 4 strips from each @Gc / @Ge
     ends = np.asarray(g.seg_end)[:, :2]
-    assert np.allclose(ends, [[0, 2], [-1, 2], [0, 3], [0, 7]], atol=1e-9)
-    assert np.allclose(np.asarray(g.seg_radius)[:3], 0.25)  # the width at the path
+    assert np.allclose(ends[[0, 4, 8, 12]], [[0, 7], [0, 2], [-1, 2], [0, 3]], atol=1e-9)
+    assert np.allclose(np.asarray(g.seg_radius), 0.25)  # the width at the points
+    assert g.n_polygons == 0  # nothing else drawn
 
 
 def test_a_second_tropism_is_the_view_files_second_tropism_line(tmp_path):

@@ -75,7 +75,8 @@ _UNHONOURED = {
     "texture": "textures of cpfg surfaces are not read",
     "color increment": "colour indices step by 1",
     "contour": "contours of generalised cylinders are not read",
-    "generalized cylinders": "generalised cylinders are drawn as plain segments",
+    "generalized cylinders": "generalised cylinders are drawn as cpfg's Hermite curves with "
+                             "round sections, whatever this says",
     "maximum depth": "the stack depth is not limited",
     "box": "bounding boxes are not drawn",
     "shadow map": "the renderer's shadows are its own",
