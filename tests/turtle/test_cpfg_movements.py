@@ -187,3 +187,10 @@ def test_underscore_means_nothing_outside_cpfg():
     a = interpret("+(60)F_F_F", dialect="abop", elasticity=0.2, elasticity_step=0.5)
     b = interpret("+(60)FFF", dialect="abop", elasticity=0.2, elasticity_step=0.5)
     assert np.array_equal(a.seg_end, b.seg_end)
+
+
+def test_more_movements_than_sylva_draws_is_an_error_naming_the_line():
+    text = "".join(f"tropism: T: 0 1 0 E: 0.{k}\n" for k in range(4)) + "torque: T: 1 0 0\n"
+    with pytest.raises(LSystemSyntaxError, match="more than 4 tropism and torque") as info:
+        read_view(text, "plant.v")
+    assert (info.value.line, info.value.column) == (5, 8)  # its value

@@ -757,13 +757,6 @@ def _pass_key(seed: int, step: int, phase: str, depth: int) -> np.uint64:
     return np.uint64(_splitmix(base ^ _splitmix(0x5EED0000 + 2 * depth + 1)))
 
 
-class _NoRules:  # the rule set of no rules (cpfg's axiom is not decomposed)
-    rules = ()
-
-
-_NO_RULES = _NoRules()
-
-
 def _passes(word, rs, comp, seed, step, depth, phase, limit, track=False):
     """``rs`` applied again and again until no rule applies, at most ``depth`` times.
 
@@ -920,14 +913,13 @@ class Derivation:
         self.reset()
 
     def _axiom(self) -> ModuleString:
-        """The axiom, decomposed (and the lineage keys of its modules); cpfg's stays as
-        written (``control.c`` decomposes only what a step makes: its first step rewrites
-        the axiom, then decomposes)."""
+        """The axiom, decomposed (cpfg's as written, control.c), and its lineage keys."""
         comp = self._compiled
         depth = self.program.decomposition_depth
-        rules = comp.decomposition if self.program.dialect != "cpfg" else _NO_RULES
-        word, src = _passes(comp.axiom, rules, comp, self.seed, 0, depth,
-                            "decomposition", self.limit, track=self.lineage)  # fmt: skip
+        word, src = comp.axiom, None
+        if self.program.dialect != "cpfg":
+            word, src = _passes(comp.axiom, comp.decomposition, comp, self.seed, 0, depth,
+                                "decomposition", self.limit, track=self.lineage)  # fmt: skip
         if self.lineage:
             keys = axiom_keys(self.seed, len(comp.axiom))
             self._keys = keys if word is comp.axiom else decomposed_keys(keys, src)
