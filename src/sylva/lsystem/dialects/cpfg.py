@@ -24,14 +24,16 @@ step until none applies); ``homomorphism`` (the productions after it are drawn, 
 derived: without a ``maximum depth:`` they are seed 001's render rules, ``->>``, one pass;
 with one they are interpretation rules, applied again to what they make);
 ``maximum depth:`` (in those two sections: the most passes, cpfg's default 1; rules that
-still apply after them are an error); the view file's ``tropism direction:`` (normalised,
-as cpfg does), ``initial elasticity:`` and ``elasticity increment:`` (ABOP §2.3 tropism);
+still apply after them are an error; the axiom is not decomposed before the first step,
+as in cpfg); the view file's ``tropism direction:`` (normalised, as cpfg does), ``initial
+elasticity:`` and ``elasticity increment:`` (cpfg's old tropism, stepped by ``_``);
 ``endlsystem`` (the rest of the file is ignored); the query modules ``?P(x,y,z)``
 ``?H`` ``?U`` ``?L``, which the turtle sets between steps to its position, heading, up and
 left vector (:mod:`sylva.lsystem.environment`).  Inside expressions ``^`` is cpfg's power
 (sylva's ``**``).  The turtle is ABOP's (``turtle = abop``), with cpfg's ``@`` functions
-(``@O @v @M @R``, and ``@Ts(1, e)`` / ``@Ti`` / ``@Td`` whose first parameter is the
-tropism's index: sylva has one, 1).  A production may run over several lines: a line that
+(``@O @v @M @R``, ``@Gs @Gc @Ge @Gt``, and ``@Ts(k, e)`` / ``@Ti`` / ``@Td`` whose first
+parameter is the index of a view file's ``tropism:`` or ``torque:`` line).
+A production may run over several lines: a line that
 is not a keyword, a section or a production continues the successor above it, and so does
 any line after one that ends with ``\\``.  Statement blocks (:mod:`._cpfg_statements`):
 ``Define: { array a[10]; }`` and ``Start: { … }`` run when the file is read (``Start:`` runs
