@@ -115,7 +115,8 @@ def view_camera(args, plant, aspect: float):
     cam = read_camera(view if view is not None else None, program.filename)
     if not cam:
         return None
-    return Camera.from_view(plant.scene.bounds(), cam.get("viewpoint", (0.0, 0.0, 1.0)),
+    box = plant.scene.bounds(skip=("background",))  # cpfg fits its view to the plant alone
+    return Camera.from_view(box, cam.get("viewpoint", (0.0, 0.0, 1.0)),
                             cam.get("view reference point", (0.0, 0.0, 0.0)),
                             twist=float(cam.get("twist", 0.0)),
                             projection=str(cam.get("projection", "parallel")),

@@ -65,7 +65,6 @@ _UNHONOURED = {
     "z buffer": "the renderer always hides what is behind",
     "render mode": "the renderer's shading is its own",
     "light": "the renderer's lights are its own",
-    "texture": "textures of cpfg surfaces are not read",
     "color increment": "colour indices step by 1",
     "contour": "contours of generalised cylinders are not read",
     "generalized cylinders": "generalised cylinders are drawn as plain segments",
@@ -214,7 +213,8 @@ def _honour(settings, number, key, value, at, style, filename, source) -> None:
     elif key == "elasticity increment":
         settings["elasticity_step"] = _numbers(value, 1, err)[0]
     elif key in _FILES_KEYS:
-        _files(settings, key, value, err, filename, number)
+        _files(settings, key, value, err, filename, number, source[number - 1].rstrip("\r"),
+               at)
 
 
 _HONOURED = frozenset({"angle increment", "angle factor", "initial line width", "line style",
@@ -222,7 +222,7 @@ _HONOURED = frozenset({"angle increment", "angle factor", "initial line width", 
                        "tropism direction", "initial elasticity",
                        "elasticity increment", "function", "function set", "curve",
                        "surface", "color map", "colormap", "material",
-                       "initial color"})  # fmt: skip
+                       "initial color", "background scene", "texture"})  # fmt: skip
 
 
 def load_view(view, filename: str | None) -> dict[str, object]:
@@ -285,7 +285,8 @@ def read_camera(view, filename: str | None = None) -> dict[str, object]:
 
 
 # --------------------------------------------------------------------------- files (surfaces)
-_FILES_KEYS = frozenset({"surface", "color map", "colormap", "material", "initial color"})
+_FILES_KEYS = frozenset({"surface", "color map", "colormap", "material", "initial color",
+                         "background scene", "texture"})  # fmt: skip
 
 
 def _beside(name: str, filename: str | None) -> str:
@@ -297,9 +298,18 @@ def _beside(name: str, filename: str | None) -> str:
 
 
 def _files(settings: dict, key: str, value: str, err, filename: str | None,
-           number: int) -> None:  # fmt: skip
-    """The view lines that name files (``surface:``, ``color map:``, ``material:``) and
-    ``initial color:``, into ``settings``."""
+           number: int, line: str = "", at: int = 0) -> None:  # fmt: skip
+    """The view lines that name files (``surface:``, ``color map:``, ``material:``,
+    ``background scene:``, ``texture:``) and ``initial color:``, into ``settings``."""
+    if key == "background scene":
+        from ._cpfg_scene import load_scene
+
+        settings["background_scene"] = (tuple(settings.get("background_scene") or ())
+                                        + load_scene(value, filename, number, line))  # fmt: skip
+        return
+    if key == "texture":
+        _texture(settings, value, filename, number, at)
+        return
     if key == "initial color":
         i = _numbers(value, 1, err)[0]
         if not (i >= 0 and i == int(i)):
@@ -313,19 +323,70 @@ def _files(settings: dict, key: str, value: str, err, filename: str | None,
                       "(surface: l leaf.s 1.0 [s t])")  # fmt: skip
         (name, _), (file, _), (scale, at) = words[:3]
         numbers = [_numbers(value[at:], 1, lambda p, _a=at: err(_a + p))[0]]
-        for text, pos in words[3:5]:
+        for text, pos in words[3:6]:
             if _NUMBER.fullmatch(text) is None:
                 break
             numbers.append(_numbers(text, 1, lambda p, _a=pos: err(_a + p))[0])
         if len(words) > 2 + len(numbers):
-            warnings.warn(f"{filename or '<view>'}:{number}: the texture of surface "
-                          f"{name!r} is not read", SylvaWarning, stacklevel=5)  # fmt: skip
+            warnings.warn(f"{filename or '<view>'}:{number}: surface {name!r}: "
+                          f"{words[2 + len(numbers)][0]!r} is not a texture number; cpfg "
+                          "reads 'surface: id file scale [s t] [texture]'", SylvaWarning,
+                          stacklevel=5)  # fmt: skip
+        # cpfg: one number after the scale is the texture, two the precision, three both
         s, t = (int(numbers[1]), int(numbers[2])) if len(numbers) >= 3 else (None, None)
+        tex = int(numbers[3]) if len(numbers) >= 4 else int(numbers[1]) if len(
+            numbers) == 2 else None  # fmt: skip
         table = dict(settings.get("surfaces") or {})
-        table[name] = (_beside(file, filename), numbers[0], s, t)
+        entry = (_beside(file, filename), numbers[0], s, t)
+        table[name] = entry if tex is None else (*entry, tex)  # the texture's number
         settings["surfaces"] = table
         return
     if not words:
         raise err(len(value), f"{key}: expected a file name")
     settings["colormap" if key in ("color map", "colormap") else "materials"] = _beside(
         words[0][0], filename)
+
+
+def _texture(settings: dict, value: str, filename: str | None, number: int, at: int) -> None:
+    """A ``texture:`` line: its subcommands ``F: file`` (mandatory), ``E: mode``, ``S:``,
+    ``R: ratio``, ``H:`` / ``L:`` filters (the cpfg manual §8.1.7) into the setting
+    ``textures``, numbered from 1 in file order.  As in cpfg, a line whose file cannot be
+    read, or with a subcommand cpfg does not know, takes no number (a warning says so)."""
+    where = f"{filename or '<view>'}:{number}"
+    tokens = [(m.group(), at + m.start() + 1) for m in re.finditer(r"[^\s:]+", value)]
+    tex: dict[str, object] = {"file": None, "mode": "modulate", "per_surface": False,
+                              "ratio": 1.0}  # fmt: skip
+    k = 0
+    while k < len(tokens):
+        word, col = tokens[k]
+        k += 1
+        c = word[0]
+        if c == "S":
+            tex["per_surface"] = True
+            continue
+        if c not in "FELHR" or len(word) > 1:
+            warnings.warn(f"{where}:{col}: texture: unknown subcommand {word!r} (expected F:, "
+                          "E:, S:, R:, H: or L:); cpfg drops the texture, and so does sylva",
+                          SylvaWarning, stacklevel=6)  # fmt: skip
+            return
+        if k >= len(tokens):
+            break
+        arg, acol = tokens[k]
+        k += 1
+        if c == "F":
+            tex["file"] = _beside(arg.rstrip(","), filename)
+        elif c == "E":
+            tex["mode"] = {"m": "modulate", "d": "decal", "b": "blend"}.get(arg[0], "modulate")
+        elif c == "R":
+            try:
+                tex["ratio"] = float(arg)
+            except ValueError:
+                warnings.warn(f"{where}:{acol}: texture: R: {arg!r} is not a number; the "
+                              "ratio stays 1", SylvaWarning, stacklevel=6)  # fmt: skip
+    if tex["file"] is None or not Path(str(tex["file"])).is_file():
+        what = ("has no file (F: name)" if tex["file"] is None
+                else f"file {tex['file']} cannot be read")  # fmt: skip
+        warnings.warn(f"{where}: texture {what}; cpfg drops it (it takes no number), and so "
+                      "does sylva", SylvaWarning, stacklevel=6)  # fmt: skip
+        return
+    settings["textures"] = (*tuple(settings.get("textures") or ()), tex)
