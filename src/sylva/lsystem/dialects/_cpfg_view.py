@@ -139,8 +139,7 @@ def read_view(text: str, filename: str | None = None) -> dict[str, object]:
                           f"honoured ({_UNHONOURED[key]})", SylvaWarning, stacklevel=4)  # fmt: skip
             continue
         found.append((number, key, m.group(2), m.start(2)))
-        if key == "line style":
-            style = m.group(2).strip().lower()
+        style = _line_style(key, m.group(2), style)
     settings: dict[str, object] = {}
     for number, key, value, at in found:
         try:
@@ -155,6 +154,23 @@ def read_view(text: str, filename: str | None = None) -> dict[str, object]:
 class _Unreadable(Exception):
     def __init__(self, column: int, text: str, what: str = "the value") -> None:
         self.column, self.text, self.what = column, text, what
+
+
+def _line_style(key: str, value: str, style: str) -> str:
+    """The line style after the view line ``key: value`` (``style`` before it), as cpfg
+    reads them in order: ``line style: s`` sets it; ``initial line width: w`` sets it too,
+    to ``pixel`` when a word starting with ``p`` follows the width (``2 pixels``),
+    ``cylinder`` for one starting with ``s``, else ``polygon`` (a width in units)."""
+    if key == "line style":
+        return value.strip().lower()
+    if key == "initial line width":
+        m = _NUMBER.match(value)
+        rest = value[m.end():].strip().lower() if m else ""
+        if not m:
+            return style  # cpfg's fscanf fails: nothing changes
+        return "pixel" if rest.startswith("p") else "cylinder" if rest.startswith(
+            "s") else "polygon"  # fmt: skip
+    return style
 
 
 def _honour(settings, number, key, value, at, style, filename, source) -> None:
@@ -267,10 +283,11 @@ def read_camera(view, filename: str | None = None) -> dict[str, object]:
             continue
         key = " ".join(m.group(1).lower().split())
         value = m.group(2)
+        if key in ("line style", "initial line width"):  # how wide lines are drawn
+            style = _line_style(key, value, str(out.get("line style", "pixel")))
+            out["line style"] = (style.split() or ["pixel"])[0]
         if key == "projection":
             out["projection"] = value.strip().lower()
-        elif key == "line style":  # how wide lines are drawn: pixels or units
-            out["line style"] = (value.split() or ["pixel"])[0].lower()
         elif key == "initial line width":
             nums = re.findall(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?", value)
             if nums:
