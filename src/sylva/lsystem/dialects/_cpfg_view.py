@@ -66,7 +66,6 @@ _UNHONOURED = {
     "render mode": "the renderer's shading is its own",
     "light": "the renderer's lights are its own",
     "color increment": "colour indices step by 1",
-    "contour": "contours of generalised cylinders are not read",
     "generalized cylinders": "generalised cylinders are drawn as plain segments",
     "maximum depth": "the stack depth is not limited",
     "box": "bounding boxes are not drawn",
@@ -238,7 +237,8 @@ _HONOURED = frozenset({"angle increment", "angle factor", "initial line width", 
                        "tropism direction", "initial elasticity",
                        "elasticity increment", "function", "function set", "curve",
                        "surface", "color map", "colormap", "material",
-                       "initial color", "background scene", "texture"})  # fmt: skip
+                       "initial color", "background scene", "texture",
+                       "contour"})  # fmt: skip
 
 
 def load_view(view, filename: str | None) -> dict[str, object]:
@@ -303,7 +303,7 @@ def read_camera(view, filename: str | None = None) -> dict[str, object]:
 
 # --------------------------------------------------------------------------- files (surfaces)
 _FILES_KEYS = frozenset({"surface", "color map", "colormap", "material", "initial color",
-                         "background scene", "texture"})  # fmt: skip
+                         "background scene", "texture", "contour"})  # fmt: skip
 
 
 def _beside(name: str, filename: str | None) -> str:
@@ -326,6 +326,9 @@ def _files(settings: dict, key: str, value: str, err, filename: str | None,
         return
     if key == "texture":
         _texture(settings, value, filename, number, at)
+        return
+    if key == "contour":
+        _contour(settings, value, err, filename, number)
         return
     if key == "initial color":
         i = _numbers(value, 1, err)[0]
@@ -407,3 +410,26 @@ def _texture(settings: dict, value: str, filename: str | None, number: int, at: 
                       "does sylva", SylvaWarning, stacklevel=6)  # fmt: skip
         return
     settings["textures"] = (*tuple(settings.get("textures") or ()), tex)
+
+
+def _contour(settings: dict, value: str, err, filename: str | None, number: int) -> None:
+    """A ``contour: id file`` line: the contour (:mod:`._cpfg_contour`) into the setting
+    ``contours`` under its id, for the generalised cylinders (``@#(id)``)."""
+    from ._cpfg_contour import load_contour
+
+    words = [(m.group(), m.start()) for m in re.finditer(r"\S+", value)]
+    if len(words) < 2:
+        raise err(len(value), "contour: expected an id and a file name (contour: 1 leaf.con)")
+    (ident, at), (name, _) = words[:2]
+    if not re.fullmatch(r"[-+]?\d+", ident):
+        raise err(at, f"contour: the id {ident!r} is not a whole number")
+    try:
+        contour = load_contour(name, filename)
+    except OSError as e:  # cpfg: "Cannot open the contour file", and goes on
+        warnings.warn(f"{filename or '<view>'}:{number}: contour {ident}: cannot read "
+                      f"{name} ({e.strerror or e}); @#({ident}) draws the default circle",
+                      SylvaWarning, stacklevel=6)  # fmt: skip
+        return
+    table = dict(settings.get("contours") or {})
+    table[int(ident)] = contour
+    settings["contours"] = table
