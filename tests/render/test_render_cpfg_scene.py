@@ -193,3 +193,19 @@ def test_a_texture_that_cpfg_drops_takes_no_number(tmp_path):
     assert [t["file"] for t in p.settings["textures"]] == [str(tmp_path / "tex.png")]
     with pytest.warns(SylvaWarning, match=r"p\.v:1:10: texture: unknown subcommand 'tex"):
         _model(tmp_path, "texture: tex.png\n")
+
+
+def test_at_tx_textures_the_cylinders_drawn_after_it_in_its_branch(tmp_path):
+    _two_by_two(tmp_path / "tex.png")
+    axiom = "F[@Tx(1)F]F@Tx(1)F"
+    program = _model(tmp_path, "texture: F: tex.png\nline style: cylinder\n", axiom)
+    g = interpret(axiom, program)
+    textured = [g.materials[k].texture for k in g.seg_material.tolist()]
+    want = str(tmp_path / "tex.png")
+    # the first F, the one after the branch (the branch gave the texture back), not;
+    # the one inside the branch and the last one, textured
+    assert textured[0] != want and textured[2] != want
+    assert textured[1] == want and textured[3] == want
+    (branches,) = [m for m in build_mesh(g).meshes if m.name == "branches"]
+    assert branches.uvs is not None  # u around, v along: the image's coordinates
+    assert any(m.texture == want and m.images is not None for m in branches.materials)

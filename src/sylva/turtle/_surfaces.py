@@ -24,7 +24,7 @@ from ..geometry.records import Geometry
 from ..geometry.surfaces import BUILTIN, Surface, load_surface
 from ..lsystem.lstring import ModuleString
 
-__all__ = ["assign", "table", "texture", "turtle_textures"]
+__all__ = ["assign", "table", "texture", "texture_segments", "turtle_textures"]
 
 
 def _err(message: str):
@@ -193,16 +193,52 @@ def _image(path: str, mtime: float):
 _IMAGES: dict[tuple, np.ndarray] = {}
 
 
+def _textured(mats: list, m: int, t: int, tex: dict, cache: dict) -> int:
+    """The index in ``mats`` of material ``m`` carrying texture ``t`` (added once)."""
+    import dataclasses
+
+    from ..geometry.mesh import with_images
+
+    if (m, t) not in cache:
+        path = str(tex["file"])
+        try:
+            mtime = os.stat(path).st_mtime
+        except OSError as e:
+            raise _err(f"texture {t}: cannot read {path} ({e.strerror or e})") from None
+        base = mats[m]
+        color = base.color if tex.get("mode") != "decal" else (1.0, 1.0, 1.0, 1.0)
+        mat = dataclasses.replace(base, name=f"{base.name}_texture{t}", color=color,
+                                  texture=path)  # fmt: skip
+        cache[(m, t)] = len(mats)
+        mats.append(with_images(mat, _image(path, mtime), alpha_cutoff=0.5))
+    return cache[(m, t)]
+
+
+def texture_segments(geo: Geometry, word: ModuleString, textures) -> None:
+    """The segments drawn under ``@Tx(n)`` (cylinders and generalised cylinders; the cpfg
+    manual §6.7.4) take a copy of their material that carries texture ``n``'s image, laid
+    over the tubes' coordinates: ``u`` around, ``v`` along the length in circumferences,
+    as cpfg's ``length / (π · width)`` (its ``R:`` ratio and the image's aspect are not
+    applied: exact for square images at ``R: 1``)."""
+    if not geo.n_segments or not textures:
+        return
+    tid = turtle_textures(word, geo.seg_module)
+    ok = (tid >= 1) & (tid <= len(textures))
+    if not ok.any():
+        return
+    mats, cache = list(geo.materials), {}
+    sm = geo.seg_material.copy()
+    for i in np.flatnonzero(ok).tolist():
+        sm[i] = _textured(mats, int(sm[i]), int(tid[i]), textures[int(tid[i]) - 1], cache)
+    geo.seg_material, geo.materials = sm, mats
+
+
 def texture(geo: Geometry, word: ModuleString, surfaces: Mapping | None, textures) -> None:
     """Give the leaves on textured surfaces cpfg's texture coordinates (per patch, or per
     surface with ``S:``; :meth:`~sylva.geometry.surfaces.Surface.texture_uvs`) and a copy of
     their material that carries the image: ``texture`` its path (the renderer modulates the
     colour by it and drops the pixels whose alpha is under 0.5), ``images`` its pixels (the
     formats that embed images, glTF)."""
-    import dataclasses
-
-    from ..geometry.mesh import with_images
-
     if not geo.surfaces or geo.leaf_surface is None:
         return
     names = [entry[0] for entry in geo.surfaces]
@@ -235,18 +271,7 @@ def texture(geo: Geometry, word: ModuleString, surfaces: Mapping | None, texture
             uv = surf.texture_uvs(s, tt, bool(tex.get("per_surface")))
             new_surface[(k, t)] = len(surfs)
             surfs.append((f"{name}#texture{t}", verts, uv, tris))
-        if (m, t) not in new_material:
-            path = str(tex["file"])
-            try:
-                mtime = os.stat(path).st_mtime
-            except OSError as e:
-                raise _err(f"texture {t}: cannot read {path} ({e.strerror or e})") from None
-            base = mats[m]
-            color = base.color if tex.get("mode") != "decal" else (1.0, 1.0, 1.0, 1.0)
-            mat = dataclasses.replace(base, name=f"{base.name}_texture{t}", color=color,
-                                      texture=path)  # fmt: skip
-            new_material[(m, t)] = len(mats)
-            mats.append(with_images(mat, _image(path, mtime), alpha_cutoff=0.5))
+        _textured(mats, m, t, tex, new_material)
     sel = np.flatnonzero(ok)
     keys = zip(which[sel].tolist(), tid[sel].tolist(), geo.leaf_material[sel].tolist(),
                strict=True)  # fmt: skip

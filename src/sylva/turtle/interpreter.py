@@ -533,6 +533,8 @@ def interpret(
     )
     if dialect == "abop" and geo.n_leaves:
         _surfaces.assign(geo, word, s.get("surfaces"), s.get("textures"))
+    if dialect == "abop" and s.get("textures"):  # @Tx(n) on cylinders (cpfg)
+        _surfaces.texture_segments(geo, word, s["textures"])
     if dialect == "abop" and s.get("background_scene"):  # cpfg's background scene
         from ..geometry.scenery import scenery_mesh
 
