@@ -7,7 +7,10 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
 ``initial line width: w``
     the width ``thick``, when ``line style:`` is ``polygon`` or ``cylinder`` (a width in
     units, as sylva draws); with cpfg's default ``pixel`` style the width is in pixels of the
-    screen, which sylva's cylinders do not have, and a warning says so.
+    screen, which sylva's cylinders do not have, and a warning says so.  As cpfg reads the
+    line, it sets the style too: ``pixel`` when a word starting with ``p`` follows the width
+    (``2 pixels``), ``cylinder`` for one starting with ``s``, else ``polygon``; the last of
+    it and ``line style:`` wins.
 ``line width increment: d``
     ``width_step``: what cpfg's ``!`` subtracts from the width and ``#`` adds to it (in
     units, with ``polygon`` or ``cylinder`` lines, as the initial width; 0 when the file
@@ -18,11 +21,22 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
     ABOP §2.3's tropism (``tropism``, ``elasticity``, ``elasticity_step``), as when these lines
     appear in the ``.l``.
 
-``surface: X file.s scale [s t [texture]]``
+``surface: X file.s scale [s t] [texture]``
     the predefined surface drawn by ``~X`` (the setting ``surfaces``: the Bézier patches of
     the ``.s`` file, a path relative to the view file's folder, scaled by ``scale``, each
-    patch ``s × t`` quads; :mod:`sylva.geometry.surfaces`); a texture is not read (a
-    warning says so).
+    patch ``s × t`` quads; :mod:`sylva.geometry.surfaces`), and the number of its texture
+    (one number after the scale is the texture, as cpfg reads it).
+``texture: F: image [E: m|d|b] [S:] [R: r] [H: f] [L: f]``
+    the setting ``textures``, numbered from 1: the image (PNG, SGI ``.rgb``), how it
+    combines, whether it spans the whole surface; ``@Tx(n)`` and the surface lines choose
+    them (``sylva.turtle._surfaces``).  A line whose image cannot be read, or with a
+    subcommand cpfg does not know, takes no number (a warning says so), as in cpfg.
+``background scene: file``
+    the setting ``background_scene``: the objects of the file
+    (:mod:`._cpfg_scene`), drawn around the plant.
+``contour: id file.con``
+    the setting ``contours`` (id -> :class:`._cpfg_contour.Contour`): the cross-sections
+    of generalised cylinders that ``@#(id)`` selects.
 ``color map: f.map``, ``material: f.mat``, ``initial color: i``
     the colours of the indices ``;(n)`` / ``,(n)`` (settings ``colormap`` and
     ``materials``, read by the turtle; cpfg names these files on its command line, ``-m``
@@ -38,7 +52,7 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
     fitted to the image times the scale factor (``sylva.render.Camera.from_view``).
 
 Every other line (``front distance``, ``back distance``, ``z buffer``, ``render mode``, ``light:``,
-``texture:``, ``color increment``, ``contour:``, ``generalized cylinders`` …, and lines
+``color increment``, ``generalized cylinders`` …, and lines
 sylva does not know) is reported once as a :class:`~sylva.errors.SylvaWarning` naming the
 file and line, never dropped silently.  Settings of the ``.l`` itself win over the view
 file's.
