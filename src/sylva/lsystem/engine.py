@@ -332,17 +332,12 @@ class _Compiled:
         for m in program.axiom:
             for a in m.args:
                 values.append(float(compile_expr(a, constants=constants)({}, 1)[0]))
-        # cpfg keeps a module's parameters as C floats (32 bits; its expressions and
-        # variables are doubles): every parameter a step writes is rounded so, or
-        # continuous-time models cross their thresholds a step apart from cpfg's
-        self.float32 = program.dialect == "cpfg"
+        self.dtype = np.float32 if program.dialect == "cpfg" else np.float64  # cpfg's C floats
         if values:
             offsets = np.zeros(len(ids) + 1, np.int64)
             np.cumsum(counts, out=offsets[1:])
-            vals = np.array(values, np.float64)
-            if self.float32:
-                vals = vals.astype(np.float32).astype(np.float64)
-            self.axiom = ModuleString(alphabet, np.array(ids, ID_DTYPE), offsets, vals)
+            self.axiom = ModuleString(alphabet, np.array(ids, ID_DTYPE), offsets,
+                                      np.array(values, self.dtype).astype(np.float64))
         else:
             self.axiom = ModuleString(alphabet, np.array(ids, ID_DTYPE))
         self.axiom.check_brackets(program.filename)
@@ -714,8 +709,7 @@ def _step_general(
             new_vals[base + q] = v
     if not new_vals.size:
         return ModuleString(word.alphabet, new_ids)
-    if getattr(comp, "float32", False):  # cpfg's float parameters (see _Compiled)
-        new_vals = new_vals.astype(np.float32).astype(np.float64)
+    new_vals = new_vals.astype(comp.dtype, copy=False).astype(np.float64, copy=False)
     return ModuleString(word.alphabet, new_ids, new_off, new_vals)
 
 
