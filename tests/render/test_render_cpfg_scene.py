@@ -209,3 +209,25 @@ def test_at_tx_textures_the_cylinders_drawn_after_it_in_its_branch(tmp_path):
     (branches,) = [m for m in build_mesh(g).meshes if m.name == "branches"]
     assert branches.uvs is not None  # u around, v along: the image's coordinates
     assert any(m.texture == want and m.images is not None for m in branches.materials)
+
+
+def test_sgi_rgb_textures_read_as_cpfg_writes_them(tmp_path):
+    # vlab's textures are often SGI images (.rgb); Pillow reads and writes them
+    _square_patch(tmp_path)
+    rgb = np.array([[[255, 0, 0], [0, 255, 0]], [[0, 0, 255], [0, 0, 0]]], np.uint8)
+    Image.fromarray(rgb).save(tmp_path / "tex.rgb", format="SGI")
+    program = _model(tmp_path, "surface: l sq.s 1 2 2 1\ntexture: F: tex.rgb\n", "~l(1)")
+    (leaves,) = build_mesh(interpret("~l(1)", program)).meshes
+    (mat,) = leaves.materials
+    assert mat.texture.endswith("tex.rgb")
+    assert mat.images.base_color[:, :, :3].tolist() == rgb[::-1].tolist()  # bottom row first
+    cam = Camera(mode="2d", target=(0.0, 0.5, 0.0), height=1.0, distance=10.0)
+    white = type(mat)(mat.name, (1.0, 1.0, 1.0, 1.0), texture=mat.texture, double_sided=True)
+    leaves.materials = [white]
+    img = render_array(Scene([leaves]), (32, 32), cam, lit=False, msaa=0, bg="white")
+    # per patch: u = i / s along the rows' index (the file's y: up the heading, up the
+    # screen), v = j / t along a row (the file's x, drawn at -x: v = 0 on the right)
+    assert np.argmax(img[24, 24]) == 2 and img[24, 24][2] > 200  # u < .5, v < .5: blue
+    assert img[8, 24].max() < 30  # u > .5, v < .5: black
+    assert np.argmax(img[24, 8]) == 0 and img[24, 8][0] > 200  # u < .5, v > .5: red
+    assert np.argmax(img[8, 8]) == 1 and img[8, 8][1] > 200  # u > .5, v > .5: green
