@@ -5,8 +5,9 @@ manuals' and course's cpfg models under ``oofs/``.  This script finds every cpfg
 L-system there (a ``.l`` file with an ``Lsystem:`` line), reads it with sylva's cpfg
 reader together with the view file, colour map (``-m``) or material file (``-M``) named
 on the object's ``cpfg`` command line, derives it to its ``derivation length``, builds
-its meshes and renders them with the
-view file's camera.  Each model runs in its own child process with a time limit.
+its meshes (with the view file's background scene and textures) and renders them with the
+view file's camera, fitted to the plant.  Each model runs in its own child process with a
+time limit.
 
 Per model it prints one line: ``derived`` (with the modules of the word, the time, the
 built-in environment its environment file maps to and the triangles drawn), ``error``
