@@ -113,7 +113,8 @@ def camera_from_view(view, scene):
                             cam.get("view reference point", (0.0, 0.0, 0.0)),
                             twist=float(cam.get("twist", 0.0)),
                             projection=str(cam.get("projection", "parallel")),
-                            scale=float(cam.get("scale", 1.0)))  # fmt: skip
+                            scale=float(cam.get("scale", 1.0)),
+                            fov=float(cam.get("viewing angle", 35.0)))  # fmt: skip
 
 
 def line_pixels(view) -> float | None:

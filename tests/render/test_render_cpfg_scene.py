@@ -231,3 +231,16 @@ def test_sgi_rgb_textures_read_as_cpfg_writes_them(tmp_path):
     assert img[8, 24].max() < 30  # u > .5, v < .5: black
     assert np.argmax(img[24, 8]) == 0 and img[24, 8][0] > 200  # u < .5, v > .5: red
     assert np.argmax(img[8, 8]) == 1 and img[8, 8][1] > 200  # u > .5, v > .5: green
+
+
+def test_the_viewing_angle_is_the_perspective_field_of_view(tmp_path):
+    import warnings
+
+    from sylva.lsystem.dialects._cpfg_view import read_camera
+
+    view = "projection: perspective\nviewing angle: 30\nviewpoint: 0,3,7\n"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a camera line: no warning
+        _model(tmp_path, view)
+    cam = read_camera(tmp_path / "p.v")
+    assert cam["viewing angle"] == 30.0 and cam["projection"] == "perspective"

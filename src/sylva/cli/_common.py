@@ -120,7 +120,8 @@ def view_camera(args, plant, aspect: float):
                             cam.get("view reference point", (0.0, 0.0, 0.0)),
                             twist=float(cam.get("twist", 0.0)),
                             projection=str(cam.get("projection", "parallel")),
-                            scale=float(cam.get("scale", 1.0)), aspect=aspect)  # fmt: skip
+                            scale=float(cam.get("scale", 1.0)), aspect=aspect,
+                            fov=float(cam.get("viewing angle", 35.0)))  # fmt: skip
 
 
 def view_line_pixels(args, plant) -> float | None:

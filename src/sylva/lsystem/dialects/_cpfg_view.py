@@ -90,7 +90,7 @@ _UNHONOURED = {
 #: The camera lines: not settings of the program; ``sylva render`` and the corpus runner
 #: place their camera with them (:func:`read_camera`, ``sylva.render.Camera.from_view``).
 _CAMERA = frozenset({"projection", "viewpoint", "view reference point", "twist", "scale",
-                     "scale factor"})  # fmt: skip
+                     "scale factor", "viewing angle"})  # fmt: skip
 
 
 def view_path(lsystem_file: str | None) -> Path | None:
@@ -275,13 +275,14 @@ def load_view(view, filename: str | None) -> dict[str, object]:
 
 
 _CAMERA_KEYS = {"viewpoint": 3, "view reference point": 3, "twist": 1, "scale factor": 1,
-                "scale": 1}  # fmt: skip
+                "scale": 1, "viewing angle": 1}  # fmt: skip
 
 
 def read_camera(view, filename: str | None = None) -> dict[str, object]:
     """The camera lines of a view file as plain values: ``viewpoint`` and ``view reference
     point`` (3 floats each), ``twist`` (degrees), ``projection`` (``"parallel"`` or
-    ``"perspective"``) and ``scale`` (the ``scale factor``), and how lines are drawn:
+    ``"perspective"``), ``scale`` (the ``scale factor``) and ``viewing angle`` (the
+    perspective's field of view, degrees), and how lines are drawn:
     ``line style`` (``"pixel"`` …) and ``line width`` (the ``initial line width``); only the
     lines present (empty for no file).  ``view`` as in :func:`load_view`; ``sylva render``
     and the corpus runner make their camera from them (``sylva.render.Camera.from_view``)."""
