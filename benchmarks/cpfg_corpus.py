@@ -5,8 +5,9 @@ manuals' and course's cpfg models under ``oofs/``.  This script finds every cpfg
 L-system there (a ``.l`` file with an ``Lsystem:`` line), reads it with sylva's cpfg
 reader together with the view file, colour map (``-m``) or material file (``-M``) named
 on the object's ``cpfg`` command line, derives it to its ``derivation length``, builds
-its meshes and renders them with the
-view file's camera.  Each model runs in its own child process with a time limit.
+its meshes (with the view file's background scene and textures) and renders them with the
+view file's camera, fitted to the plant.  Each model runs in its own child process with a
+time limit.
 
 Per model it prints one line: ``derived`` (with the modules of the word, the time, the
 built-in environment its environment file maps to and the triangles drawn), ``error``
@@ -107,11 +108,13 @@ def camera_from_view(view, scene):
     from sylva.render import Camera
 
     cam = read_camera(view or False)
-    return Camera.from_view(scene, cam.get("viewpoint", (0.0, 0.0, 1.0)),
+    box = scene.bounds(skip=("background",))  # the plant, not its background scene
+    return Camera.from_view(box, cam.get("viewpoint", (0.0, 0.0, 1.0)),
                             cam.get("view reference point", (0.0, 0.0, 0.0)),
                             twist=float(cam.get("twist", 0.0)),
                             projection=str(cam.get("projection", "parallel")),
-                            scale=float(cam.get("scale", 1.0)))  # fmt: skip
+                            scale=float(cam.get("scale", 1.0)),
+                            fov=float(cam.get("viewing angle", 35.0)))  # fmt: skip
 
 
 def line_pixels(view) -> float | None:
@@ -170,9 +173,9 @@ def _run(model: str, files: dict, size: int, render: bool, queue) -> None:
             if out["triangles"]:
                 cam = camera_from_view(files["view"], scene)
                 bg = geometry.background if geometry.background is not None else (0, 0, 0)
+                _plain(scene)  # cpfg's flat colours, its texture images kept
                 image = sylva.render.render(scene, (size, size), cam, shadows=False, msaa=0,
-                                            ground=False, textures=False,
-                                            bg=bg)  # fmt: skip
+                                            ground=False, bg=bg)  # fmt: skip
                 out["image"] = np.asarray(image.convert("RGB")).tobytes()
             out["total_s"] = time.perf_counter() - t0
     except Exception as e:  # noqa: BLE001 - the runner reports every failure
@@ -180,6 +183,19 @@ def _run(model: str, files: dict, size: int, render: bool, queue) -> None:
         msg = f"{type(e).__name__}: {e}".splitlines()
         out["message" if out["status"] == "error" else "render_error"] = " / ".join(msg)[:400]
     queue.put(out)
+
+
+def _plain(scene) -> None:
+    """Drop sylva's procedural textures (bark, leaf) from ``scene``'s materials, keeping the
+    image textures of the view file's ``texture:`` lines."""
+    import dataclasses
+
+    from sylva.render.scene import TEXTURE_KINDS
+
+    for mesh in scene.meshes:
+        mesh.materials = [dataclasses.replace(m, texture=None)
+                          if m.texture and m.texture.lower() in TEXTURE_KINDS else m
+                          for m in mesh.materials]  # fmt: skip
 
 
 def run_one(model: Path, files: dict, timeout: float, size: int, render: bool) -> dict:

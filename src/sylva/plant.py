@@ -110,7 +110,8 @@ class Plant(Shown):
 
     def line_radius(self, pixels: float, size: tuple[int, int]) -> float:
         """The radius that is ``pixels`` wide when the plant fills an image of ``size``."""
-        lo, hi = self.scene.bounds() if self.scene.meshes else self.geometry.bounds()
+        lo, hi = (self.scene.bounds(skip=("background",)) if self.scene.meshes
+                  else self.geometry.bounds())  # fmt: skip
         extent = float(np.max(np.asarray(hi) - np.asarray(lo)))
         return 0.5 * pixels * extent / max(1, min(size))
 

@@ -84,3 +84,13 @@ def test_a_view_file_for_a_file_that_is_not_cpfg_is_an_error(capsys, tmp_path):
     v.write_text("angle increment: 30\n")
     code, _, err = run(capsys, "derive", str(f), "--view", str(v))
     assert code == 2 and "view= (a cpfg view file) is for cpfg files" in err
+
+
+def test_derive_writes_cpfg_parameters_as_the_floats_they_are(capsys, tmp_path):
+    # cpfg keeps parameters as 32-bit floats: 2.2 is 2.200000047683716 as a double,
+    # written back as 2.2 (and 0.1 + 0.2 as the float 0.3)
+    f = tmp_path / "p.l"
+    f.write_text("Lsystem: 1\nderivation length: 1\nAxiom: A(2.2)\n"
+                 "A(x) --> B(x)C(0.1+0.2)\nendlsystem\n")  # fmt: skip
+    code, out, _ = run(capsys, "derive", str(f), "-n", "1")
+    assert code == 0 and out == "B(2.2)C(0.3)\n"

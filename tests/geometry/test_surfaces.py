@@ -154,7 +154,7 @@ def test_view_surface_errors_and_a_missing_file(tmp_path):
         _cpfg(tmp_path, "surface: l leaf.s\n")
     assert (e.value.line, "expected an id, a file name and a scale" in e.value.message) == \
         (1, True)  # fmt: skip
-    with pytest.warns(SylvaWarning, match="the texture of surface 'l' is not read"):
+    with pytest.warns(SylvaWarning, match="surface .l.: .bark.rgb. is not a texture number"):
         p = _cpfg(tmp_path, "surface: l nowhere.s 1 4 4 bark.rgb\n")
     with pytest.raises(SylvaError, match=r"surface 'l': cannot read the surface file .*nowhere\.s"):
         interpret("F~l", p)

@@ -115,11 +115,13 @@ def view_camera(args, plant, aspect: float):
     cam = read_camera(view if view is not None else None, program.filename)
     if not cam:
         return None
-    return Camera.from_view(plant.scene.bounds(), cam.get("viewpoint", (0.0, 0.0, 1.0)),
+    box = plant.scene.bounds(skip=("background",))  # cpfg fits its view to the plant alone
+    return Camera.from_view(box, cam.get("viewpoint", (0.0, 0.0, 1.0)),
                             cam.get("view reference point", (0.0, 0.0, 0.0)),
                             twist=float(cam.get("twist", 0.0)),
                             projection=str(cam.get("projection", "parallel")),
-                            scale=float(cam.get("scale", 1.0)), aspect=aspect)  # fmt: skip
+                            scale=float(cam.get("scale", 1.0)), aspect=aspect,
+                            fov=float(cam.get("viewing angle", 35.0)))  # fmt: skip
 
 
 def view_line_pixels(args, plant) -> float | None:

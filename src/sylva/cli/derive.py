@@ -186,7 +186,7 @@ def run(args) -> int:
         if args.stats:
             out.write(stats_text(w, dd.step) + "\n\n")
         else:
-            out.write(w.to_text() + "\n")
+            out.write(w.to_text(float32=program.dialect == "cpfg") + "\n")
 
     t0 = time.perf_counter()
     try:
@@ -213,5 +213,5 @@ def run(args) -> int:
         if args.stats:
             out.write(stats_text(w, d.step, time.perf_counter() - t0) + "\n")
         else:
-            out.write(w.to_text() + "\n")
+            out.write(w.to_text(float32=program.dialect == "cpfg") + "\n")
     return 0

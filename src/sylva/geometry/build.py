@@ -549,7 +549,7 @@ def build_mesh(
     -------
     Scene
         Meshes named ``branches``, ``leaves``, ``polygons``, ``blocks`` (those that are not
-        empty).
+        empty), and ``background`` (:attr:`Geometry.scenery`, cpfg's background scene).
 
     Examples
     --------
@@ -588,6 +588,8 @@ def _build_mesh(geometry, detail, mode, taper, leaves, polygons, blocks, colors,
                        for mat in m.materials]  # fmt: skip
     if prune_materials:
         meshes = [_prune(m) for m in meshes]
+    if geometry.scenery is not None and geometry.scenery.n_triangles:
+        meshes.append(geometry.scenery)  # cpfg's background scene, as drawn around the plant
     return Scene(meshes, name="plant")
 
 

@@ -309,8 +309,11 @@ class Scene:
         self.meshes.append(mesh)
         return self
 
-    def bounds(self) -> np.ndarray:
-        boxes = [m.bounds() for m in self.meshes if m.n_vertices]
+    def bounds(self, skip: Iterable[str] = ()) -> np.ndarray:
+        """``float32[2, 3]``: the box of the meshes, except those named in ``skip`` (e.g.
+        ``("background",)``: the plant without a cpfg background scene)."""
+        skip = set(skip)
+        boxes = [m.bounds() for m in self.meshes if m.n_vertices and m.name not in skip]
         if not boxes:
             return np.zeros((2, 3), np.float32)
         b = np.stack(boxes)

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .mesh import Material
+from .mesh import Material, Mesh
 
 __all__ = ["Geometry"]
 
@@ -85,6 +85,10 @@ class Geometry:
         The leaf templates of predefined surfaces (cpfg's ``~X``; see
         :mod:`sylva.geometry.surfaces`): ``(name, vertices, uvs, tris)`` each, in the frame of
         :func:`~sylva.geometry.build.leaf_template`.
+    scenery : Mesh or None
+        Objects drawn around the plant: a cpfg view file's ``background scene``
+        (:mod:`sylva.geometry.scenery`); :func:`~sylva.geometry.build.build_mesh` adds it
+        to the scene as the mesh ``background``.
     """
 
     seg_start: np.ndarray
@@ -119,6 +123,7 @@ class Geometry:
     leaf_surface: np.ndarray | None = None
     surfaces: tuple = ()
     leaf_stretch: np.ndarray | None = None
+    scenery: Mesh | None = None
 
     def __post_init__(self) -> None:
         self.seg_start = _f64(self.seg_start)

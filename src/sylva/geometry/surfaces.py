@@ -232,6 +232,36 @@ class Surface:
         return (np.concatenate(verts), np.concatenate(uvs).astype(np.float32),
                 np.concatenate(tris).astype(np.int64))  # fmt: skip
 
+    def texture_uvs(self, s: int | None = None, t: int | None = None,
+                    per_surface: bool = False) -> np.ndarray:  # fmt: skip
+        """cpfg's texture coordinates of the vertices of :meth:`template` (same ``s``, ``t``),
+        ``float32[m, 2]`` with ``v = 0`` at the image's bottom row (OpenGL's ``(s, t)``).
+
+        Per patch (the default, the cpfg manual §8.1.7): ``(i / s, j / t)`` at the ``i``-th
+        step along the rows' index and the ``j``-th along a row, so that each patch carries
+        the whole image.  Per surface (``S:``): the vertex's coordinates along the turtle's
+        left and heading, each scaled to [0, 1] over the whole surface, as cpfg's
+        ``patches.c`` maps the image into the surface's plane.
+
+        Examples
+        --------
+        >>> uv = BUILTIN["leaf"].texture_uvs(2, 2)
+        >>> uv[:3].tolist()
+        [[0.0, 0.0], [0.0, 0.5], [0.0, 1.0]]
+        """
+        if per_surface:
+            v = self.template(s, t)[0]
+            left, head = -v[:, 0], v[:, 1]  # the template's x is to the right (-L)
+            out = np.stack([left, head], 1)
+            lo, hi = out.min(axis=0), out.max(axis=0)
+            out = (out - lo) / np.where(hi > lo, hi - lo, 1.0)
+            return out.astype(np.float32)
+        ps, pt = self.precision or (DEFAULT_PRECISION, DEFAULT_PRECISION)
+        s, t = int(s or ps), int(t or pt)
+        uu, vv = np.meshgrid(np.linspace(0, 1, s + 1), np.linspace(0, 1, t + 1), indexing="ij")
+        one = np.stack([uu.ravel(), vv.ravel()], 1)
+        return np.tile(one, (len(self.patches), 1)).astype(np.float32)
+
 
 # --------------------------------------------------------------------------- reading
 _TOKEN = re.compile(r"\S+")

@@ -332,11 +332,12 @@ class _Compiled:
         for m in program.axiom:
             for a in m.args:
                 values.append(float(compile_expr(a, constants=constants)({}, 1)[0]))
+        self.dtype = np.float32 if program.dialect == "cpfg" else np.float64  # cpfg's C floats
         if values:
             offsets = np.zeros(len(ids) + 1, np.int64)
             np.cumsum(counts, out=offsets[1:])
             self.axiom = ModuleString(alphabet, np.array(ids, ID_DTYPE), offsets,
-                                      np.array(values, np.float64))
+                                      np.array(values, self.dtype).astype(np.float64))
         else:
             self.axiom = ModuleString(alphabet, np.array(ids, ID_DTYPE))
         self.axiom.check_brackets(program.filename)
@@ -708,6 +709,7 @@ def _step_general(
             new_vals[base + q] = v
     if not new_vals.size:
         return ModuleString(word.alphabet, new_ids)
+    new_vals = new_vals.astype(comp.dtype, copy=False).astype(np.float64, copy=False)
     return ModuleString(word.alphabet, new_ids, new_off, new_vals)
 
 

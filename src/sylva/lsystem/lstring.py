@@ -367,12 +367,15 @@ class ModuleString:
         i = self.alphabet.get(symbol)
         return 0 if i < 0 else int(np.count_nonzero(self.ids == i))
 
-    def to_text(self, *, sep: str = "") -> str:
-        """The word in ``.lsys`` notation (long names quoted, exact numbers)."""
+    def to_text(self, *, sep: str = "", float32: bool = False) -> str:
+        """The word in ``.lsys`` notation (long names quoted, exact numbers; ``float32``:
+        the shortest text of each number as a 32-bit float, cpfg's parameters)."""
         names = [format_symbol(n) for n in self.alphabet.names]
         if not self.has_params:
             return sep.join(names[s] for s in self.ids.tolist())
         vals = self.values.tolist()
+        if float32:  # 2.2 as a float is 2.200000047683716 as a double: written 2.2
+            vals = [float(str(np.float32(v))) for v in vals]
         off = self.offsets.tolist()
         parts = []
         for i, s in enumerate(self.ids.tolist()):

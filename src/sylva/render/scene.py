@@ -43,7 +43,8 @@ TEX_NONE, TEX_IMAGE = 0, 1
 GROUND_SCALE = 4.0
 #: Default ground side under a sky that fades the ground into the horizon.
 SKY_GROUND_SCALE = 10.0
-_IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tga", ".tif", ".tiff", ".webp", ".gif")
+_IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tga", ".tif", ".tiff", ".webp", ".gif",
+                   ".rgb", ".rgba", ".sgi", ".bw")  # the last four: SGI images (cpfg's)
 
 
 def material_shading(material: Material) -> dict:

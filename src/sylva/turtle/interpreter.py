@@ -39,7 +39,12 @@ import numpy as np
 from .. import _jit
 from ..errors import SylvaError, SylvaWarning
 from ..geometry.buffers import empty
-from ..geometry.colormaps import palette_materials, read_colormap, read_materials
+from ..geometry.colormaps import (
+    palette_materials,
+    read_colormap,
+    read_materials,
+    srgb_to_linear,
+)
 from ..geometry.mesh import Material
 from ..geometry.records import Geometry
 from ..lsystem.ast import Program
@@ -84,7 +89,8 @@ GRAVITY = (0.0, -1.0, 0.0)
 _EXTRA = {
     "lsys": {"ignore", "axiom", "turtle", *_TROPISM},
     "abop": {"palette", "color", "bg", "turtle", "angle", "delta", "width", "width_step",
-             *_TROPISM, "tropisms", "surfaces", "colormap", "materials"},
+             *_TROPISM, "tropisms", "surfaces", "colormap", "materials", "background_scene",
+             "textures"},
     "classic": {"angle", "thickness", "radius", "turtle", "iteration"},
     "engine": {"turtle", "seed", "noise_seed", "salt"},
 }
@@ -210,7 +216,10 @@ def _configure(dialect: str, s: dict, seed: int | None):
             if palette.shape[0] == 0:
                 raise TurtleSettingsError("the palette needs at least one colour")
         elif s.get("materials") is not None:  # cpfg -M file.mat
-            palette, table = palette_materials(read_materials(s["materials"]))
+            entries = read_materials(s["materials"])
+            palette, table = palette_materials(entries)
+            # cpfg clears its window to the emissive colour of material 0
+            bg = tuple(float(c) for c in srgb_to_linear(entries[0].emissive))
         elif s.get("colormap") is not None:  # cpfg -m file.map
             palette = read_colormap(s["colormap"])
             bg = tuple(float(c) for c in palette[0])  # cpfg clears its window to entry 0
@@ -562,7 +571,13 @@ def interpret(
         vertex_colors=vertex_colors,
     )
     if dialect == "abop" and geo.n_leaves:
-        _surfaces.assign(geo, word, s.get("surfaces"))
+        _surfaces.assign(geo, word, s.get("surfaces"), s.get("textures"))
+    if dialect == "abop" and s.get("textures"):  # @Tx(n) on cylinders (cpfg)
+        _surfaces.texture_segments(geo, word, s["textures"])
+    if dialect == "abop" and s.get("background_scene"):  # cpfg's background scene
+        from ..geometry.scenery import scenery_mesh
+
+        geo.scenery = scenery_mesh(s["background_scene"], default_color=materials[0].color)
     return geo
 
 

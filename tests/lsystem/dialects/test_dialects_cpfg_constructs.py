@@ -312,3 +312,23 @@ def test_a_second_lsystem_in_the_file_is_warned_about_not_dropped_silently():
     assert p.name == "1"
     msgs = [str(w.message) for w in seen if issubclass(w.category, SylvaWarning)]
     assert len(msgs) == 1 and msgs[0].startswith("two.l:6:1:") and "only the first" in msgs[0]
+
+
+def test_parameters_are_32_bit_floats_as_cpfg_keeps_them():
+    # vlab's 01-Introduction/08-continuous-time: t grows by dt = 0.02 until t >= 2.  cpfg
+    # stores module parameters as C floats: after 100 steps t is 1.9999989 (as a double it
+    # is 2.0000000000000013), so the apex crosses the threshold one step later, and every
+    # later metamer with it: the leaflets that cpfg's icon shows longer than sylva drew them
+    text = ("#define dt 0.02\nLsystem: 1\nderivation length: 101\nAxiom: A(0)\n"
+            "A(t) : t < 2 --> A(t+dt)\nA(t) : t >= 2 --> B\nendlsystem\n")  # fmt: skip
+    program = cpfg.parse(text, view=False)
+    word = Derivation(program, seed=1).advance(101)
+    assert len(word) == 1 and word.alphabet.names[int(word.ids[0])] == "A"
+    t = np.float32(0.0)
+    for _ in range(101):
+        t = np.float32(np.float64(t) + 0.02)
+    assert word.values.tolist() == [float(t)] and 2.0 < float(t) < 2.021
+    assert str(Derivation(program, seed=1).advance(102)) == "B"
+    # in a double the same rules cross at step 101
+    lsys = sylva.lsystem.loads("axiom = A(0)\nA(t) : t < 2 -> A(t+0.02)\nA(t) : t >= 2 -> B\n")
+    assert str(Derivation(lsys, seed=1).advance(101)) == "B"

@@ -227,10 +227,21 @@ def test_view_file_angle_factor_pixel_widths_and_named_view(tmp_path):
     from sylva.errors import SylvaWarning
 
     other = tmp_path / "other.v"
-    other.write_text("angle factor: 8\ninitial line width: 3\n")
+    other.write_text("angle factor: 8\ninitial line width: 3 pixels\n")
     with pytest.warns(SylvaWarning, match=r"other.v:2: 'initial line width' is in pixels"):
         p = loads(KOCH, view=other)
     assert p.settings["rot"] == 45.0 and "thick" not in p.settings
+    # a width without 'pixels' after it is in units: cpfg's reader makes the line style
+    # polygon (and a later 'line style:' wins, as cpfg reads the lines in order)
+    other.write_text("initial line width: 3\n")
+    assert loads(KOCH, view=other).settings["thick"] == 3.0
+    from sylva.lsystem.dialects._cpfg_view import read_camera
+
+    assert read_camera(other)["line style"] == "polygon"
+    other.write_text("line style: cylinder\ninitial line width: 2 p\n")
+    assert read_camera(other)["line style"] == "pixel"
+    other.write_text("initial line width: 2 pixels\nline style: cylinder\n")
+    assert loads(KOCH, view=other).settings["thick"] == 2.0
     (tmp_path / "koch.l").write_text(KOCH)
     (tmp_path / "koch.v").write_text("angle increment: 60\n")
     assert load(tmp_path / "koch.l", view=False).settings.get("rot") is None

@@ -7,7 +7,10 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
 ``initial line width: w``
     the width ``thick``, when ``line style:`` is ``polygon`` or ``cylinder`` (a width in
     units, as sylva draws); with cpfg's default ``pixel`` style the width is in pixels of the
-    screen, which sylva's cylinders do not have, and a warning says so.
+    screen, which sylva's cylinders do not have, and a warning says so.  As cpfg reads the
+    line, it sets the style too: ``pixel`` when a word starting with ``p`` follows the width
+    (``2 pixels``), ``cylinder`` for one starting with ``s``, else ``polygon``; the last of
+    it and ``line style:`` wins.
 ``line width increment: d``
     ``width_step``: what cpfg's ``!`` subtracts from the width and ``#`` adds to it (in
     units, with ``polygon`` or ``cylinder`` lines, as the initial width; 0 when the file
@@ -25,11 +28,22 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
     ``F f G g`` the tropisms together turn the heading, the torques roll the turtle about
     it (manual §8.1.8; :mod:`sylva.turtle._movements`).
 
-``surface: X file.s scale [s t [texture]]``
+``surface: X file.s scale [s t] [texture]``
     the predefined surface drawn by ``~X`` (the setting ``surfaces``: the Bézier patches of
     the ``.s`` file, a path relative to the view file's folder, scaled by ``scale``, each
-    patch ``s × t`` quads; :mod:`sylva.geometry.surfaces`); a texture is not read (a
-    warning says so).
+    patch ``s × t`` quads; :mod:`sylva.geometry.surfaces`), and the number of its texture
+    (one number after the scale is the texture, as cpfg reads it).
+``texture: F: image [E: m|d|b] [S:] [R: r] [H: f] [L: f]``
+    the setting ``textures``, numbered from 1: the image (PNG, SGI ``.rgb``), how it
+    combines, whether it spans the whole surface; ``@Tx(n)`` and the surface lines choose
+    them (``sylva.turtle._surfaces``).  A line whose image cannot be read, or with a
+    subcommand cpfg does not know, takes no number (a warning says so), as in cpfg.
+``background scene: file``
+    the setting ``background_scene``: the objects of the file
+    (:mod:`._cpfg_scene`), drawn around the plant.
+``contour: id file.con``
+    the setting ``contours`` (id -> :class:`._cpfg_contour.Contour`): the cross-sections
+    of generalised cylinders that ``@#(id)`` selects.
 ``color map: f.map``, ``material: f.mat``, ``initial color: i``
     the colours of the indices ``;(n)`` / ``,(n)`` (settings ``colormap`` and
     ``materials``, read by the turtle; cpfg names these files on its command line, ``-m``
@@ -45,7 +59,7 @@ Each line is ``keyword: value``.  Honoured (mapped onto sylva's settings):
     fitted to the image times the scale factor (``sylva.render.Camera.from_view``).
 
 Every other line (``front distance``, ``back distance``, ``z buffer``, ``render mode``, ``light:``,
-``texture:``, ``color increment``, ``contour:``, ``generalized cylinders`` …, and lines
+``color increment``, ``generalized cylinders`` …, and lines
 sylva does not know) is reported once as a :class:`~sylva.errors.SylvaWarning` naming the
 file and line, never dropped silently.  Settings of the ``.l`` itself win over the view
 file's.
@@ -72,11 +86,9 @@ _UNHONOURED = {
     "z buffer": "the renderer always hides what is behind",
     "render mode": "the renderer's shading is its own",
     "light": "the renderer's lights are its own",
-    "texture": "textures of cpfg surfaces are not read",
     "color increment": "colour indices step by 1",
-    "contour": "contours of generalised cylinders are not read",
     "generalized cylinders": "generalised cylinders are drawn as cpfg's Hermite curves with "
-                             "round sections, whatever this says",
+                             "round sections (contours are read, not yet applied)",
     "maximum depth": "the stack depth is not limited",
     "box": "bounding boxes are not drawn",
     "shadow map": "the renderer's shadows are its own",
@@ -86,7 +98,7 @@ _UNHONOURED = {
 #: The camera lines: not settings of the program; ``sylva render`` and the corpus runner
 #: place their camera with them (:func:`read_camera`, ``sylva.render.Camera.from_view``).
 _CAMERA = frozenset({"projection", "viewpoint", "view reference point", "twist", "scale",
-                     "scale factor"})  # fmt: skip
+                     "scale factor", "viewing angle"})  # fmt: skip
 
 
 def view_path(lsystem_file: str | None) -> Path | None:
@@ -148,8 +160,7 @@ def read_view(text: str, filename: str | None = None) -> dict[str, object]:
                           f"honoured ({_UNHONOURED[key]})", SylvaWarning, stacklevel=4)  # fmt: skip
             continue
         found.append((number, key, m.group(2), m.start(2)))
-        if key == "line style":
-            style = m.group(2).strip().lower()
+        style = _line_style(key, m.group(2), style)
     settings: dict[str, object] = {}
     for number, key, value, at in found:
         try:
@@ -164,6 +175,23 @@ def read_view(text: str, filename: str | None = None) -> dict[str, object]:
 class _Unreadable(Exception):
     def __init__(self, column: int, text: str, what: str = "the value") -> None:
         self.column, self.text, self.what = column, text, what
+
+
+def _line_style(key: str, value: str, style: str) -> str:
+    """The line style after the view line ``key: value`` (``style`` before it), as cpfg
+    reads them in order: ``line style: s`` sets it; ``initial line width: w`` sets it too,
+    to ``pixel`` when a word starting with ``p`` follows the width (``2 pixels``),
+    ``cylinder`` for one starting with ``s``, else ``polygon`` (a width in units)."""
+    if key == "line style":
+        return value.strip().lower()
+    if key == "initial line width":
+        m = _NUMBER.match(value)
+        rest = value[m.end():].strip().lower() if m else ""
+        if not m:
+            return style  # cpfg's fscanf fails: nothing changes
+        return "pixel" if rest.startswith("p") else "cylinder" if rest.startswith(
+            "s") else "polygon"  # fmt: skip
+    return style
 
 
 def _honour(settings, number, key, value, at, style, filename, source) -> None:
@@ -228,7 +256,8 @@ def _honour(settings, number, key, value, at, style, filename, source) -> None:
                       f"draws at most {MAX_MOVEMENTS}")  # fmt: skip
         settings["tropisms"] = (*movements, _movement(key, value, err))
     elif key in _FILES_KEYS:
-        _files(settings, key, value, err, filename, number)
+        _files(settings, key, value, err, filename, number, source[number - 1].rstrip("\r"),
+               at)
 
 
 #: The most ``tropism:`` and ``torque:`` lines sylva draws (cpfg allows 10; vlab's models
@@ -293,7 +322,8 @@ _HONOURED = frozenset({"angle increment", "angle factor", "initial line width", 
                        "tropism direction", "initial elasticity",
                        "elasticity increment", "function", "function set", "curve",
                        "surface", "color map", "colormap", "material",
-                       "initial color", "tropism", "torque"})  # fmt: skip
+                       "initial color", "tropism", "torque", "background scene",
+                       "texture", "contour"})  # fmt: skip
 
 
 def load_view(view, filename: str | None) -> dict[str, object]:
@@ -316,13 +346,14 @@ def load_view(view, filename: str | None) -> dict[str, object]:
 
 
 _CAMERA_KEYS = {"viewpoint": 3, "view reference point": 3, "twist": 1, "scale factor": 1,
-                "scale": 1}  # fmt: skip
+                "scale": 1, "viewing angle": 1}  # fmt: skip
 
 
 def read_camera(view, filename: str | None = None) -> dict[str, object]:
     """The camera lines of a view file as plain values: ``viewpoint`` and ``view reference
     point`` (3 floats each), ``twist`` (degrees), ``projection`` (``"parallel"`` or
-    ``"perspective"``) and ``scale`` (the ``scale factor``), and how lines are drawn:
+    ``"perspective"``), ``scale`` (the ``scale factor``) and ``viewing angle`` (the
+    perspective's field of view, degrees), and how lines are drawn:
     ``line style`` (``"pixel"`` …) and ``line width`` (the ``initial line width``); only the
     lines present (empty for no file).  ``view`` as in :func:`load_view`; ``sylva render``
     and the corpus runner make their camera from them (``sylva.render.Camera.from_view``)."""
@@ -338,10 +369,11 @@ def read_camera(view, filename: str | None = None) -> dict[str, object]:
             continue
         key = " ".join(m.group(1).lower().split())
         value = m.group(2)
+        if key in ("line style", "initial line width"):  # how wide lines are drawn
+            style = _line_style(key, value, str(out.get("line style", "pixel")))
+            out["line style"] = (style.split() or ["pixel"])[0]
         if key == "projection":
             out["projection"] = value.strip().lower()
-        elif key == "line style":  # how wide lines are drawn: pixels or units
-            out["line style"] = (value.split() or ["pixel"])[0].lower()
         elif key == "initial line width":
             nums = re.findall(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?", value)
             if nums:
@@ -356,7 +388,8 @@ def read_camera(view, filename: str | None = None) -> dict[str, object]:
 
 
 # --------------------------------------------------------------------------- files (surfaces)
-_FILES_KEYS = frozenset({"surface", "color map", "colormap", "material", "initial color"})
+_FILES_KEYS = frozenset({"surface", "color map", "colormap", "material", "initial color",
+                         "background scene", "texture", "contour"})  # fmt: skip
 
 
 def _beside(name: str, filename: str | None) -> str:
@@ -368,9 +401,21 @@ def _beside(name: str, filename: str | None) -> str:
 
 
 def _files(settings: dict, key: str, value: str, err, filename: str | None,
-           number: int) -> None:  # fmt: skip
-    """The view lines that name files (``surface:``, ``color map:``, ``material:``) and
-    ``initial color:``, into ``settings``."""
+           number: int, line: str = "", at: int = 0) -> None:  # fmt: skip
+    """The view lines that name files (``surface:``, ``color map:``, ``material:``,
+    ``background scene:``, ``texture:``) and ``initial color:``, into ``settings``."""
+    if key == "background scene":
+        from ._cpfg_scene import load_scene
+
+        settings["background_scene"] = (tuple(settings.get("background_scene") or ())
+                                        + load_scene(value, filename, number, line))  # fmt: skip
+        return
+    if key == "texture":
+        _texture(settings, value, filename, number, at)
+        return
+    if key == "contour":
+        _contour(settings, value, err, filename, number)
+        return
     if key == "initial color":
         i = _numbers(value, 1, err)[0]
         if not (i >= 0 and i == int(i)):
@@ -384,19 +429,93 @@ def _files(settings: dict, key: str, value: str, err, filename: str | None,
                       "(surface: l leaf.s 1.0 [s t])")  # fmt: skip
         (name, _), (file, _), (scale, at) = words[:3]
         numbers = [_numbers(value[at:], 1, lambda p, _a=at: err(_a + p))[0]]
-        for text, pos in words[3:5]:
+        for text, pos in words[3:6]:
             if _NUMBER.fullmatch(text) is None:
                 break
             numbers.append(_numbers(text, 1, lambda p, _a=pos: err(_a + p))[0])
         if len(words) > 2 + len(numbers):
-            warnings.warn(f"{filename or '<view>'}:{number}: the texture of surface "
-                          f"{name!r} is not read", SylvaWarning, stacklevel=5)  # fmt: skip
+            warnings.warn(f"{filename or '<view>'}:{number}: surface {name!r}: "
+                          f"{words[2 + len(numbers)][0]!r} is not a texture number; cpfg "
+                          "reads 'surface: id file scale [s t] [texture]'", SylvaWarning,
+                          stacklevel=5)  # fmt: skip
+        # cpfg: one number after the scale is the texture, two the precision, three both
         s, t = (int(numbers[1]), int(numbers[2])) if len(numbers) >= 3 else (None, None)
+        tex = int(numbers[3]) if len(numbers) >= 4 else int(numbers[1]) if len(
+            numbers) == 2 else None  # fmt: skip
         table = dict(settings.get("surfaces") or {})
-        table[name] = (_beside(file, filename), numbers[0], s, t)
+        entry = (_beside(file, filename), numbers[0], s, t)
+        table[name] = entry if tex is None else (*entry, tex)  # the texture's number
         settings["surfaces"] = table
         return
     if not words:
         raise err(len(value), f"{key}: expected a file name")
     settings["colormap" if key in ("color map", "colormap") else "materials"] = _beside(
         words[0][0], filename)
+
+
+def _texture(settings: dict, value: str, filename: str | None, number: int, at: int) -> None:
+    """A ``texture:`` line: its subcommands ``F: file`` (mandatory), ``E: mode``, ``S:``,
+    ``R: ratio``, ``H:`` / ``L:`` filters (the cpfg manual §8.1.7) into the setting
+    ``textures``, numbered from 1 in file order.  As in cpfg, a line whose file cannot be
+    read, or with a subcommand cpfg does not know, takes no number (a warning says so)."""
+    where = f"{filename or '<view>'}:{number}"
+    tokens = [(m.group(), at + m.start() + 1) for m in re.finditer(r"[^\s:]+", value)]
+    tex: dict[str, object] = {"file": None, "mode": "modulate", "per_surface": False,
+                              "ratio": 1.0}  # fmt: skip
+    k = 0
+    while k < len(tokens):
+        word, col = tokens[k]
+        k += 1
+        c = word[0]
+        if c == "S":
+            tex["per_surface"] = True
+            continue
+        if c not in "FELHR" or len(word) > 1:
+            warnings.warn(f"{where}:{col}: texture: unknown subcommand {word!r} (expected F:, "
+                          "E:, S:, R:, H: or L:); cpfg drops the texture, and so does sylva",
+                          SylvaWarning, stacklevel=6)  # fmt: skip
+            return
+        if k >= len(tokens):
+            break
+        arg, acol = tokens[k]
+        k += 1
+        if c == "F":
+            tex["file"] = _beside(arg.rstrip(","), filename)
+        elif c == "E":
+            tex["mode"] = {"m": "modulate", "d": "decal", "b": "blend"}.get(arg[0], "modulate")
+        elif c == "R":
+            try:
+                tex["ratio"] = float(arg)
+            except ValueError:
+                warnings.warn(f"{where}:{acol}: texture: R: {arg!r} is not a number; the "
+                              "ratio stays 1", SylvaWarning, stacklevel=6)  # fmt: skip
+    if tex["file"] is None or not Path(str(tex["file"])).is_file():
+        what = ("has no file (F: name)" if tex["file"] is None
+                else f"file {tex['file']} cannot be read")  # fmt: skip
+        warnings.warn(f"{where}: texture {what}; cpfg drops it (it takes no number), and so "
+                      "does sylva", SylvaWarning, stacklevel=6)  # fmt: skip
+        return
+    settings["textures"] = (*tuple(settings.get("textures") or ()), tex)
+
+
+def _contour(settings: dict, value: str, err, filename: str | None, number: int) -> None:
+    """A ``contour: id file`` line: the contour (:mod:`._cpfg_contour`) into the setting
+    ``contours`` under its id, for the generalised cylinders (``@#(id)``)."""
+    from ._cpfg_contour import load_contour
+
+    words = [(m.group(), m.start()) for m in re.finditer(r"\S+", value)]
+    if len(words) < 2:
+        raise err(len(value), "contour: expected an id and a file name (contour: 1 leaf.con)")
+    (ident, at), (name, _) = words[:2]
+    if not re.fullmatch(r"[-+]?\d+", ident):
+        raise err(at, f"contour: the id {ident!r} is not a whole number")
+    try:
+        contour = load_contour(name, filename)
+    except OSError as e:  # cpfg: "Cannot open the contour file", and goes on
+        warnings.warn(f"{filename or '<view>'}:{number}: contour {ident}: cannot read "
+                      f"{name} ({e.strerror or e}); @#({ident}) draws the default circle",
+                      SylvaWarning, stacklevel=6)  # fmt: skip
+        return
+    table = dict(settings.get("contours") or {})
+    table[int(ident)] = contour
+    settings["contours"] = table
