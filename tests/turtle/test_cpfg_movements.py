@@ -101,7 +101,9 @@ def test_a_bad_tropism_line_names_file_line_and_column(line, column, match):
 
 def test_two_tropisms_bend_the_heading_as_the_manual_formula(tmp_path):
     # an orthotropism toward +x and a diatropism (A: 90) about +y, both switched on by @Ts
-    moves = [("tropism", (1.0, 0.0, 0.0), 0.0, 0.15), ("tropism", (0.0, 1.0, 0.0), 90.0, 0.2)]
+    # (the elasticities are module parameters: cpfg keeps them as 32-bit floats)
+    e1, e2 = float(np.float32(0.15)), float(np.float32(0.2))
+    moves = [("tropism", (1.0, 0.0, 0.0), 0.0, e1), ("tropism", (0.0, 1.0, 0.0), 90.0, e2)]
     view = "tropism: T: 2 0 0\ntropism: T: 0 1 0 A: 90\n"
     p = _program(tmp_path, "&(30)@Ts(1,0.15)@Ts(2,0.2)F(1)F(1)F(1)F(1)F(1)", view)
     frame = _rot(np.array([-1.0, 0.0, 0.0]), math.radians(30)) @ _frame()  # &(30): about L
@@ -170,7 +172,8 @@ def test_the_old_tropism_bends_after_the_step_and_underscore_steps_it(tmp_path):
     frame = _rot(np.array([0.0, 0.0, 1.0]), math.radians(60)) @ _frame()
     t = np.array([0.0, 1.0, 0.0])
     pos, ends = np.zeros(3), []
-    for e in (0.04, -0.06, 0.3, 0.3):
+    e3 = float(np.float32(0.3))  # _(0.3): a module parameter, a 32-bit float in cpfg
+    for e in (0.04, -0.06, e3, e3):
         pos = pos + frame[:, 0]
         ends.append(pos)
         for side in (2, 1):  # toward U, then toward L: sin = e T.side
