@@ -36,7 +36,7 @@ import time
 import warnings
 from pathlib import Path
 
-_LSYSTEM = re.compile(r"^\s*Lsystem\s*:", re.MULTILINE)
+_LSYSTEM = re.compile(r"^\s*[Ll]system\s*:", re.MULTILINE)  # cpfg's lexer: either case
 
 
 def find_models(root: Path) -> list[Path]:

@@ -348,7 +348,8 @@ class _Compiled:
                       "live": frozenset(getattr(stm, "written", ()) or ()),
                       "live_get": getattr(stm, "live_values", None)}  # fmt: skip
         self.productions = self.group_rules(0)
-        self.sublsystems = any(r.lsystem for r in program.productions)  # cpfg's ?(n) … $
+        # cpfg's ?(n) … $: every phase's rules rewrite only their sub-L-system's modules
+        self.sublsystems = any(r.lsystem for r in program.rules)
         self.render = _RuleSet(program.render_rules, alphabet, constants, **self._kind)
         self.decomposition = _RuleSet(program.decompositions, alphabet, constants, **self._kind)
         self.interpretation = _RuleSet(program.interpretations, alphabet, constants,
@@ -771,7 +772,9 @@ def _passes(word, rs, comp, seed, step, depth, phase, limit, track=False):
     for d in range(depth + 1):
         rs.grow()
         got: list[np.ndarray] = []
-        new = _step_general(word, rs, comp, _pass_key(seed, step, phase, d), limit, step, got)
+        scope = _sub.scope(word) if comp.sublsystems else None
+        new = _step_general(word, rs, comp, _pass_key(seed, step, phase, d), limit, step, got,
+                            scope=scope)  # fmt: skip
         choice = got[0]
         applied = np.flatnonzero(choice >= 0)
         if applied.size == 0:
@@ -1104,7 +1107,8 @@ class Derivation:
                           self.limit)  # fmt: skip
         if comp.render.rules:
             key = step_key(self.seed, self.step, render=True)
-            word = _step(word, comp.render, comp, key, self.limit, self.step)
+            scope = _sub.scope(word) if comp.sublsystems else None
+            word = _step(word, comp.render, comp, key, self.limit, self.step, scope)
         return _sub.silence(word) if comp.sublsystems else word
 
     def render_word_sources(self) -> tuple[ModuleString, np.ndarray]:
@@ -1115,7 +1119,9 @@ class Derivation:
                               self.program.interpretation_depth, "interpretation",
                               self.limit, track=True)  # fmt: skip
         key = step_key(self.seed, self.step, render=True)
-        word, src, _, _ = _traced_step(word, comp.render, comp, key, self.limit, self.step)
+        scope = _sub.scope(word) if comp.sublsystems else None
+        word, src, _, _ = _traced_step(word, comp.render, comp, key, self.limit, self.step,
+                                       scope=scope)  # fmt: skip
         return (_sub.silence(word) if comp.sublsystems else word), first[src]
 
     def __iter__(self) -> Iterator[ModuleString]:

@@ -290,20 +290,3 @@ def test_a_second_tropism_switched_off_is_accepted():
     with pytest.raises(SylvaError, match=r"names tropism 2; expected 1"):
         ends("@Ts(2,0.3)FF")
 
-
-def test_a_second_lsystem_in_the_file_is_warned_about_not_dropped_silently():
-    """cpfg's sub-L-systems are further ``Lsystem:`` blocks of the same file; sylva's cpfg
-    reader reads the first one only, and says so with the line of the second."""
-    import warnings
-
-    from sylva.errors import SylvaWarning
-    from sylva.lsystem.dialects import cpfg
-
-    text = ("Lsystem: 1\nderivation length: 1\nAxiom: F?(2,0.5)F\nF --> FF\nendlsystem\n"
-            "Lsystem: 2\nAxiom: G\nG --> GG\nendlsystem\n")  # fmt: skip
-    with warnings.catch_warnings(record=True) as seen:
-        warnings.simplefilter("always")
-        p = cpfg.parse(text, "two.l")
-    assert p.name == "1"
-    msgs = [str(w.message) for w in seen if issubclass(w.category, SylvaWarning)]
-    assert len(msgs) == 1 and msgs[0].startswith("two.l:6:1:") and "only the first" in msgs[0]
