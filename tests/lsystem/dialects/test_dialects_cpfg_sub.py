@@ -71,6 +71,8 @@ def test_three_lsystems_derived_by_hand():
         _w("E BB ?(2,0.5) B D ?(3) E $ $ E B ?(2,0.5) C $ A"),
         _w("E BBBB ?(2,0.5) X D ?(3) EE $ $ E BB ?(2,0.5) B D ?(3) E $ $ E B ?(2,0.5) C $ A"),
     ]
+    # written as .lsys (lsystem 2: / lsystem 3: sections) and read back, the same words
+    assert str(sylva.derive(sylva.loads(sylva.dumps(p)), 3)) == words[3]
     d = Derivation(p)
     d.advance(3)
     # 3's homomorphism E --> G draws only 3's E's; the main L-system's E stay E, and the

@@ -40,9 +40,11 @@ conditions and successors read; ``StartEach: { … }`` and ``EndEach: { … }`` 
 after every derivation step (:attr:`Program.statements`: the engine compiles the rules again
 over the new globals each step, on its general road; a global first set in them starts at
 0; homomorphism rules see the values ``Start:`` left); ``End: { … }`` is read but not run (it
-cannot change the word).  Not supported, with an error that names the construct: the
-statement blocks of productions (``pred : { … } condition { … } -->``), ``ring L-system``,
-``group`` and sub-L-systems.
+cannot change the word).  Several ``Lsystem: N … endlsystem`` blocks are cpfg's
+sub-L-systems (:mod:`._cpfg_sub`): the first is the main one, the productions,
+decomposition and homomorphism of L-system N rewrite only the modules between a call
+``?(N, s)`` and its ``$``.  A context ``*`` is none (``* < A``).  ``group`` is an error
+that names it (cpfg has no production groups; they are lpfg's).
 
 The reader turns each line into one line of sylva's ``.lsys`` language and parses that, so
 errors name the file's (or the included file's) lines and columns (a column right of a
