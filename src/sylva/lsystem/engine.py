@@ -369,6 +369,14 @@ class _Compiled:
         self._ign = ign
         self._cons = cons
         self.ignored = ignored_table(len(alphabet), ign, cons)
+        # cpfg's sub-L-systems each with their own ignore:/consider: (the reader sets this
+        # only where they differ): sub-L-system -> (ignored ids, considered ids or None)
+        sub = program.settings.get("sublsystem_context")
+        self._sub_ctx = None if not sub else {
+            int(k): ([alphabet.id(x) for x in ig],
+                     None if co is None else [alphabet.id(x) for x in co])
+            for k, (ig, co) in sub.items()}  # fmt: skip
+        self._sub_tables: dict[int, np.ndarray] = {}
 
     def group_rules(self, group: int) -> _RuleSet:
         """The productions of ``group`` and of group 0 (those outside any group)."""
@@ -396,7 +404,15 @@ class _Compiled:
             )
         return self.group_rules(int(v))
 
-    def ignored_for(self, word: ModuleString) -> np.ndarray:
+    def ignored_for(self, word: ModuleString, lsystem: int = 0) -> np.ndarray:
+        """The table of the symbols context matching skips (of sub-L-system
+        ``lsystem``'s rules where it has its own, else the program's)."""
+        if self._sub_ctx is not None and lsystem in self._sub_ctx:
+            t = self._sub_tables.get(lsystem)
+            if t is None or t.shape[0] < len(word.alphabet):
+                t = self._sub_tables[lsystem] = ignored_table(len(word.alphabet),
+                                                              *self._sub_ctx[lsystem])
+            return t
         if self.ignored.shape[0] < len(word.alphabet):
             self.ignored = ignored_table(len(word.alphabet), self._ign, self._cons)
         return self.ignored
@@ -605,7 +621,9 @@ def _step_general(
                     ok = np.ones(k, np.bool_)
                 if scope is not None:
                     ok &= scope[undecided] == cr.rule.lsystem
-                lpos, rpos = _walk.contexts(word, cr, undecided, ignored, ok, _kernels,
+                ign = (comp.ignored_for(word, cr.rule.lsystem)
+                       if comp._sub_ctx is not None and ignored is not None else ignored)
+                lpos, rpos = _walk.contexts(word, cr, undecided, ign, ok, _kernels,
                                             rs.ring, rs.skip)  # fmt: skip
                 sel = np.flatnonzero(ok)
                 if sel.size == 0:

@@ -103,9 +103,7 @@ class Books:
     def check(self, rules: tuple, constants: dict, shift: int) -> tuple:
         """``rules`` (of the translation, in order) each marked with its L-system, with
         the main L-system's productions repeated as its own number's when a call names it;
-        raises the error of a call to an L-system the file lacks, and of sub-L-systems
-        whose context rules would need another ``ignore:`` / ``consider:`` than the
-        main one's (sylva keeps one for the file)."""
+        raises the error of a call to an L-system the file lacks."""
         known = {0, self.main_id, *self.labels}
         called: set[int] = set()
         for text, make in self.calls:
@@ -132,24 +130,25 @@ class Books:
             out.append(replace(r, lsystem=k) if k else r)
         if self.main_id >= 1 and self.main_id in called and self.labels:
             out += [replace(r, lsystem=self.main_id) for r in out if r.lsystem == 0]
-        self._check_context(out)
         return tuple(out)
 
-    def _check_context(self, rules) -> None:
-        with_context = sorted({r.lsystem for r in rules if r.has_context})
-        if not self.labels or len(with_context) < 2 and 0 in with_context:
-            return
-        main = self.context.get(0, ("ignore", frozenset(), None))[:2]
-        for k in with_context:
-            if k == 0 or k == self.main_id:
-                continue
-            mine = self.context.get(k, ("ignore", frozenset(), None))
-            if mine[:2] != main:
-                at = mine[2] or self.labels[k]
-                what = f"{mine[0]}: {''.join(sorted(mine[1]))}" if mine[2] else "no ignore:"
-                raise LSystemSyntaxError(
-                    f"sub-L-system {k} has context productions and {what!r}, which differs "
-                    "from the main L-system's; sylva's cpfg reader keeps one ignore/consider "
-                    "table for the file (expected the same line in both)",
-                    filename=at.filename, line=at.line, column=at.column,
-                    source_line=at.source_line)  # fmt: skip
+    def context_sets(self, rules) -> dict | None:
+        """cpfg's context tables per L-system (``lsys_input.y``: each L-system has its own
+        ``ignore:`` / ``consider:``, and one without either considers every module), for
+        the engine's setting ``sublsystem_context``: ``{number: (ignored, considered or
+        None)}`` for the L-systems with context productions, or None where they all have
+        the main L-system's (then ``Program.ignore`` / ``consider`` serve all)."""
+        with_context = {r.lsystem for r in rules if r.has_context}
+        if not self.labels or not with_context:
+            return None
+
+        def spec(k: int) -> tuple:
+            key, symbols = self.context.get(0 if k == self.main_id else k,
+                                            ("ignore", frozenset(), None))[:2]
+            symbols = tuple(sorted(symbols - {'"'}))  # '"#"' is the module #
+            return (symbols, None) if key == "ignore" else ((), symbols)
+
+        main = spec(0)
+        if all(spec(k) == main for k in with_context):
+            return None
+        return {k: spec(k) for k in sorted(with_context)}

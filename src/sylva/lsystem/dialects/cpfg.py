@@ -604,6 +604,8 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
     if at is not None:
         at = _remap(Span(at.line, steps_col, at.filename), src)
     raw_rules = books.check(program.rules, program.constants, len(top))
+    if (contexts := books.context_sets(raw_rules)) is not None:
+        settings["sublsystem_context"] = contexts  # each L-system its own ignore:
     rules = tuple(r if r.span is None else replace(r, span=_remap(r.span, src))
                   for r in raw_rules)  # fmt: skip
     if block_src:
