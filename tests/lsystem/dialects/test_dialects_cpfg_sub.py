@@ -81,6 +81,14 @@ def test_three_lsystems_derived_by_hand():
         "E BBBB ?(2,0.5) X D ?(3) GG ? ? E BB ?(2,0.5) B D ?(3) G ? ? E B ?(2,0.5) C ? A")
 
 
+def test_each_lsystem_decomposes_its_own_modules():
+    # after each step every L-system's decomposition applies to its own modules only
+    text = ("Lsystem: 1\nderivation length: 1\nAxiom: A?(2)A$\nA --> X\ndecomposition\n"
+            "X --> K\nendlsystem\nLsystem: 2\nAxiom: A\nA --> X\ndecomposition\n"
+            "X --> M\nendlsystem\n")  # fmt: skip
+    assert str(sylva.derive(cpfg.parse(text, view=False))) == _w("K?(2)M$")
+
+
 def test_a_call_back_to_the_main_lsystem():
     # cpfg numbers the main L-system by its label too: ?(1) inside 2 calls it back
     text = ("Lsystem: 1\nderivation length: 3\nAxiom: A\nA --> ?(2)B$\nendlsystem\n"
