@@ -108,7 +108,7 @@ class _RuleSet:
 
     def __init__(self, rules: Sequence[Rule], alphabet: Alphabet, constants, *,
                  cpfg: bool = False, ring: bool = False, live: frozenset = frozenset(),
-                 live_get: Callable | None = None) -> None:  # fmt: skip
+                 live_get: Callable | None = None, first: bool = False) -> None:  # fmt: skip
         self.alphabet = alphabet
         self.ring, self.skip = ring, (alphabet.id("=") if cpfg else -1)  # cpfg's ring and =
         # globals blocks assign, read per application (live_get()): module by module
@@ -118,9 +118,12 @@ class _RuleSet:
             self._compile(i, r, alphabet, constants, self.skip, self.live)
             for i, r in enumerate(rules)
         ]
+        # cpfg's deterministic L-system (no seed:): the first applicable production in the
+        # file's order, whatever its kind (generate.c's FindProd), not a draw among a tier
+        self.first = first and len({cr.pred for cr in self.rules}) < len(self.rules)
         by: dict[int, list[list[_CRule]]] = {}
         for cr in self.rules:
-            by.setdefault(cr.pred, [[], [], []])[cr.rule.tier].append(cr)
+            by.setdefault(cr.pred, [[], [], []])[0 if self.first else cr.rule.tier].append(cr)
         self.by_symbol = by
         # flattened successor tables for the assembly kernel
         lens = [len(cr.succ_ids) for cr in self.rules]
@@ -141,6 +144,8 @@ class _RuleSet:
         self.rule_nvals = np.array([int(cr.succ_nparams.sum()) for cr in self.rules], np.int64)
         self._build_fast_table()
         self._build_context_table()
+        if self.first:  # the compiled roads draw among alternatives: the general road
+            self.fast = self.ctx_fast = False
 
     @staticmethod
     def _compile(index: int, rule: Rule, alphabet: Alphabet, constants, skip: int = -1,
@@ -345,6 +350,7 @@ class _Compiled:
         self._groups: dict[int, _RuleSet] = {}
         stm = program.statements
         self._kind = {"cpfg": program.dialect == "cpfg", "ring": bool(program.ring),
+                      "first": bool(program.settings.get("first_match")),
                       "live": frozenset(getattr(stm, "written", ()) or ()),
                       "live_get": getattr(stm, "live_values", None)}  # fmt: skip
         self.productions = self.group_rules(0)
@@ -675,6 +681,8 @@ def _step_general(
             at = undecided[rows] if keys is None else keys[undecided[rows]]
             u = _kernels.uniform(key, at) * cum[:, -1]
             pick = np.minimum((cum <= u[:, None]).sum(axis=1), len(tier) - 1)
+            if rs.first:
+                pick = np.argmax(weights[rows] > 0, axis=1)
             chosen_r = np.full(k, -1, np.int64)
             chosen_r[rows] = pick
             for r, cr, sel, env in staged:

@@ -184,3 +184,22 @@ def test_a_call_computed_from_a_parameter_is_not_checked_when_read():
     text = ("Lsystem: 1\nderivation length: 1\nAxiom: A(2)\nA(n) --> ?(n)B$\nendlsystem\n"
             "Lsystem: 2\nAxiom: B\nB --> C\nendlsystem\n")  # fmt: skip
     assert str(sylva.derive(cpfg.parse(text, view=False))) == _w("?(2)B$")
+
+
+def test_an_lsystem_without_seed_takes_the_first_applicable_production():
+    # lsys_input.y: without seed: an L-system is deterministic, and generate.c's FindProd
+    # takes the first production in the file that applies, whatever its kind (a draw
+    # among applicable ones would make vlab's Sedge start its male spike only sometimes:
+    # A(a,t) : a==30 and A(a,t) : t<10 both apply at a = 30)
+    text = ("Lsystem: 1\nderivation length: 1\nAxiom: A(1)A(5)BBC\nA(x) : x>3 --> X\n"
+            "A(x) : x>0 --> Y\nB --> P : 0.5\nB --> Q : 0.5\nC --> R\nB < C --> S\n"
+            "endlsystem\n")  # fmt: skip
+    p = cpfg.parse(text, view=False)
+    for seed in range(4):  # A(1): only the second applies; A(5): both, the first wins;
+        # B: P, its probability ignored; C: the context-free rule comes first in the file
+        assert str(sylva.derive(p, seed=seed)) == "YXPPR"
+    assert str(Derivation(p, trace=True).advance(1)) == "YXPPR"
+    # with a seed: line the L-system is stochastic: the productions are drawn again
+    q = cpfg.parse(text.replace("Axiom:", "seed: 7\nAxiom:"), view=False)
+    assert "first_match" not in q.settings
+    assert len({str(sylva.derive(q, seed=s))[2:4] for s in range(12)}) > 1

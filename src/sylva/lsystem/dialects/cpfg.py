@@ -43,8 +43,10 @@ over the new globals each step, on its general road; a global first set in them 
 cannot change the word).  Several ``Lsystem: N … endlsystem`` blocks are cpfg's
 sub-L-systems (:mod:`._cpfg_sub`): the first is the main one, the productions,
 decomposition and homomorphism of L-system N rewrite only the modules between a call
-``?(N, s)`` and its ``$``.  A context ``*`` is none (``* < A``).  ``group`` is an error
-that names it (cpfg has no production groups; they are lpfg's).
+``?(N, s)`` and its ``$``.  A context ``*`` is none (``* < A``).  A file
+without ``seed:`` is deterministic, as in cpfg: the first applicable production in the
+file's order rewrites a module (the setting ``first_match``), probabilities are ignored.
+``group`` is an error that names it (cpfg has no production groups; they are lpfg's).
 
 The reader turns each line into one line of sylva's ``.lsys`` language and parses that, so
 errors name the file's (or the included file's) lines and columns (a column right of a
@@ -606,6 +608,11 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
     raw_rules = books.check(program.rules, program.constants, len(top))
     if (contexts := books.context_sets(raw_rules)) is not None:
         settings["sublsystem_context"] = contexts  # each L-system its own ignore:
+    if not _has_seed(lines) and _competing(raw_rules):
+        # lsys_input.y: an L-system without seed: is deterministic; generate.c's FindProd
+        # takes the first applicable production in the file's order (probabilities are
+        # ignored, with cpfg's warning "Probability given for deterministic production")
+        settings["first_match"] = 1.0
     rules = tuple(r if r.span is None else replace(r, span=_remap(r.span, src))
                   for r in raw_rules)  # fmt: skip
     if block_src:
@@ -630,6 +637,23 @@ def _homomorphism_has_depth(lines: list[str]) -> bool:
             inside = m.group(1).lower() == "homomorphism"
         elif inside and (k := _KEY.match(line)) and "depth" in k.group(1).lower():
             return True
+    return False
+
+
+def _has_seed(lines: list[_cpp.Line]) -> bool:
+    """Whether an L-system of the file has a ``seed:`` line (cpfg's stochastic L-system)."""
+    return any((m := _KEY.match(ln.text)) and m.group(1).lower() == "seed" for ln in lines)
+
+
+def _competing(rules) -> bool:
+    """Whether two rules of one kind and L-system rewrite the same module (then cpfg's
+    first applicable production and a draw among them may differ)."""
+    seen = set()
+    for r in rules:
+        key = (r.lsystem, r.phase, r.render, r.group, r.predecessor.symbol)
+        if key in seen:
+            return True
+        seen.add(key)
     return False
 
 
