@@ -42,6 +42,7 @@ from ..errors import GrowthLimitError, LSystemSemanticError, StepsError
 from . import _sublsystems as _sub
 from . import _walk
 from . import environment as _open
+from ._cut import _apply_cut, _cut_keep
 from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
 from ._memory import _check_limit, block_step_bytes, fast_step_bytes, general_step_bytes
 from ._steps import _FLOOR_ITERATIONS, DEFAULT_MODULE_LIMIT, check_steps
@@ -118,8 +119,7 @@ class _RuleSet:
             self._compile(i, r, alphabet, constants, self.skip, self.live)
             for i, r in enumerate(rules)
         ]
-        # cpfg's deterministic L-system (no seed:): the first applicable production in the
-        # file's order, whatever its kind (generate.c's FindProd), not a draw among a tier
+        # cpfg without seed: the first applicable production in file order, no tiers nor draw
         self.first = first and len({cr.pred for cr in self.rules}) < len(self.rules)
         by: dict[int, list[list[_CRule]]] = {}
         for cr in self.rules:
@@ -144,8 +144,7 @@ class _RuleSet:
         self.rule_nvals = np.array([int(cr.succ_nparams.sum()) for cr in self.rules], np.int64)
         self._build_fast_table()
         self._build_context_table()
-        if self.first:  # the compiled roads draw among alternatives: the general road
-            self.fast = self.ctx_fast = False
+        self.fast, self.ctx_fast = self.fast and not self.first, self.ctx_fast and not self.first
 
     @staticmethod
     def _compile(index: int, rule: Rule, alphabet: Alphabet, constants, skip: int = -1,
@@ -354,8 +353,7 @@ class _Compiled:
                       "live": frozenset(getattr(stm, "written", ()) or ()),
                       "live_get": getattr(stm, "live_values", None)}  # fmt: skip
         self.productions = self.group_rules(0)
-        # cpfg's ?(n) … $: every phase's rules rewrite only their sub-L-system's modules
-        self.sublsystems = any(r.lsystem for r in program.rules)
+        self.sublsystems = any(r.lsystem for r in program.rules)  # cpfg's ?(n) … $, all phases
         self.render = _RuleSet(program.render_rules, alphabet, constants, **self._kind)
         self.decomposition = _RuleSet(program.decompositions, alphabet, constants, **self._kind)
         self.interpretation = _RuleSet(program.interpretations, alphabet, constants,
@@ -375,14 +373,7 @@ class _Compiled:
         self._ign = ign
         self._cons = cons
         self.ignored = ignored_table(len(alphabet), ign, cons)
-        # cpfg's sub-L-systems each with their own ignore:/consider: (the reader sets this
-        # only where they differ): sub-L-system -> (ignored ids, considered ids or None)
-        sub = program.settings.get("sublsystem_context")
-        self._sub_ctx = None if not sub else {
-            int(k): ([alphabet.id(x) for x in ig],
-                     None if co is None else [alphabet.id(x) for x in co])
-            for k, (ig, co) in sub.items()}  # fmt: skip
-        self._sub_tables: dict[int, np.ndarray] = {}
+        self.sub_ctx = _sub.ContextTables.of(program, alphabet)  # their own ignore: tables
 
     def group_rules(self, group: int) -> _RuleSet:
         """The productions of ``group`` and of group 0 (those outside any group)."""
@@ -410,15 +401,7 @@ class _Compiled:
             )
         return self.group_rules(int(v))
 
-    def ignored_for(self, word: ModuleString, lsystem: int = 0) -> np.ndarray:
-        """The table of the symbols context matching skips (of sub-L-system
-        ``lsystem``'s rules where it has its own, else the program's)."""
-        if self._sub_ctx is not None and lsystem in self._sub_ctx:
-            t = self._sub_tables.get(lsystem)
-            if t is None or t.shape[0] < len(word.alphabet):
-                t = self._sub_tables[lsystem] = ignored_table(len(word.alphabet),
-                                                              *self._sub_ctx[lsystem])
-            return t
+    def ignored_for(self, word: ModuleString) -> np.ndarray:
         if self.ignored.shape[0] < len(word.alphabet):
             self.ignored = ignored_table(len(word.alphabet), self._ign, self._cons)
         return self.ignored
@@ -447,29 +430,6 @@ def _compiled(program: Program) -> _Compiled:
         comp = _Compiled(program)
         object.__setattr__(program, "_sylva_compiled", comp)
     return comp
-
-
-def _cut_keep(word: ModuleString) -> np.ndarray | None:
-    """The keep-mask of ABOP's cut for ``word``, or None when nothing is cut."""
-    cut_id = word.alphabet.get("%")
-    if cut_id < 0 or not (word.ids == cut_id).any():
-        return None
-    return _kernels.cut_mask(word.ids, cut_id)
-
-
-def _apply_cut(word: ModuleString, cut_id: int, keep: np.ndarray | None = None) -> ModuleString:
-    if keep is None:
-        if cut_id < 0 or not (word.ids == cut_id).any():
-            return word
-        keep = _kernels.cut_mask(word.ids, cut_id)
-    if not word.has_params:
-        return ModuleString(word.alphabet, word.ids[keep])
-    counts = np.diff(word.offsets)
-    vals = word.values[np.repeat(keep, counts)]
-    kept = counts[keep]
-    off = np.zeros(kept.shape[0] + 1, np.int64)
-    np.cumsum(kept, out=off[1:])
-    return ModuleString(word.alphabet, word.ids[keep], off, vals)
 
 
 def _step_fast(word: ModuleString, rs: _RuleSet, key: np.uint64, limit: int, step: int):
@@ -627,8 +587,7 @@ def _step_general(
                     ok = np.ones(k, np.bool_)
                 if scope is not None:
                     ok &= scope[undecided] == cr.rule.lsystem
-                ign = (comp.ignored_for(word, cr.rule.lsystem)
-                       if comp._sub_ctx is not None and ignored is not None else ignored)
+                ign = ignored if comp.sub_ctx is None else comp.sub_ctx.get(word, cr, ignored)
                 lpos, rpos = _walk.contexts(word, cr, undecided, ign, ok, _kernels,
                                             rs.ring, rs.skip)  # fmt: skip
                 sel = np.flatnonzero(ok)
@@ -798,9 +757,8 @@ def _passes(word, rs, comp, seed, step, depth, phase, limit, track=False):
     for d in range(depth + 1):
         rs.grow()
         got: list[np.ndarray] = []
-        scope = _sub.scope(word) if comp.sublsystems else None
         new = _step_general(word, rs, comp, _pass_key(seed, step, phase, d), limit, step, got,
-                            scope=scope)  # fmt: skip
+                            scope=_sub.scope_if(word, comp.sublsystems))  # fmt: skip
         choice = got[0]
         applied = np.flatnonzero(choice >= 0)
         if applied.size == 0:
@@ -1133,8 +1091,8 @@ class Derivation:
                           self.limit)  # fmt: skip
         if comp.render.rules:
             key = step_key(self.seed, self.step, render=True)
-            scope = _sub.scope(word) if comp.sublsystems else None
-            word = _step(word, comp.render, comp, key, self.limit, self.step, scope)
+            word = _step(word, comp.render, comp, key, self.limit, self.step,
+                         _sub.scope_if(word, comp.sublsystems))  # fmt: skip
         return _sub.silence(word) if comp.sublsystems else word
 
     def render_word_sources(self) -> tuple[ModuleString, np.ndarray]:
@@ -1145,9 +1103,8 @@ class Derivation:
                               self.program.interpretation_depth, "interpretation",
                               self.limit, track=True)  # fmt: skip
         key = step_key(self.seed, self.step, render=True)
-        scope = _sub.scope(word) if comp.sublsystems else None
         word, src, _, _ = _traced_step(word, comp.render, comp, key, self.limit, self.step,
-                                       scope=scope)  # fmt: skip
+                                       scope=_sub.scope_if(word, comp.sublsystems))  # fmt: skip
         return (_sub.silence(word) if comp.sublsystems else word), first[src]
 
     def __iter__(self) -> Iterator[ModuleString]:
