@@ -149,3 +149,12 @@ def test_a_scaled_call_draws_its_sub_lsystem_s_times_as_large():
     # a call without a scale, or with 1, draws as before
     same = loads("turtle = abop\naxiom = F ?(1) F $ ?(1, 1) F $ F\n")
     assert grow(same, 0).geometry.seg_end[:, 1].tolist() == [1.0, 2.0, 3.0, 4.0]
+
+
+def test_render_rules_of_a_sub_lsystem_draw_only_its_modules():
+    # cpfg draws each sub-L-system through its own homomorphism: a ->> rule after
+    # 'lsystem 1:' rewrites only the modules between ?(1) and $, the others stay
+    p = loads("axiom = A ?(1) A $ A\nlsystem 1:\nA ->> B\n")
+    d = Derivation(p)
+    assert str(d.render_word()) == _w("A ?(1) B ? A")  # the silent $ is a bare ?
+    assert str(sylva.lsystem.render_word(p, d.word)) == _w("A ?(1) B ? A")

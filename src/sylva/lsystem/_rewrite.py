@@ -39,7 +39,8 @@ def render_word(
                       DEFAULT_MODULE_LIMIT)  # fmt: skip
     if comp.render.rules:
         key = step_key(seed, step, render=True)
-        word = _step(word, comp.render, comp, key, DEFAULT_MODULE_LIMIT, step)
+        word = _step(word, comp.render, comp, key, DEFAULT_MODULE_LIMIT, step,
+                     scope(word) if comp.sublsystems else None)  # fmt: skip
     return silence(word) if comp.sublsystems else word
 
 

@@ -20,8 +20,9 @@ from __future__ import annotations
 import numpy as np
 
 from .lstring import ModuleString
+from .matching import ignored_table
 
-__all__ = ["CALL", "END", "scope", "silence"]
+__all__ = ["CALL", "END", "ContextTables", "scope", "scope_if", "silence"]
 
 #: The call and end modules.
 CALL, END = "?", "$"
@@ -56,6 +57,38 @@ def scope(word: ModuleString) -> np.ndarray:
             last = pos + 1
     out[last:] = stack[-1]
     return out
+
+
+def scope_if(word: ModuleString, on: bool) -> np.ndarray | None:
+    """:func:`scope` of ``word`` where the program has sub-L-systems (``on``), else None."""
+    return scope(word) if on else None
+
+
+class ContextTables:
+    """cpfg's sub-L-systems with their own ``ignore:`` / ``consider:`` (the program's
+    setting ``sublsystem_context``, ``{n: (ignored, considered or None)}``, which the cpfg
+    reader sets only where they differ): the table a rule of each matches contexts with."""
+
+    def __init__(self, sets: dict, alphabet) -> None:
+        self.ids = {int(k): ([alphabet.id(x) for x in ig],
+                             None if co is None else [alphabet.id(x) for x in co])
+                    for k, (ig, co) in sets.items()}  # fmt: skip
+        self.tables: dict[int, np.ndarray] = {}
+
+    @classmethod
+    def of(cls, program, alphabet) -> ContextTables | None:
+        sets = program.settings.get("sublsystem_context")
+        return cls(sets, alphabet) if sets else None
+
+    def get(self, word: ModuleString, rule, default: np.ndarray | None) -> np.ndarray | None:
+        """The table of ``rule``'s (compiled) sub-L-system, or ``default`` (the program's)."""
+        k = rule.rule.lsystem
+        if default is None or k not in self.ids:
+            return default
+        t = self.tables.get(k)
+        if t is None or t.shape[0] < len(word.alphabet):
+            t = self.tables[k] = ignored_table(len(word.alphabet), *self.ids[k])
+        return t
 
 
 def silence(word: ModuleString) -> ModuleString:

@@ -42,6 +42,7 @@ from ..errors import GrowthLimitError, LSystemSemanticError, StepsError
 from . import _sublsystems as _sub
 from . import _walk
 from . import environment as _open
+from ._cut import _apply_cut, _cut_keep
 from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
 from ._memory import _check_limit, block_step_bytes, fast_step_bytes, general_step_bytes
 from ._steps import _FLOOR_ITERATIONS, DEFAULT_MODULE_LIMIT, check_steps
@@ -108,7 +109,7 @@ class _RuleSet:
 
     def __init__(self, rules: Sequence[Rule], alphabet: Alphabet, constants, *,
                  cpfg: bool = False, ring: bool = False, live: frozenset = frozenset(),
-                 live_get: Callable | None = None) -> None:  # fmt: skip
+                 live_get: Callable | None = None, first: bool = False) -> None:  # fmt: skip
         self.alphabet = alphabet
         self.ring, self.skip = ring, (alphabet.id("=") if cpfg else -1)  # cpfg's ring and =
         # globals blocks assign, read per application (live_get()): module by module
@@ -118,9 +119,11 @@ class _RuleSet:
             self._compile(i, r, alphabet, constants, self.skip, self.live)
             for i, r in enumerate(rules)
         ]
+        # cpfg without seed: the first applicable production in file order, no tiers nor draw
+        self.first = first and len({cr.pred for cr in self.rules}) < len(self.rules)
         by: dict[int, list[list[_CRule]]] = {}
         for cr in self.rules:
-            by.setdefault(cr.pred, [[], [], []])[cr.rule.tier].append(cr)
+            by.setdefault(cr.pred, [[], [], []])[0 if self.first else cr.rule.tier].append(cr)
         self.by_symbol = by
         # flattened successor tables for the assembly kernel
         lens = [len(cr.succ_ids) for cr in self.rules]
@@ -141,6 +144,7 @@ class _RuleSet:
         self.rule_nvals = np.array([int(cr.succ_nparams.sum()) for cr in self.rules], np.int64)
         self._build_fast_table()
         self._build_context_table()
+        self.fast, self.ctx_fast = self.fast and not self.first, self.ctx_fast and not self.first
 
     @staticmethod
     def _compile(index: int, rule: Rule, alphabet: Alphabet, constants, skip: int = -1,
@@ -346,10 +350,11 @@ class _Compiled:
         self._groups: dict[int, _RuleSet] = {}
         stm = program.statements
         self._kind = {"cpfg": program.dialect == "cpfg", "ring": bool(program.ring),
+                      "first": bool(program.settings.get("first_match")),
                       "live": frozenset(getattr(stm, "written", ()) or ()),
                       "live_get": getattr(stm, "live_values", None)}  # fmt: skip
         self.productions = self.group_rules(0)
-        self.sublsystems = any(r.lsystem for r in program.productions)  # cpfg's ?(n) … $
+        self.sublsystems = any(r.lsystem for r in program.rules)  # cpfg's ?(n) … $, all phases
         self.render = _RuleSet(program.render_rules, alphabet, constants, **self._kind)
         self.decomposition = _RuleSet(program.decompositions, alphabet, constants, **self._kind)
         self.interpretation = _RuleSet(program.interpretations, alphabet, constants,
@@ -369,6 +374,7 @@ class _Compiled:
         self._ign = ign
         self._cons = cons
         self.ignored = ignored_table(len(alphabet), ign, cons)
+        self.sub_ctx = _sub.ContextTables.of(program, alphabet)  # their own ignore: tables
 
     def group_rules(self, group: int) -> _RuleSet:
         """The productions of ``group`` and of group 0 (those outside any group)."""
@@ -425,29 +431,6 @@ def _compiled(program: Program) -> _Compiled:
         comp = _Compiled(program)
         object.__setattr__(program, "_sylva_compiled", comp)
     return comp
-
-
-def _cut_keep(word: ModuleString) -> np.ndarray | None:
-    """The keep-mask of ABOP's cut for ``word``, or None when nothing is cut."""
-    cut_id = word.alphabet.get("%")
-    if cut_id < 0 or not (word.ids == cut_id).any():
-        return None
-    return _kernels.cut_mask(word.ids, cut_id)
-
-
-def _apply_cut(word: ModuleString, cut_id: int, keep: np.ndarray | None = None) -> ModuleString:
-    if keep is None:
-        if cut_id < 0 or not (word.ids == cut_id).any():
-            return word
-        keep = _kernels.cut_mask(word.ids, cut_id)
-    if not word.has_params:
-        return ModuleString(word.alphabet, word.ids[keep])
-    counts = np.diff(word.offsets)
-    vals = word.values[np.repeat(keep, counts)]
-    kept = counts[keep]
-    off = np.zeros(kept.shape[0] + 1, np.int64)
-    np.cumsum(kept, out=off[1:])
-    return ModuleString(word.alphabet, word.ids[keep], off, vals)
 
 
 def _step_fast(word: ModuleString, rs: _RuleSet, key: np.uint64, limit: int, step: int):
@@ -605,7 +588,8 @@ def _step_general(
                     ok = np.ones(k, np.bool_)
                 if scope is not None:
                     ok &= scope[undecided] == cr.rule.lsystem
-                lpos, rpos = _walk.contexts(word, cr, undecided, ignored, ok, _kernels,
+                ign = ignored if comp.sub_ctx is None else comp.sub_ctx.get(word, cr, ignored)
+                lpos, rpos = _walk.contexts(word, cr, undecided, ign, ok, _kernels,
                                             rs.ring, rs.skip)  # fmt: skip
                 sel = np.flatnonzero(ok)
                 if sel.size == 0:
@@ -657,6 +641,8 @@ def _step_general(
             at = undecided[rows] if keys is None else keys[undecided[rows]]
             u = _kernels.uniform(key, at) * cum[:, -1]
             pick = np.minimum((cum <= u[:, None]).sum(axis=1), len(tier) - 1)
+            if rs.first:
+                pick = np.argmax(weights[rows] > 0, axis=1)
             chosen_r = np.full(k, -1, np.int64)
             chosen_r[rows] = pick
             for r, cr, sel, env in staged:
@@ -773,7 +759,8 @@ def _passes(word, rs, comp, seed, step, depth, phase, limit, track=False):
     for d in range(depth + 1):
         rs.grow()
         got: list[np.ndarray] = []
-        new = _step_general(word, rs, comp, _pass_key(seed, step, phase, d), limit, step, got)
+        new = _step_general(word, rs, comp, _pass_key(seed, step, phase, d), limit, step, got,
+                            scope=_sub.scope_if(word, comp.sublsystems))  # fmt: skip
         choice = got[0]
         applied = np.flatnonzero(choice >= 0)
         if applied.size == 0:
@@ -1108,7 +1095,8 @@ class Derivation:
                           self.limit)  # fmt: skip
         if comp.render.rules:
             key = step_key(self.seed, self.step, render=True)
-            word = _step(word, comp.render, comp, key, self.limit, self.step)
+            word = _step(word, comp.render, comp, key, self.limit, self.step,
+                         _sub.scope_if(word, comp.sublsystems))  # fmt: skip
         return _sub.silence(word) if comp.sublsystems else word
 
     def render_word_sources(self) -> tuple[ModuleString, np.ndarray]:
@@ -1119,7 +1107,8 @@ class Derivation:
                               self.program.interpretation_depth, "interpretation",
                               self.limit, track=True)  # fmt: skip
         key = step_key(self.seed, self.step, render=True)
-        word, src, _, _ = _traced_step(word, comp.render, comp, key, self.limit, self.step)
+        word, src, _, _ = _traced_step(word, comp.render, comp, key, self.limit, self.step,
+                                       scope=_sub.scope_if(word, comp.sublsystems))  # fmt: skip
         return (_sub.silence(word) if comp.sublsystems else word), first[src]
 
     def __iter__(self) -> Iterator[ModuleString]:

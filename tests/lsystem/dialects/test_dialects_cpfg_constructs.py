@@ -296,23 +296,6 @@ def test_a_second_tropism_is_the_view_files_second_tropism_line(tmp_path):
     assert np.allclose(ends("@Ts(1,0)@Ts(2,0)@Ts(3,0)FF"), [[0, 1, 0], [0, 2, 0]])
 
 
-def test_a_second_lsystem_in_the_file_is_warned_about_not_dropped_silently():
-    """cpfg's sub-L-systems are further ``Lsystem:`` blocks of the same file; sylva's cpfg
-    reader reads the first one only, and says so with the line of the second."""
-    import warnings
-
-    from sylva.errors import SylvaWarning
-    from sylva.lsystem.dialects import cpfg
-
-    text = ("Lsystem: 1\nderivation length: 1\nAxiom: F?(2,0.5)F\nF --> FF\nendlsystem\n"
-            "Lsystem: 2\nAxiom: G\nG --> GG\nendlsystem\n")  # fmt: skip
-    with warnings.catch_warnings(record=True) as seen:
-        warnings.simplefilter("always")
-        p = cpfg.parse(text, "two.l")
-    assert p.name == "1"
-    msgs = [str(w.message) for w in seen if issubclass(w.category, SylvaWarning)]
-    assert len(msgs) == 1 and msgs[0].startswith("two.l:6:1:") and "only the first" in msgs[0]
-
 
 def test_parameters_are_32_bit_floats_as_cpfg_keeps_them():
     # vlab's 01-Introduction/08-continuous-time: t grows by dt = 0.02 until t >= 2.  cpfg

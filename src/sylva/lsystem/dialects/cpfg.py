@@ -42,9 +42,13 @@ conditions and successors read; ``StartEach: { … }`` and ``EndEach: { … }`` 
 after every derivation step (:attr:`Program.statements`: the engine compiles the rules again
 over the new globals each step, on its general road; a global first set in them starts at
 0; homomorphism rules see the values ``Start:`` left); ``End: { … }`` is read but not run (it
-cannot change the word).  Not supported, with an error that names the construct: the
-statement blocks of productions (``pred : { … } condition { … } -->``), ``ring L-system``,
-``group`` and sub-L-systems.
+cannot change the word).  Several ``Lsystem: N … endlsystem`` blocks are cpfg's
+sub-L-systems (:mod:`._cpfg_sub`): the first is the main one, the productions,
+decomposition and homomorphism of L-system N rewrite only the modules between a call
+``?(N, s)`` and its ``$``.  A context ``*`` is none (``* < A``).  A file
+without ``seed:`` is deterministic, as in cpfg: the first applicable production in the
+file's order rewrites a module (the setting ``first_match``), probabilities are ignored.
+``group`` is an error that names it (cpfg has no production groups; they are lpfg's).
 
 The reader turns each line into one line of sylva's ``.lsys`` language and parses that, so
 errors name the file's (or the included file's) lines and columns (a column right of a
@@ -63,11 +67,10 @@ from __future__ import annotations
 import copy
 import math
 import re
-import warnings
 from dataclasses import replace
 from pathlib import Path
 
-from ...errors import LSystemSyntaxError, SylvaError, SylvaWarning
+from ...errors import LSystemSyntaxError, SylvaError
 from ..ast import Program, Span
 from ..expr import evaluate_constant
 from . import (
@@ -76,6 +79,7 @@ from . import (
     _cpfg_functions,
     _cpfg_production,
     _cpfg_statements,
+    _cpfg_sub,
     _cpfg_view,
     _cpp,
     lsysvis,
@@ -93,7 +97,12 @@ _BLOCK = re.compile(r"\s*(define|start|starteach|endeach|end)\s*:\s*(?=\{)", re.
 _UNSUPPORTED = re.compile(r"\s*(ring\s+l-?system|start\s*:|starteach\s*:|endeach\s*:"
                           r"|end\s*:|define\s*:|group\b|sub-?l-?system)",
                           re.IGNORECASE)  # fmt: skip
-_UNSUPPORTED_WHY: dict[str, str] = {}
+_UNSUPPORTED_WHY: dict[str, str] = {
+    "group": "cpfg has no production groups: neither its manual nor its parser knows "
+             "'group'; lpfg's 'group N:' sections are read by neither cpfg nor sylva's cpfg "
+             "reader. Expected sub-L-systems ('Lsystem: 2' blocks called by ?(2, s) … $), "
+             "or the .lsys language's 'group N:' sections with 'group = …'",
+}
 _RING = re.compile(r"\s*ring\s+l-?system\s*\Z", re.IGNORECASE)
 #: A line that begins a production whose arrow comes later: ``M(t) : 1 {x=0.5*R^t;}``.
 _HEAD = re.compile(r"[^{}]*:\s*\{|[^{}]*:[^{}]*\{[^}]*(?<![=!<>])=(?!=)|.*:\s*\Z"
@@ -121,7 +130,6 @@ def _other_arrow(text: str) -> bool:
 
 
 _AXIOM = re.compile(r"\s*axiom\s*:", re.IGNORECASE)
-_NEXT_LSYSTEM = re.compile(r"\s*l-?system\s*:", re.IGNORECASE)
 _SECTION = re.compile(r"\s*(homomorphism|decomposition|endlsystem)\b(.*)\Z", re.IGNORECASE)
 
 
@@ -366,7 +374,7 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
     name: str | None = None
     render = False
     ended = False
-    warned_more = False
+    books = _cpfg_sub.Books()  # the file's L-systems: the main one, then sub-L-systems
     trop_at = None
     ring = False
     seen_rule = False
@@ -394,15 +402,16 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
             return pre.error(message, _l.at(column))
 
         line = logical.text.rstrip()
-        if ended and name is not None and not warned_more and _NEXT_LSYSTEM.match(line):
-            warned_more = True
-            file, at_line, at_col = logical.at(1)
-            warnings.warn(f"{file or filename or '<string>'}:{at_line}:{at_col}:"
-                          " a second L-system follows the first one's endlsystem; sylva's cpfg"
-                          " reader reads only the first (its sub-L-system calls ?(n, s) stay"
-                          " plain modules)", SylvaWarning, stacklevel=2)  # fmt: skip
-        if ended or not line.strip():
+        if ended and (m := _KEY.match(line)) and m.group(1).lower() == "lsystem":
+            books.start(m.group(2).strip(), where)  # a sub-L-system (cpfg's manual §7.2)
+            ended, render, section = False, False, "production"
+            emit("production:")
+            continue
+        if (ended and logical.define is None) or not line.strip():
             emit("")
+            continue
+        if logical.define is not None and ended and logical.define not in pre.values:
+            emit("")  # a macro between L-systems: cpp has expanded its uses
             continue
         if logical.define is not None and seen_rule and logical.define in pre.values:
             # cpp's #define may follow the rules; its value is known: set it before them
@@ -416,6 +425,11 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
             continue
         if m := _BLOCK.match(line):
             kind = " ".join(m.group(1).lower().split())
+            if books.current and kind != "define":
+                raise where(f"cpfg's '{m.group(1)}:' block in sub-L-system {books.current} is "
+                            "not supported by sylva's cpfg reader (cpfg runs it per call of "
+                            "the sub-L-system); expected it in the main L-system",
+                            m.start(1) + 1)  # fmt: skip
             if kind in ("starteach", "endeach"):  # noqa: SIM102
                 tree = _cpfg_statements.parse_block(
                     logical.text[m.end() :], lambda msg, o, _m=m: where(msg, _m.end() + o + 1))
@@ -460,11 +474,17 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
         if (m := _KEY.match(line)) and "-->" not in line:  # AXIOM : c --> is a rule
             key = " ".join(m.group(1).lower().split())
             value = m.group(2).strip()
+            if books.current and key in ("axiom", "derivation length", "seed"):
+                emit("")  # cpfg: the main L-system's; a sub-L-system's serve it run alone
+                continue
             if key == "axiom" and value:
+                books.calls += [(t, lambda msg, _c=c, _w=where: _w(msg, _c + 1))
+                                for t, c in _cpfg_sub.calls_in(m.group(2), m.start(2))]
                 value = _axiom_calls(value, globals_ or _new_globals(seed, functions), pre,
                                      where, m.start(2) + 1)  # fmt: skip
             if key == "lsystem":
                 name = value or None
+                books.main_id = _cpfg_sub.label_number(value)
                 emit("")
             elif key == "derivation length":
                 emit(f"steps = {value}")
@@ -476,6 +496,12 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
                     raise where("'maximum depth:' belongs in a decomposition or homomorphism "
                                 "section; expected it after 'decomposition' or "
                                 "'homomorphism'", 1 + len(line) - len(line.lstrip()))  # fmt: skip
+                had = depths.get(_DEPTH_OF[section])
+                if had is not None and books.current and had[0] != value:
+                    raise where(f"this {section}'s maximum depth {value!r} differs from the "
+                                f"main L-system's {had[0]!r}; sylva's cpfg reader keeps one "
+                                "per section for the file (expected the same)",
+                                line.index(":") + 2)  # fmt: skip
                 depths[_DEPTH_OF[section]] = (value, where("", line.index(":") + 2))
                 emit("")
             elif key in _VIEW:
@@ -487,11 +513,22 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
                 if key in ("consider", "ignore"):  # cpfg lets brackets be listed: they
                     # are always considered (the word's tree), as cpfg does
                     value = value.replace("[", " ").replace("]", " ")
+                    books.context[books.current] = (
+                        key, frozenset(c for c in value if not c.isspace()),
+                        where("", m.start(1) + 1))  # fmt: skip
+                    if books.current:  # a sub-L-system's: checked against the main's
+                        emit("")
+                        continue
                 emit(f"{key} = {_in_parens_power(value)}")
             continue
         if "-->" in line:
             seen_rule = True
-            for piece in _multi_predecessor(line):
+            succ_at = line.index("-->") + 3
+            books.calls += [(t, lambda msg, _c=c, _w=where: _w(msg, _c + 1))
+                            for t, c in _cpfg_sub.calls_in(line[succ_at:], succ_at)]
+            for piece in _multi_predecessor(_null_contexts(line)):
+                if books.current:
+                    books.rule_lsystem[len(out) + 1] = books.current
                 rule, parts[len(out) + 1], blocks = _production(piece, render, where)
                 if blocks is not None:
                     block_src[len(out) + 1] = (blocks, logical, where)
@@ -570,10 +607,18 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
     at = program.steps_at
     if at is not None:
         at = _remap(Span(at.line, steps_col, at.filename), src)
+    raw_rules = books.check(program.rules, program.constants, len(top))
+    if (contexts := books.context_sets(raw_rules)) is not None:
+        settings["sublsystem_context"] = contexts  # each L-system its own ignore:
+    if not _has_seed(lines) and _competing(raw_rules):
+        # lsys_input.y: an L-system without seed: is deterministic; generate.c's FindProd
+        # takes the first applicable production in the file's order (probabilities are
+        # ignored, with cpfg's warning "Probability given for deterministic production")
+        settings["first_match"] = 1.0
     rules = tuple(r if r.span is None else replace(r, span=_remap(r.span, src))
-                  for r in program.rules)  # fmt: skip
+                  for r in raw_rules)  # fmt: skip
     if block_src:
-        rules, written = _attach_blocks(program.rules, rules, made,
+        rules, written = _attach_blocks(raw_rules, rules, made,
                                         (set(globals_.values) - set(pre.values)) | each_names,
                                         len(top))  # fmt: skip
         if written:
@@ -594,6 +639,23 @@ def _homomorphism_has_depth(lines: list[str]) -> bool:
             inside = m.group(1).lower() == "homomorphism"
         elif inside and (k := _KEY.match(line)) and "depth" in k.group(1).lower():
             return True
+    return False
+
+
+def _has_seed(lines: list[_cpp.Line]) -> bool:
+    """Whether an L-system of the file has a ``seed:`` line (cpfg's stochastic L-system)."""
+    return any((m := _KEY.match(ln.text)) and m.group(1).lower() == "seed" for ln in lines)
+
+
+def _competing(rules) -> bool:
+    """Whether two rules of one kind and L-system rewrite the same module (then cpfg's
+    first applicable production and a draw among them may differ)."""
+    seen = set()
+    for r in rules:
+        key = (r.lsystem, r.phase, r.render, r.group, r.predecessor.symbol)
+        if key in seen:
+            return True
+        seen.add(key)
     return False
 
 
@@ -741,6 +803,26 @@ def _pred_modules(text: str) -> list[str]:
         mods.append(text[k:j].strip())
         k = j
     return mods
+
+
+def _null_contexts(line: str) -> str:
+    """``line`` without a context that is cpfg's ``*`` (no context: ``* < A`` is ``A``,
+    ``B > *`` is ``B``; ``lsys_input.y`` reads ``*`` there as the empty context).
+
+    >>> _null_contexts("* < #(d) : d<200 --> #(d*2)"), _null_contexts("B > * : * --> C")
+    ('    #(d) : d<200 --> #(d*2)', 'B     : * --> C')
+    """
+    at = line.index("-->")
+    lhs = line[:at]
+    c = _outside_parens(lhs, ":")
+    head, rest = (lhs, line[at:]) if c < 0 else (lhs[:c], line[c:])
+    lt = _outside_parens(head, "<")
+    if lt >= 0 and head[:lt].strip() == "*":
+        head = " " * (lt + 1) + head[lt + 1 :]  # spaces: the columns stay
+    gt = _outside_parens(head, ">")
+    if gt >= 0 and head[gt + 1 :].strip() == "*":
+        head = head[:gt] + " " * (len(head) - gt)
+    return head + rest
 
 
 def _multi_predecessor(line: str) -> list[str]:
