@@ -9,7 +9,7 @@ import struct
 
 import numpy as np
 
-from sylva.tree import Tree, model
+from sylva.tree import Tree, events, model
 from sylva.tree import weber_penn as wp
 
 _EDGES = [-math.inf, -2.0, -1e-300, -0.0, 0.0, 5e-324, 0.3, 0.5, 1.0 - 1e-16, 1.0,
@@ -38,6 +38,12 @@ def test_the_clamps_are_np_clip_bit_for_bit():
     # the leaves' form (sizes_at) is the same expression on [0, 1]
     a = np.array(_EDGES)
     assert np.minimum(np.maximum(0.0, a), 1.0).tobytes() == np.clip(a, 0.0, 1.0).tobytes()
+    # and the growth curves' clamp of arrays (the leaves' birth times), scalars as before
+    assert events._clip01(a).tobytes() == np.clip(a, 0.0, 1.0).tobytes()
+    for x in _EDGES:
+        want = min(max(float(x), 0.0), 1.0)
+        for v in (x, np.float64(x), np.array(x)):
+            assert struct.pack("d", events._clip01(v)) == struct.pack("d", want)
 
 
 def test_a_pruned_tree_is_the_tree_of_the_reference_envelope(monkeypatch):

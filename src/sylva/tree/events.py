@@ -136,9 +136,11 @@ class Simulation:
 
 
 def _clip01(x):
-    if np.ndim(x) == 0:  # scalars: far cheaper than np.clip
+    if not isinstance(x, np.ndarray) or x.ndim == 0:  # scalars: far cheaper than np.clip
         return min(max(float(x), 0.0), 1.0)
-    return np.clip(x, 0.0, 1.0)
+    # np.clip(x, 0, 1) bit for bit (NaN and -0 as np.clip gives them), without its
+    # Python-level dispatch (tests/tree/test_clip_speed.py)
+    return np.minimum(np.maximum(0.0, x), 1.0)
 
 
 def smoothstep(x):

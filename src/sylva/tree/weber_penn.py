@@ -352,6 +352,8 @@ class StemPlan:
 
     def time_at_length(self, s):
         """The global time this stem reaches arc length ``s`` (a float or an array)."""
+        if isinstance(s, float):  # the same numbers without a 0-d array's detour
+            return float(self.birth + self.growth.inverse(s / self.length) * self.grow_time)
         tau = self.growth.inverse(np.asarray(s, np.float64) / self.length)
         out = self.birth + tau * self.grow_time
         return float(out) if np.ndim(out) == 0 else out
