@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -167,6 +169,34 @@ def bend_stem(F, P, curve, seg, has_up, up, attraction, has_world, world, cleara
             P[i + 1, r] = P[i, r] + f[r, 1] * seg
             for k in range(3):
                 F[i + 1, r, k] = f[r, k]
+
+
+@njit(cache=True)
+def envelope_exit(pts, st, denom, width, peak, low, high):
+    """The first of ``pts`` (float64[n, 3], plant frame) outside the pruning envelope, as
+    :meth:`sylva.tree.model.Tree.inside_envelope` decides it (``st`` the tree's scale,
+    ``denom`` ``st · (1 − BaseSize)``, ``peak`` clamped as :func:`~sylva.tree.weber_penn.envelope`
+    clamps it); -1 when every point is inside, -2 when a point before the first outside one
+    is within 1e-12 (relative) of the envelope or not finite.
+
+    NumPy raises arrays to a power by its own SIMD routines, whose last bit may differ from
+    the C library's ``pow`` used here, so a point that near the envelope is left to the
+    caller, which then asks ``Tree.inside_envelope`` itself: every decision is NumPy's."""
+    for i in range(pts.shape[0]):
+        d = math.hypot(pts[i, 0], pts[i, 2]) / st
+        r = (st - pts[i, 1]) / denom
+        if not (r >= 0.0 and r <= 1.0):  # the envelope is 0 there (or r is NaN): outside
+            return i
+        c = r if r != 0.0 else 0.0  # np.maximum(0.0, -0.0) is 0.0
+        if c < 1.0 - peak:
+            e = width * (c / (1.0 - peak)) ** high
+        else:
+            e = width * ((1.0 - c) / peak) ** low
+        if not (math.isfinite(e) and math.isfinite(d)) or abs(d - e) <= 1e-12 * abs(e) + 1e-300:
+            return -2
+        if not d < e:
+            return i
+    return -1
 
 
 @njit(cache=True)

@@ -84,7 +84,7 @@ import math
 
 import numpy as np
 
-from ._kernels import bend_stem
+from ._kernels import bend_stem, envelope_exit
 from ._streams import stream
 from .components import Component
 from .leaves import LEAF_FALL, Leaves, plan_leaves
@@ -1029,16 +1029,23 @@ def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray,
                   True, np.asarray(parent_world, np.float64), float(clearance))
 
     # (k0, frame, key, split error, world, share) of the runs still to test
+    # Tree.inside_envelope's numbers, for the compiled test of each run's points
+    st = max(tree.scale_tree, 1e-9)
+    denom = st * max(1.0 - tree.base_size, 1e-9)
+    width, peak, low, high = tree.prune
+    peak = min(max(peak, 1e-6), 1 - 1e-6)
     stack = [(0, np.eye(3), key, 0.0, world, 1.0)]
     keep = None
     while stack:
         k0, frame, bkey, err0, w, share = stack.pop()
         k1, n_split, err, F, P = _run_curve(plan, k0, frame, err0, w, bend, memo)
         pts = P @ w[:3, :3].T + w[:3, 3]
-        out = ~tree.inside_envelope(pts)
+        k = envelope_exit(pts, st, denom, width, peak, low, high)
+        if k == -2:  # a point on the envelope, to the last bits: NumPy's own numbers decide
+            out = ~tree.inside_envelope(pts)
+            k = int(np.argmax(out)) if np.any(out) else -1
         arc0 = k0 * seg
-        if np.any(out):
-            k = int(np.argmax(out))
+        if k >= 0:
             arc = arc0 + max(k - 1, 0) * seg
             keep = arc if keep is None else min(keep, arc)
             continue  # a clone after the exit cannot keep more than this
