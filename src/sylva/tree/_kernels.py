@@ -172,6 +172,24 @@ def bend_stem(F, P, curve, seg, has_up, up, attraction, has_world, world, cleara
 
 
 @njit(cache=True)
+def axis_rotations(a, axis):
+    """``float64[n, 3, 3]``: the rotations by the angles ``a`` about x (``axis`` 0) or y
+    (1), the matrices of NumPy's ``cos`` and ``sin`` (the C library's, for float64) laid
+    out as :func:`sylva.tree.weber_penn._rx_many` and ``_ry_many`` lay them out."""
+    n = a.shape[0]
+    out = np.zeros((n, 3, 3))
+    for i in range(n):
+        c, s = np.cos(a[i]), np.sin(a[i])
+        if axis == 0:
+            out[i, 0, 0] = 1.0
+            out[i, 1, 1], out[i, 1, 2], out[i, 2, 1], out[i, 2, 2] = c, -s, s, c
+        else:
+            out[i, 1, 1] = 1.0
+            out[i, 0, 0], out[i, 0, 2], out[i, 2, 0], out[i, 2, 2] = c, s, -s, c
+    return out
+
+
+@njit(cache=True)
 def envelope_exit(pts, st, denom, width, peak, low, high):
     """The first of ``pts`` (float64[n, 3], plant frame) outside the pruning envelope, as
     :meth:`sylva.tree.model.Tree.inside_envelope` decides it (``st`` the tree's scale,
