@@ -101,3 +101,23 @@ def test_the_compiled_rotations_are_numpys_bit_for_bit():
               np.cumsum(rng.normal(0, 0.3, 40)), np.zeros(0)):
         assert wp._rx_many(a).tobytes() == _rx_many_numpy(a).tobytes()
         assert wp._ry_many(a).tobytes() == _ry_many_numpy(a).tobytes()
+
+
+def test_the_compiled_run_lookup_is_numpys_bit_for_bit():
+    """``Branch._where_points`` (and ``_segments_at``) by a kernel: NumPy's floor division,
+    clamp and point arithmetic, to the bit, on arc lengths around and on segment ends."""
+    from sylva.tree._kernels import where_points
+
+    rng = np.random.default_rng(0)
+    for trial in range(3000):
+        m = int(rng.integers(1, 17))
+        seg = float(rng.uniform(0.001, 3)) * 10.0 ** int(rng.integers(-3, 2))
+        arc0 = float(rng.integers(0, 5) * seg)
+        P, F = rng.normal(size=(m + 1, 3)), rng.normal(size=(m + 1, 3, 3))
+        s = arc0 + rng.uniform(-0.1, m + 0.1, int(rng.integers(0, 30))) * seg
+        if trial % 3 == 0 and len(s):
+            s[0] = arc0 + int(rng.integers(0, m + 1)) * seg  # on a segment's end
+        i = np.minimum(np.maximum(((s - arc0) // seg).astype(np.int64), 0), m - 1)
+        p = P[i] + F[i + 1, :, 1] * (s - arc0 - i * seg)[:, None]
+        j, q = where_points(s, arc0, seg, m - 1, P, F)
+        assert j.tobytes() == i.tobytes() and q.tobytes() == p.tobytes()

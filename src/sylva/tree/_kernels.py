@@ -190,6 +190,40 @@ def axis_rotations(a, axis):
 
 
 @njit(cache=True)
+def _floor_divide(a, b):
+    """NumPy's float64 ``a // b`` (its ``npy_divmod``: fmod, then the correction), for b != 0."""
+    mod = np.fmod(a, b)
+    div = (a - mod) / b
+    if mod and (b < 0) != (mod < 0):
+        div -= 1.0
+    if div:
+        fd = np.floor(div)
+        if div - fd > 0.5:
+            fd += 1.0
+        return fd
+    return math.copysign(0.0, a / b)
+
+
+@njit(cache=True)
+def where_points(s, arc0, seg, last, points, frames):
+    """``Branch._where_points``: the segment of a run at each arc length ``s`` (float64[n])
+    and the point there, ``(int64[n], float64[n, 3])``, with NumPy's numbers (its floor
+    division, then ``points[i] + frames[i + 1, :, 1] * ((s - arc0) - i * seg)``); ``last``
+    is the run's last segment index."""
+    n = s.shape[0]
+    idx = np.empty(n, np.int64)
+    p = np.empty((n, 3))
+    for j in range(n):
+        d = s[j] - arc0
+        i = min(max(np.int64(_floor_divide(d, seg)), 0), last)
+        idx[j] = i
+        t = d - i * seg
+        for k in range(3):
+            p[j, k] = points[i, k] + frames[i + 1, k, 1] * t
+    return idx, p
+
+
+@njit(cache=True)
 def envelope_exit(pts, st, denom, width, peak, low, high):
     """The first of ``pts`` (float64[n, 3], plant frame) outside the pruning envelope, as
     :meth:`sylva.tree.model.Tree.inside_envelope` decides it (``st`` the tree's scale,

@@ -164,7 +164,7 @@ class Leaves(Component):
             return  # the stem is not out yet
         sizes = self.sizes_at(self._t)
         out = sizes > 0.0
-        if not np.any(out):
+        if not out.any():
             return
         size = sizes[out]
         i, pos = b._where_points(self.arc[out])
@@ -288,7 +288,7 @@ def _juvenile_leaves(branch):
     birth = np.asarray(plan.time_at_length(arcs), np.float64) + tree.leaf_delay
     death = np.minimum(birth + tree.juvenile_leaf_life, tree.default_age - 1.0)
     keep = death > birth + 0.5 * tree.leaf_unfold
-    if not np.any(keep) or np.all(death[keep] <= target):
+    if not keep.any() or (death[keep] <= target).all():
         return None
     arcs, birth, death = arcs[keep], birth[keep], death[keep]
     n = len(arcs)

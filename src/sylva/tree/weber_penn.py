@@ -84,7 +84,7 @@ import math
 
 import numpy as np
 
-from ._kernels import axis_rotations, bend_stem, envelope_exit
+from ._kernels import axis_rotations, bend_stem, envelope_exit, where_points
 from ._streams import stream
 from .components import Component
 from .leaves import LEAF_FALL, Leaves, plan_leaves
@@ -460,7 +460,7 @@ def _run_curve(plan: StemPlan, k0: int, frame: np.ndarray, split_error: float,
     sequential = False
     if parent_world is not None:
         y = P[1:] @ parent_world[1, :3] + parent_world[1, 3]
-        sequential = bool(np.any(y < clearance))
+        sequential = bool((y < clearance).any())
     if sequential:
         bend(F, P, plan.curve[k0:k1], seg, up_local, attraction / (2.0 * res), parent_world)
     return k1, n_split, err, F, P
@@ -591,16 +591,17 @@ class Branch(Component):
         return i, p, f
 
     def _segments_at(self, s: np.ndarray) -> np.ndarray:
-        """The local segment index at each arc length ``s`` (of :meth:`_where_many`)."""
-        return np.minimum(np.maximum(((s - self.arc0) // self.plan.seg_length).astype(
-            np.int64), 0), self.k1 - self.k0 - 1)
+        """The local segment index at each arc length ``s`` (of :meth:`_where_many`):
+        ``clip((s - arc0) // seg, 0, last)`` (compiled, :func:`_where_points`)."""
+        return self._where_points(s)[0]
 
     def _where_points(self, s: np.ndarray):
-        """:meth:`_where_many` without the frames: int[n], float[n, 3] (the same numbers)."""
-        i = self._segments_at(s)
-        p = self.points[i] + self.frames[i + 1, :, 1] * (
-            s - self.arc0 - i * self.plan.seg_length)[:, None]
-        return i, p
+        """:meth:`_where_many` without the frames: int[n], float[n, 3] (NumPy's numbers,
+        by one compiled call, :func:`~sylva.tree._kernels.where_points`;
+        ``tests/tree/test_clip_speed.py`` holds it to the NumPy form)."""
+        return where_points(np.asarray(s, np.float64), float(self.arc0),
+                            float(self.plan.seg_length), self.k1 - self.k0 - 1,
+                            self.points, self.frames)
 
     def _plan_children(self, rng) -> list[tuple]:
         plan, tree = self.plan, self.plan.tree
@@ -753,11 +754,16 @@ class Branch(Component):
         if length < 1e-3:
             return
         world = self.world_matrix() @ slot.matrix
-        state = rng.bit_generator.state
+        if shed is None and tree.prune_ratio > 0.0:  # pruning trials: a plan per trial
+            state = rng.bit_generator.state
 
-        def plan_of(length: float) -> StemPlan:
-            rng.bit_generator.state = state  # the same draws for every trial length
-            return self._child_plan(lv, length, s, lmax, r_here, t, rng, shed)
+            def plan_of(length: float) -> StemPlan:
+                rng.bit_generator.state = state  # the same draws for every trial length
+                return self._child_plan(lv, length, s, lmax, r_here, t, rng, shed)
+        else:  # one plan: the stream is where the trials would set it back to
+
+            def plan_of(length: float) -> StemPlan:
+                return self._child_plan(lv, length, s, lmax, r_here, t, rng, shed)
 
         if shed is not None:
             child = Branch(plan_of(length), 0, np.eye(3), key, parent_world=world)
