@@ -349,3 +349,31 @@ def leaf_fill(pos, fr, sx, size, bv, buv, btri, flutter, tint, live, ljoint, bas
         for t in range(nt):
             for c in range(3):
                 I[t0 + t, c] = np.uint32(btri[t, c] + v0)
+
+
+@njit(cache=True)
+def blade_wind(blade, level, phase, reach, flutter):
+    """The ``WIND`` columns of the leaf blades (``blade`` float32[q, nv, 4], written): the
+    leaf's level, phase and reach (float32[q], float64[q], float32[q], one per leaf) on
+    each of its vertices, and each vertex's flutter (``flutter`` float32[q, nv, 3]) over
+    its blade's largest -- :func:`sylva.tree.lod.tree_wind`'s numbers: NumPy's float32 norm
+    ``√((x² + y²) + z²)``, the largest (at least 0) in float64, the quotient cast back and
+    clipped to [0, 1]."""
+    q, nv = blade.shape[0], blade.shape[1]
+    fl = np.empty(nv, np.float32)
+    for k in range(q):
+        top = np.float32(0.0)
+        for v in range(nv):
+            x, y, z = flutter[k, v, 0], flutter[k, v, 1], flutter[k, v, 2]
+            f = np.sqrt((x * x + y * y) + z * z)
+            fl[v] = f
+            if v == 0 or f > top:
+                top = f
+        den = max(np.float64(max(top, np.float32(0.0))), 1e-12)
+        lv, ph, rc = level[k], np.float32(phase[k]), reach[k]
+        for v in range(nv):
+            r = np.float32(np.float64(fl[v]) / den)
+            blade[k, v, 0] = lv
+            blade[k, v, 1] = ph
+            blade[k, v, 2] = rc
+            blade[k, v, 3] = min(max(r, np.float32(0.0)), np.float32(1.0))
