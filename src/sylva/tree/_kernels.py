@@ -224,6 +224,46 @@ def where_points(s, arc0, seg, last, points, frames):
 
 
 @njit(cache=True)
+def _turn(out, k, a, axis):
+    c, s = np.cos(a), np.sin(a)
+    if axis == 0:
+        out[k, 0, 0] = 1.0
+        out[k, 1, 1], out[k, 1, 2], out[k, 2, 1], out[k, 2, 2] = c, -s, s, c
+    else:
+        out[k, 1, 1] = 1.0
+        out[k, 0, 0], out[k, 0, 2], out[k, 2, 0], out[k, 2, 2] = c, s, -s, c
+
+
+@njit(cache=True)
+def crown_leaf_turns(a0, a1, u_arc, rot, rot_dev, u_rot, phi0, down, down_dev, u_down,
+                     u_twist, seg, last):
+    """The arithmetic of :func:`sylva.tree.leaves._crown_leaves` (spiral leaves) on its
+    draws, NumPy's numbers: the arc lengths ``a0 + (i + u_arc) / n · (a1 − a0)``, their
+    segments (``Branch._segments_at``) and the rotation stacks ``Ry(φ)``, ``Rx(θ)``,
+    ``Ry(twist)`` of ``φ = radians(phi0 + cumsum(rot + u_rot · rot_dev))``, ``θ =
+    radians(|down + u_down · down_dev|)``, ``twist = radians(u_twist)``; NumPy's radians is
+    ``x · (π / 180)``, its float64 cos and sin the C library's."""
+    n = u_arc.shape[0]
+    arcs = np.empty(n)
+    idx = np.empty(n, np.int64)
+    ry = np.zeros((n, 3, 3))
+    rx = np.zeros((n, 3, 3))
+    rt = np.zeros((n, 3, 3))
+    d2r = np.pi / 180.0
+    acc = 0.0
+    for k in range(n):
+        a = a0 + (k + u_arc[k]) / n * (a1 - a0)
+        arcs[k] = a
+        idx[k] = min(max(np.int64(_floor_divide(a - a0, seg)), 0), last)
+        step = rot + u_rot[k] * rot_dev
+        acc = step if k == 0 else acc + step
+        _turn(ry, k, (phi0 + acc) * d2r, 1)
+        _turn(rx, k, abs(down + u_down[k] * down_dev) * d2r, 0)
+        _turn(rt, k, u_twist[k] * d2r, 1)
+    return arcs, idx, ry, rx, rt
+
+
+@njit(cache=True)
 def envelope_exit(pts, st, denom, width, peak, low, high):
     """The first of ``pts`` (float64[n, 3], plant frame) outside the pruning envelope, as
     :meth:`sylva.tree.model.Tree.inside_envelope` decides it (``st`` the tree's scale,
