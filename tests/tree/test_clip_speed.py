@@ -149,3 +149,17 @@ def test_the_compiled_leaf_turns_are_numpys_bit_for_bit():
                 _ry_many_numpy(np.radians(u_twist)))
         for g, w in zip(got, want):
             assert g.tobytes() == w.tobytes()
+
+
+def test_the_compiled_cone_profile_is_numpys_bit_for_bit():
+    """``StemPlan.profile`` of a cone without flare (most stems) by one kernel call."""
+    from sylva.tree._kernels import cone_profile
+
+    rng = np.random.default_rng(9)
+    for _ in range(500):
+        s = np.concatenate([rng.uniform(-0.1, 3.0, int(rng.integers(0, 20))), [0.0]])
+        current = float(rng.uniform(1e-9, 3.0))
+        taper = float(rng.choice([0.0, 0.5, 0.95, 1.0, rng.uniform(0, 1)]))
+        z = np.minimum(np.maximum(s / current, 0.0), 1.0)
+        want = np.maximum(1.0 - taper * z, 0.02 * (1 - z) + 0.004)
+        assert cone_profile(s, current, taper).tobytes() == want.tobytes()

@@ -264,6 +264,22 @@ def crown_leaf_turns(a0, a1, u_arc, rot, rot_dev, u_rot, phi0, down, down_dev, u
 
 
 @njit(cache=True)
+def cone_profile(s, current, taper):
+    """``StemPlan.profile`` of a stem with ``Taper`` <= 1 and no flare, NumPy's numbers:
+    ``z = min(max(s / current, 0), 1)``, ``max(1 − taper · z, 0.02 · (1 − z) + 0.004)``
+    (``np.maximum``/``np.minimum``'s choice: the first operand on ties and NaN)."""
+    out = np.empty(s.shape[0])
+    for k in range(s.shape[0]):
+        z = s[k] / current
+        z = z if (z >= 0.0 or np.isnan(z)) else 0.0
+        z = z if (z <= 1.0 or np.isnan(z)) else 1.0
+        r = 1.0 - taper * z
+        floor = 0.02 * (1 - z) + 0.004
+        out[k] = r if (r >= floor or np.isnan(r)) else floor
+    return out
+
+
+@njit(cache=True)
 def envelope_exit(pts, st, denom, width, peak, low, high):
     """The first of ``pts`` (float64[n, 3], plant frame) outside the pruning envelope, as
     :meth:`sylva.tree.model.Tree.inside_envelope` decides it (``st`` the tree's scale,

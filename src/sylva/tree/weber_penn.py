@@ -84,7 +84,7 @@ import math
 
 import numpy as np
 
-from ._kernels import axis_rotations, bend_stem, envelope_exit, where_points
+from ._kernels import axis_rotations, bend_stem, cone_profile, envelope_exit, where_points
 from ._streams import stream
 from .components import Component
 from .leaves import LEAF_FALL, Leaves, plan_leaves
@@ -368,6 +368,8 @@ class StemPlan:
         """
         s = np.asarray(s, np.float64)
         current = max(float(current), 1e-9)
+        if self.taper <= 1.0 and not self.flare and s.ndim == 1:  # one compiled call
+            return cone_profile(s, current, self.taper)
         z = np.minimum(np.maximum(s / current, 0.0), 1.0)
         if self.taper <= 1.0:
             r = 1.0 - self.taper * z
