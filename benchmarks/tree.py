@@ -5,11 +5,20 @@ median and best of N warm runs of ``Tree("quaking_aspen", seed=7).grow().mesh()`
 first run, which imports and compiles, is reported apart), and with ``--sheet`` the time of
 ``sylva tree --sheet`` (every species at three ages, rendered).  The CPU time of the process
 is printed beside the wall clock: on a loaded machine the wall clock mostly measures others.
-``--all`` also grows every shipped species at its mature age (``Age``), warm, and prints the
-median CPU time of each and the slowest (the issue's target: every species under 1 s).
+``--all`` also grows every shipped species at its mature age (``Age``), warm (one run
+first, then ``--runs`` timed ones), and prints the median CPU time of each and the slowest
+(the issue's target: every species under 1 s).
+
+Before each timed run the previous tree's garbage is collected (``gc.collect()``, outside
+the timing; its median is printed apart as the teardown): a tree is a graph of some 60,000
+objects with reference cycles (parents and children), which Python frees only in a full
+collection, and that collection comes when it comes -- in one run out of several, inside
+the next tree's time, and the bigger the more trees have piled up (0.3--0.6 s of CPU
+measured for the willow), which made the medians of two runs swing by up to 1.6x.
 """
 
 import argparse
+import gc
 import statistics
 import time
 
@@ -23,7 +32,10 @@ def main() -> None:
     ap.add_argument("--all", action="store_true", help="every species at its mature age")
     a = ap.parse_args()
     times, cpu = [], []
+    tree = None
     for i in range(a.runs + 1):
+        tree = None
+        gc.collect()  # the previous tree's garbage (see the module's docstring)
         t, c = time.perf_counter(), time.process_time()
         tree = Tree("quaking_aspen", seed=7).grow()
         tm = tree.mesh()
@@ -43,17 +55,25 @@ def main() -> None:
 
         worst = ("", 0.0)
         for name in species_names():
-            cpu_s = []
-            for i in range(3):
+            cpu_s, gc_s, leaves = [], [], 0
+            t = None
+            for i in range(a.runs + 1):
+                t = None
+                g = time.process_time()
+                gc.collect()  # the previous tree's teardown, timed apart
                 c = time.process_time()
                 t = Tree(name, seed=7)
                 t.grow().mesh()
                 if i:
                     cpu_s.append(time.process_time() - c)
+                    gc_s.append(c - g)
+            leaves = t.stats()["leaves"]
             med = statistics.median(cpu_s)
             worst = max(worst, (name, med), key=lambda x: x[1])
-            print(f"  {name:20s} {t.stats()['leaves']:6d} leaves  CPU median {med:.2f} s")
-        print(f"slowest mature species: {worst[0]} {worst[1]:.2f} s CPU")
+            print(f"  {name:20s} {leaves:6d} leaves  CPU median {med:.2f} s "
+                  f"(min {min(cpu_s):.2f}, max {max(cpu_s):.2f}; teardown "
+                  f"{statistics.median(gc_s):.2f} s)")
+        print(f"slowest mature species: {worst[0]} {worst[1]:.2f} s CPU over {a.runs} runs")
     if a.sheet:
         from sylva.cli._tree_sheet import contact_sheet
 

@@ -9,7 +9,7 @@ import struct
 
 import numpy as np
 
-from sylva.tree import Tree, model
+from sylva.tree import Tree, events, model
 from sylva.tree import weber_penn as wp
 
 _EDGES = [-math.inf, -2.0, -1e-300, -0.0, 0.0, 5e-324, 0.3, 0.5, 1.0 - 1e-16, 1.0,
@@ -38,6 +38,12 @@ def test_the_clamps_are_np_clip_bit_for_bit():
     # the leaves' form (sizes_at) is the same expression on [0, 1]
     a = np.array(_EDGES)
     assert np.minimum(np.maximum(0.0, a), 1.0).tobytes() == np.clip(a, 0.0, 1.0).tobytes()
+    # and the growth curves' clamp of arrays (the leaves' birth times), scalars as before
+    assert events._clip01(a).tobytes() == np.clip(a, 0.0, 1.0).tobytes()
+    for x in _EDGES:
+        want = min(max(float(x), 0.0), 1.0)
+        for v in (x, np.float64(x), np.array(x)):
+            assert struct.pack("d", events._clip01(v)) == struct.pack("d", want)
 
 
 def test_a_pruned_tree_is_the_tree_of_the_reference_envelope(monkeypatch):
@@ -67,3 +73,93 @@ def test_the_leaves_lookups_are_where_many_bit_for_bit():
         j, q = b._where_points(s)
         assert i.tobytes() == j.tobytes() and p.tobytes() == q.tobytes()
         assert b.frames[b._segments_at(s) + 1].tobytes() == f.tobytes()
+
+
+def _rx_many_numpy(a):
+    """weber_penn._rx_many as it was (the reference)."""
+    c, s = np.cos(a), np.sin(a)
+    out = np.zeros((len(a), 3, 3))
+    out[:, 0, 0] = 1.0
+    out[:, 1, 1], out[:, 1, 2], out[:, 2, 1], out[:, 2, 2] = c, -s, s, c
+    return out
+
+
+def _ry_many_numpy(a):
+    c, s = np.cos(a), np.sin(a)
+    out = np.zeros((len(a), 3, 3))
+    out[:, 1, 1] = 1.0
+    out[:, 0, 0], out[:, 0, 2], out[:, 2, 0], out[:, 2, 2] = c, s, -s, c
+    return out
+
+
+def test_the_compiled_rotations_are_numpys_bit_for_bit():
+    """Leaf frames and stem curves turn by compiled rotation matrices: NumPy's float64
+    ``cos``/``sin`` are the C library's, so the kernel's matrices are NumPy's to the bit."""
+    rng = np.random.default_rng(5)
+    edges = np.array([0.0, -0.0, 1e-300, math.pi, -math.pi / 2, 1e5, -1e9])  # angles are finite
+    for a in (edges, rng.uniform(-7, 7, 5000), np.radians(rng.uniform(0, 360, 999)),
+              np.cumsum(rng.normal(0, 0.3, 40)), np.zeros(0)):
+        assert wp._rx_many(a).tobytes() == _rx_many_numpy(a).tobytes()
+        assert wp._ry_many(a).tobytes() == _ry_many_numpy(a).tobytes()
+
+
+def test_the_compiled_run_lookup_is_numpys_bit_for_bit():
+    """``Branch._where_points`` (and ``_segments_at``) by a kernel: NumPy's floor division,
+    clamp and point arithmetic, to the bit, on arc lengths around and on segment ends."""
+    from sylva.tree._kernels import where_points
+
+    rng = np.random.default_rng(0)
+    for trial in range(3000):
+        m = int(rng.integers(1, 17))
+        seg = float(rng.uniform(0.001, 3)) * 10.0 ** int(rng.integers(-3, 2))
+        arc0 = float(rng.integers(0, 5) * seg)
+        P, F = rng.normal(size=(m + 1, 3)), rng.normal(size=(m + 1, 3, 3))
+        s = arc0 + rng.uniform(-0.1, m + 0.1, int(rng.integers(0, 30))) * seg
+        if trial % 3 == 0 and len(s):
+            s[0] = arc0 + int(rng.integers(0, m + 1)) * seg  # on a segment's end
+        i = np.minimum(np.maximum(((s - arc0) // seg).astype(np.int64), 0), m - 1)
+        p = P[i] + F[i + 1, :, 1] * (s - arc0 - i * seg)[:, None]
+        j, q = where_points(s, arc0, seg, m - 1, P, F)
+        assert j.tobytes() == i.tobytes() and q.tobytes() == p.tobytes()
+
+
+def test_the_compiled_leaf_turns_are_numpys_bit_for_bit():
+    """``leaves._crown_leaves`` works out its spiral's arcs, segments and rotation stacks in
+    one kernel: the numbers of the NumPy form it replaced, on the same draws."""
+    from sylva.tree._kernels import crown_leaf_turns
+
+    rng = np.random.default_rng(8)
+    for _ in range(400):
+        n, m = int(rng.integers(1, 40)), int(rng.integers(1, 12))
+        seg = float(rng.uniform(0.01, 2.0))
+        a0 = float(rng.integers(0, 4)) * seg
+        a1 = a0 + m * seg
+        rot, rdev, down, ddev = (float(x) for x in rng.uniform([0, 0, -90, 0],
+                                                              [360, 40, 90, 30]))
+        u_arc, u_rot = rng.uniform(0.2, 0.8, n), rng.uniform(-1, 1, n)
+        phi0 = float(rng.uniform(0, 360))
+        u_down, u_twist = rng.uniform(-1, 1, n), rng.uniform(-30, 30, n)
+        arcs = a0 + (np.arange(n) + u_arc) / n * (a1 - a0)
+        phi = np.radians(phi0 + np.cumsum(rot + u_rot * rdev))
+        theta = np.radians(np.abs(down + u_down * ddev))
+        idx = np.minimum(np.maximum(((arcs - a0) // seg).astype(np.int64), 0), m - 1)
+        got = crown_leaf_turns(a0, a1, u_arc, rot, rdev, u_rot, phi0, down, ddev, u_down,
+                               u_twist, seg, m - 1)
+        want = (arcs, idx, _ry_many_numpy(phi), _rx_many_numpy(theta),
+                _ry_many_numpy(np.radians(u_twist)))
+        for g, w in zip(got, want):
+            assert g.tobytes() == w.tobytes()
+
+
+def test_the_compiled_cone_profile_is_numpys_bit_for_bit():
+    """``StemPlan.profile`` of a cone without flare (most stems) by one kernel call."""
+    from sylva.tree._kernels import cone_profile
+
+    rng = np.random.default_rng(9)
+    for _ in range(500):
+        s = np.concatenate([rng.uniform(-0.1, 3.0, int(rng.integers(0, 20))), [0.0]])
+        current = float(rng.uniform(1e-9, 3.0))
+        taper = float(rng.choice([0.0, 0.5, 0.95, 1.0, rng.uniform(0, 1)]))
+        z = np.minimum(np.maximum(s / current, 0.0), 1.0)
+        want = np.maximum(1.0 - taper * z, 0.02 * (1 - z) + 0.004)
+        assert cone_profile(s, current, taper).tobytes() == want.tobytes()

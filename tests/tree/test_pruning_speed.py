@@ -127,3 +127,32 @@ def test_the_trials_remembered_draws_are_the_draws_of_the_runs(name):
         assert rng.bit_generator.state == b.rng.bit_generator.state, b.key
         split += 1
     assert split > 5
+
+
+def test_the_compiled_envelope_test_decides_as_tree_inside_envelope():
+    """The trials test each run's points by a kernel (``_kernels.envelope_exit``); its
+    answer is the first point ``Tree.inside_envelope`` puts outside, or -2 (too near the
+    envelope to tell without NumPy's own powers), never another index."""
+    from sylva.tree._kernels import envelope_exit
+
+    t = Tree("weeping_willow", seed=1)
+    rng = np.random.default_rng(4)
+    st = max(t.scale_tree, 1e-9)
+    asked = 0
+    for prune in ((0.5, 0.5, 0.5, 0.5), (0.9, 0.2, 1.3, 0.7), (1.0, 0.6, 3.0, 1.0), t.prune):
+        t.prune = prune
+        width, peak, low, high = prune
+        peak = min(max(peak, 1e-6), 1 - 1e-6)
+        for _ in range(300):
+            n = int(rng.integers(1, 12))
+            pts = rng.uniform([-0.6 * st, -0.1 * st, -0.6 * st], [0.6 * st, 1.1 * st, 0.6 * st],
+                              (n, 3))
+            if rng.uniform() < 0.2:
+                pts[int(rng.integers(n)), 0] = np.nan
+            out = ~t.inside_envelope(pts)
+            want = int(np.argmax(out)) if np.any(out) else -1
+            got = envelope_exit(pts, st, st * max(1.0 - t.base_size, 1e-9), width, peak,
+                                low, high)
+            asked += got == -2
+            assert got in (want, -2)
+    assert asked < 300  # the kernel decides most by itself (NaN points it leaves to NumPy)

@@ -85,6 +85,8 @@ def _trees(tmp: Path) -> None:
 
     for name in species_names():
         _cli("tree", name, "--age", "2", "-o", str(tmp / "t.glb"))
+    # the pruning trials' envelope test (no species prunes by age 2)
+    _cli("tree", "weeping_willow", "--age", "3", "-o", str(tmp / "t.glb"))
     _cli("tree", species_names()[0], "--age", "2", "--animate", "wind", "--seconds", "0.2",
          "-o", str(tmp / "w.glb"))  # fmt: skip
 

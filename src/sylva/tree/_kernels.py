@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -170,6 +172,142 @@ def bend_stem(F, P, curve, seg, has_up, up, attraction, has_world, world, cleara
 
 
 @njit(cache=True)
+def axis_rotations(a, axis):
+    """``float64[n, 3, 3]``: the rotations by the angles ``a`` about x (``axis`` 0) or y
+    (1), the matrices of NumPy's ``cos`` and ``sin`` (the C library's, for float64) laid
+    out as :func:`sylva.tree.weber_penn._rx_many` and ``_ry_many`` lay them out."""
+    n = a.shape[0]
+    out = np.zeros((n, 3, 3))
+    for i in range(n):
+        c, s = np.cos(a[i]), np.sin(a[i])
+        if axis == 0:
+            out[i, 0, 0] = 1.0
+            out[i, 1, 1], out[i, 1, 2], out[i, 2, 1], out[i, 2, 2] = c, -s, s, c
+        else:
+            out[i, 1, 1] = 1.0
+            out[i, 0, 0], out[i, 0, 2], out[i, 2, 0], out[i, 2, 2] = c, s, -s, c
+    return out
+
+
+@njit(cache=True)
+def _floor_divide(a, b):
+    """NumPy's float64 ``a // b`` (its ``npy_divmod``: fmod, then the correction), for b != 0."""
+    mod = np.fmod(a, b)
+    div = (a - mod) / b
+    if mod and (b < 0) != (mod < 0):
+        div -= 1.0
+    if div:
+        fd = np.floor(div)
+        if div - fd > 0.5:
+            fd += 1.0
+        return fd
+    return math.copysign(0.0, a / b)
+
+
+@njit(cache=True)
+def where_points(s, arc0, seg, last, points, frames):
+    """``Branch._where_points``: the segment of a run at each arc length ``s`` (float64[n])
+    and the point there, ``(int64[n], float64[n, 3])``, with NumPy's numbers (its floor
+    division, then ``points[i] + frames[i + 1, :, 1] * ((s - arc0) - i * seg)``); ``last``
+    is the run's last segment index."""
+    n = s.shape[0]
+    idx = np.empty(n, np.int64)
+    p = np.empty((n, 3))
+    for j in range(n):
+        d = s[j] - arc0
+        i = min(max(np.int64(_floor_divide(d, seg)), 0), last)
+        idx[j] = i
+        t = d - i * seg
+        for k in range(3):
+            p[j, k] = points[i, k] + frames[i + 1, k, 1] * t
+    return idx, p
+
+
+@njit(cache=True)
+def _turn(out, k, a, axis):
+    c, s = np.cos(a), np.sin(a)
+    if axis == 0:
+        out[k, 0, 0] = 1.0
+        out[k, 1, 1], out[k, 1, 2], out[k, 2, 1], out[k, 2, 2] = c, -s, s, c
+    else:
+        out[k, 1, 1] = 1.0
+        out[k, 0, 0], out[k, 0, 2], out[k, 2, 0], out[k, 2, 2] = c, s, -s, c
+
+
+@njit(cache=True)
+def crown_leaf_turns(a0, a1, u_arc, rot, rot_dev, u_rot, phi0, down, down_dev, u_down,
+                     u_twist, seg, last):
+    """The arithmetic of :func:`sylva.tree.leaves._crown_leaves` (spiral leaves) on its
+    draws, NumPy's numbers: the arc lengths ``a0 + (i + u_arc) / n · (a1 − a0)``, their
+    segments (``Branch._segments_at``) and the rotation stacks ``Ry(φ)``, ``Rx(θ)``,
+    ``Ry(twist)`` of ``φ = radians(phi0 + cumsum(rot + u_rot · rot_dev))``, ``θ =
+    radians(|down + u_down · down_dev|)``, ``twist = radians(u_twist)``; NumPy's radians is
+    ``x · (π / 180)``, its float64 cos and sin the C library's."""
+    n = u_arc.shape[0]
+    arcs = np.empty(n)
+    idx = np.empty(n, np.int64)
+    ry = np.zeros((n, 3, 3))
+    rx = np.zeros((n, 3, 3))
+    rt = np.zeros((n, 3, 3))
+    d2r = np.pi / 180.0
+    acc = 0.0
+    for k in range(n):
+        a = a0 + (k + u_arc[k]) / n * (a1 - a0)
+        arcs[k] = a
+        idx[k] = min(max(np.int64(_floor_divide(a - a0, seg)), 0), last)
+        step = rot + u_rot[k] * rot_dev
+        acc = step if k == 0 else acc + step
+        _turn(ry, k, (phi0 + acc) * d2r, 1)
+        _turn(rx, k, abs(down + u_down[k] * down_dev) * d2r, 0)
+        _turn(rt, k, u_twist[k] * d2r, 1)
+    return arcs, idx, ry, rx, rt
+
+
+@njit(cache=True)
+def cone_profile(s, current, taper):
+    """``StemPlan.profile`` of a stem with ``Taper`` <= 1 and no flare, NumPy's numbers:
+    ``z = min(max(s / current, 0), 1)``, ``max(1 − taper · z, 0.02 · (1 − z) + 0.004)``
+    (``np.maximum``/``np.minimum``'s choice: the first operand on ties and NaN)."""
+    out = np.empty(s.shape[0])
+    for k in range(s.shape[0]):
+        z = s[k] / current
+        z = z if (z >= 0.0 or np.isnan(z)) else 0.0
+        z = z if (z <= 1.0 or np.isnan(z)) else 1.0
+        r = 1.0 - taper * z
+        floor = 0.02 * (1 - z) + 0.004
+        out[k] = r if (r >= floor or np.isnan(r)) else floor
+    return out
+
+
+@njit(cache=True)
+def envelope_exit(pts, st, denom, width, peak, low, high):
+    """The first of ``pts`` (float64[n, 3], plant frame) outside the pruning envelope, as
+    :meth:`sylva.tree.model.Tree.inside_envelope` decides it (``st`` the tree's scale,
+    ``denom`` ``st · (1 − BaseSize)``, ``peak`` clamped as :func:`~sylva.tree.weber_penn.envelope`
+    clamps it); -1 when every point is inside, -2 when a point before the first outside one
+    is within 1e-12 (relative) of the envelope or not finite.
+
+    NumPy raises arrays to a power by its own SIMD routines, whose last bit may differ from
+    the C library's ``pow`` used here, so a point that near the envelope is left to the
+    caller, which then asks ``Tree.inside_envelope`` itself: every decision is NumPy's."""
+    for i in range(pts.shape[0]):
+        d = math.hypot(pts[i, 0], pts[i, 2]) / st
+        r = (st - pts[i, 1]) / denom
+        if not (r >= 0.0 and r <= 1.0):  # the envelope is 0 there (or r is NaN): outside
+            return i
+        c = r if r != 0.0 else 0.0  # np.maximum(0.0, -0.0) is 0.0
+        if c < 1.0 - peak:
+            e = width * (c / (1.0 - peak)) ** high
+        else:
+            e = width * ((1.0 - c) / peak) ** low
+        if not (math.isfinite(e) and math.isfinite(d)) or abs(d - e) <= 1e-12 * abs(e) + 1e-300:
+            return -2
+        if not d < e:
+            return i
+    return -1
+
+
+@njit(cache=True)
 def seed_state(words):
     """``SeedSequence(words).generate_state(4, np.uint64)``: NumPy's seed hash (its
     ``mix_entropy`` over a pool of 4 words, then ``generate_state``), for a PCG64 stream.
@@ -267,3 +405,31 @@ def leaf_fill(pos, fr, sx, size, bv, buv, btri, flutter, tint, live, ljoint, bas
         for t in range(nt):
             for c in range(3):
                 I[t0 + t, c] = np.uint32(btri[t, c] + v0)
+
+
+@njit(cache=True)
+def blade_wind(blade, level, phase, reach, flutter):
+    """The ``WIND`` columns of the leaf blades (``blade`` float32[q, nv, 4], written): the
+    leaf's level, phase and reach (float32[q], float64[q], float32[q], one per leaf) on
+    each of its vertices, and each vertex's flutter (``flutter`` float32[q, nv, 3]) over
+    its blade's largest -- :func:`sylva.tree.lod.tree_wind`'s numbers: NumPy's float32 norm
+    ``√((x² + y²) + z²)``, the largest (at least 0) in float64, the quotient cast back and
+    clipped to [0, 1]."""
+    q, nv = blade.shape[0], blade.shape[1]
+    fl = np.empty(nv, np.float32)
+    for k in range(q):
+        top = np.float32(0.0)
+        for v in range(nv):
+            x, y, z = flutter[k, v, 0], flutter[k, v, 1], flutter[k, v, 2]
+            f = np.sqrt((x * x + y * y) + z * z)
+            fl[v] = f
+            if v == 0 or f > top:
+                top = f
+        den = max(np.float64(max(top, np.float32(0.0))), 1e-12)
+        lv, ph, rc = level[k], np.float32(phase[k]), reach[k]
+        for v in range(nv):
+            r = np.float32(np.float64(fl[v]) / den)
+            blade[k, v, 0] = lv
+            blade[k, v, 1] = ph
+            blade[k, v, 2] = rc
+            blade[k, v, 3] = min(max(r, np.float32(0.0)), np.float32(1.0))

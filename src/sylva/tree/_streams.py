@@ -47,11 +47,11 @@ class _Hashed(ISeedSequence):
 
 def _fast() -> bool:
     """Whether :func:`stream` takes the compiled hash (decided once, except in warm-ups)."""
-    from .. import _jit
-
     env = os.environ.get("SYLVA_JIT", "")
     if not env and _state["fast"]:
         return True  # decided (the common case: skip the look-ups below)
+    from .. import _jit
+
     if env == "never":
         return False
     if env == "always" or _jit._small.get() == "off":

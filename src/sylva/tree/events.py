@@ -66,7 +66,8 @@ class Simulation:
     def __init__(self, root: Component, start_time: float = 0.0) -> None:
         self.root = root
         self.time = float(start_time)
-        self._queue: list[Event] = []
+        # (time, seq, event): the heap compares the tuples in C, in the events' own order
+        self._queue: list[tuple[float, int, Event]] = []
         self._seq = itertools.count()
         self.delivered: list[Event] = []
         self.components: list[Component] = []
@@ -86,16 +87,16 @@ class Simulation:
         if time < self.time - 1e-12:
             raise ValueError(f"cannot schedule an event at t={time:g} before now ({self.time:g})")
         ev = Event(time, next(self._seq), target, kind, data)
-        heapq.heappush(self._queue, ev)
+        heapq.heappush(self._queue, (time, ev.seq, ev))
         return ev
 
     @property
     def pending(self) -> list[Event]:
         """Scheduled, undelivered events in delivery order."""
-        return sorted(self._queue)
+        return [ev for _, _, ev in sorted(self._queue)]
 
     def next_event_time(self) -> float | None:
-        return self._queue[0].time if self._queue else None
+        return self._queue[0][0] if self._queue else None
 
     def step(self) -> float | None:
         """Deliver every event of the nearest instant and jump the clock to it.
@@ -104,10 +105,11 @@ class Simulation:
         """
         if not self._queue:
             return None
-        instant = self._queue[0].time
+        queue = self._queue
+        instant = queue[0][0]
         self.time = instant
-        while self._queue and self._queue[0].time <= instant:
-            ev = heapq.heappop(self._queue)
+        while queue and queue[0][0] <= instant:
+            ev = heapq.heappop(queue)[2]
             self.delivered.append(ev)
             if ev.target.simulation is self:
                 ev.target.on_event(ev, self)
@@ -117,7 +119,7 @@ class Simulation:
         """Deliver all events up to ``t`` (inclusive), then update every component for ``t``."""
         t = float(t)
         self.target = max(self.target, t)
-        while self._queue and self._queue[0].time <= t:
+        while self._queue and self._queue[0][0] <= t:
             self.step()
         self.time = max(self.time, t)
         if update:
@@ -136,9 +138,11 @@ class Simulation:
 
 
 def _clip01(x):
-    if np.ndim(x) == 0:  # scalars: far cheaper than np.clip
+    if not isinstance(x, np.ndarray) or x.ndim == 0:  # scalars: far cheaper than np.clip
         return min(max(float(x), 0.0), 1.0)
-    return np.clip(x, 0.0, 1.0)
+    # np.clip(x, 0, 1) bit for bit (NaN and -0 as np.clip gives them), without its
+    # Python-level dispatch (tests/tree/test_clip_speed.py)
+    return np.minimum(np.maximum(0.0, x), 1.0)
 
 
 def smoothstep(x):

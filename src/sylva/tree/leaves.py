@@ -62,6 +62,7 @@ import math
 import numpy as np
 
 from ..errors import SylvaError
+from ._kernels import crown_leaf_turns
 from ._streams import stream
 from .components import Component
 
@@ -164,7 +165,7 @@ class Leaves(Component):
             return  # the stem is not out yet
         sizes = self.sizes_at(self._t)
         out = sizes > 0.0
-        if not np.any(out):
+        if not out.any():
             return
         size = sizes[out]
         i, pos = b._where_points(self.arc[out])
@@ -239,18 +240,26 @@ def _crown_leaves(branch, rng):
     rot = tree.pf("Rotate", level=lv, default=137.5)
     down = tree.pf("DownAngle", level=lv, default=45.0)
     a0, a1 = branch.arc0, branch.arc1
-    arcs = a0 + (np.arange(n) + rng.uniform(0.2, 0.8, n)) / n * (a1 - a0)
-    if rot.value >= 0:
-        steps = rot.value + rng.uniform(-1, 1, n) * abs(rot.deviation)
-        phi = np.radians(rng.uniform(0, 360) + np.cumsum(steps))
+    u_arc = rng.uniform(0.2, 0.8, n)
+    if rot.value >= 0:  # the spiral: the draws, then their arithmetic in one compiled call
+        u_rot = rng.uniform(-1, 1, n)
+        phi0 = rng.uniform(0, 360)
+        u_down = rng.uniform(-1, 1, n)
+        u_twist = rng.uniform(-30, 30, n)  # a petiole twist
+        arcs, seg_i, ry, rx, rt = crown_leaf_turns(
+            float(a0), float(a1), u_arc, float(rot.value), abs(rot.deviation), u_rot, phi0,
+            float(down.value), abs(down.deviation), u_down, u_twist,
+            float(plan.seg_length), branch.k1 - branch.k0 - 1)
+        frames = branch.frames[seg_i + 1] @ ry @ rx @ rt
     else:  # two ranks: alternately ±(180 + nRotate) (a pinnate frond, a fern)
+        arcs = a0 + (np.arange(n) + u_arc) / n * (a1 - a0)
         sides = np.where(np.arange(n) % 2 == 0, 1.0, -1.0)
         a = 180.0 + rot.value + rng.uniform(-1, 1, n) * abs(rot.deviation)
         phi = np.radians(rng.uniform(0, 360) + sides * a)
-    theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
-    twist = np.radians(rng.uniform(-30, 30, n))  # a petiole twist
-    f = branch.frames[branch._segments_at(arcs) + 1]
-    frames = f @ _ry_many(phi) @ _rx_many(theta) @ _ry_many(twist)
+        theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
+        twist = np.radians(rng.uniform(-30, 30, n))  # a petiole twist
+        f = branch.frames[branch._segments_at(arcs) + 1]
+        frames = f @ _ry_many(phi) @ _rx_many(theta) @ _ry_many(twist)
     sizes = scale.value + rng.uniform(-1, 1, n) * abs(scale.deviation)
     return arcs, frames, sizes
 
@@ -288,7 +297,7 @@ def _juvenile_leaves(branch):
     birth = np.asarray(plan.time_at_length(arcs), np.float64) + tree.leaf_delay
     death = np.minimum(birth + tree.juvenile_leaf_life, tree.default_age - 1.0)
     keep = death > birth + 0.5 * tree.leaf_unfold
-    if not np.any(keep) or np.all(death[keep] <= target):
+    if not keep.any() or (death[keep] <= target).all():
         return None
     arcs, birth, death = arcs[keep], birth[keep], death[keep]
     n = len(arcs)

@@ -26,6 +26,7 @@ import dataclasses
 
 import numpy as np
 
+from .. import _jit
 from ..geometry.lod import (
     BUDGETS,
     COVERAGE,
@@ -41,11 +42,16 @@ from ..geometry.lod import (
     wind_attribute,
 )
 from ..geometry.mesh import Mesh, Scene
+from ._kernels import blade_wind
 from .geometry_turtle import TreeGeometry
 from .meshing import TreeMesh, build_tree_mesh
 from .stem import Stem
 
 __all__ = ["tree_lods", "tree_wind"]
+
+_BLADE_VERTICES = 200_000
+"""Leaf vertices up to which the blades' wind columns are NumPy's while
+:func:`~sylva.tree._kernels.blade_wind` is not compiled (as the mesher's leaf fill)."""
 
 
 def _joint_reach(geo: TreeGeometry) -> np.ndarray:
@@ -110,12 +116,19 @@ def _blade_wind(tm: TreeMesh, live: np.ndarray, nv: int) -> np.ndarray:
     out[:nb, 3] = 0.0
     jl = np.clip(tm.vertex_joint[nb::nv], 0, geo.n_joints - 1)
     blade = out[nb:].reshape(q, nv, 4)
-    blade[:, :, 0] = (geo.joint_level[jl].astype(np.float64) + 1.0).astype(np.float32)[:, None]
-    blade[:, :, 1] = np.mod(phase_of(live, 11), 1.0)[:, None]
-    blade[:, :, 2] = np.clip(reach[jl].astype(np.float32), 0.0, 1.0)[:, None]
-    fl = np.linalg.norm(tm.flutter[nb:], axis=1).reshape(q, nv)
-    top = np.maximum(fl.max(axis=1), 0.0).astype(np.float64)
-    blade[:, :, 3] = np.clip((fl / np.maximum(top, 1e-12)[:, None]).astype(np.float32), 0.0, 1.0)
+    level = (geo.joint_level[jl].astype(np.float64) + 1.0).astype(np.float32)
+    phase = np.ascontiguousarray(np.mod(phase_of(live, 11), 1.0), np.float64)
+    reach_l = np.clip(reach[jl].astype(np.float32), 0.0, 1.0)
+    flutter = tm.flutter[nb:].reshape(q, nv, 3)
+    if _jit.cold(blade_wind, q * nv, _BLADE_VERTICES):  # the NumPy road (the reference)
+        blade[:, :, 0], blade[:, :, 1], blade[:, :, 2] = (
+            level[:, None], phase[:, None], reach_l[:, None])
+        fl = np.linalg.norm(tm.flutter[nb:], axis=1).reshape(q, nv)
+        top = np.maximum(fl.max(axis=1), 0.0).astype(np.float64)
+        blade[:, :, 3] = np.clip((fl / np.maximum(top, 1e-12)[:, None]).astype(np.float32),
+                                 0.0, 1.0)
+    else:  # one compiled pass over the million leaf vertices of a mature tree
+        blade_wind(blade, level, phase, reach_l, np.ascontiguousarray(flutter, np.float32))
     return out
 
 

@@ -282,8 +282,9 @@ class Tree:
         from .meshing import build_tree_mesh
 
         options.setdefault("leaf_shape", self.leaf_shape)
-        geo = self.geometry()
+        # one pause for both: between them the collector would scan every new joint and leaf
         with _no_cycle_collection():
+            geo = self.geometry()
             return build_tree_mesh(geo, self.materials, seed=self.seed, **options)
 
     def scene(self, **options):

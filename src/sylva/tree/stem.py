@@ -78,9 +78,14 @@ class Stem:
         self._pos.append(p)
         self._frame.append(None if orientations is None
                            else np.asarray(orientations, np.float64).reshape(n, 3, 3))
-        self._rad.append(np.broadcast_to(np.asarray(radii, np.float64), (n,)).copy())
-        j = np.full(n, -1, np.int64) if joints is None else np.asarray(joints, np.int64)
-        self._joint.append(np.broadcast_to(j, (n,)).copy())
+        r = np.asarray(radii, np.float64)
+        # np.broadcast_to's Python-level checks only where a shape needs them
+        self._rad.append(r.copy() if r.shape == (n,) else np.broadcast_to(r, (n,)).copy())
+        if joints is None:
+            self._joint.append(np.full(n, -1, np.int64))
+        else:
+            j = np.asarray(joints, np.int64)
+            self._joint.append(j.copy() if j.shape == (n,) else np.broadcast_to(j, (n,)).copy())
 
     @property
     def n_points(self) -> int:

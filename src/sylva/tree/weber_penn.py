@@ -84,7 +84,7 @@ import math
 
 import numpy as np
 
-from ._kernels import bend_stem
+from ._kernels import axis_rotations, bend_stem, cone_profile, envelope_exit, where_points
 from ._streams import stream
 from .components import Component
 from .leaves import LEAF_FALL, Leaves, plan_leaves
@@ -180,19 +180,14 @@ def _rz(a: float) -> np.ndarray:
 
 
 def _rx_many(a: np.ndarray) -> np.ndarray:
-    c, s = np.cos(a), np.sin(a)
-    out = np.zeros((len(a), 3, 3))
-    out[:, 0, 0] = 1.0
-    out[:, 1, 1], out[:, 1, 2], out[:, 2, 1], out[:, 2, 2] = c, -s, s, c
-    return out
+    """Rotations about x by the angles ``a`` (float64[n, 3, 3]; compiled, one call instead
+    of nine NumPy ones: ``tests/tree/test_clip_speed.py`` holds it to the NumPy form)."""
+    return axis_rotations(np.asarray(a, np.float64), 0)
 
 
 def _ry_many(a: np.ndarray) -> np.ndarray:
-    c, s = np.cos(a), np.sin(a)
-    out = np.zeros((len(a), 3, 3))
-    out[:, 1, 1] = 1.0
-    out[:, 0, 0], out[:, 0, 2], out[:, 2, 0], out[:, 2, 2] = c, s, -s, c
-    return out
+    """Rotations about y by the angles ``a`` (see :func:`_rx_many`)."""
+    return axis_rotations(np.asarray(a, np.float64), 1)
 
 
 def _axis_angle(axis: np.ndarray, a: float) -> np.ndarray:
@@ -352,6 +347,8 @@ class StemPlan:
 
     def time_at_length(self, s):
         """The global time this stem reaches arc length ``s`` (a float or an array)."""
+        if isinstance(s, float):  # the same numbers without a 0-d array's detour
+            return float(self.birth + self.growth.inverse(s / self.length) * self.grow_time)
         tau = self.growth.inverse(np.asarray(s, np.float64) / self.length)
         out = self.birth + tau * self.grow_time
         return float(out) if np.ndim(out) == 0 else out
@@ -371,6 +368,8 @@ class StemPlan:
         """
         s = np.asarray(s, np.float64)
         current = max(float(current), 1e-9)
+        if self.taper <= 1.0 and not self.flare and s.ndim == 1:  # one compiled call
+            return cone_profile(s, current, self.taper)
         z = np.minimum(np.maximum(s / current, 0.0), 1.0)
         if self.taper <= 1.0:
             r = 1.0 - self.taper * z
@@ -463,7 +462,7 @@ def _run_curve(plan: StemPlan, k0: int, frame: np.ndarray, split_error: float,
     sequential = False
     if parent_world is not None:
         y = P[1:] @ parent_world[1, :3] + parent_world[1, 3]
-        sequential = bool(np.any(y < clearance))
+        sequential = bool((y < clearance).any())
     if sequential:
         bend(F, P, plan.curve[k0:k1], seg, up_local, attraction / (2.0 * res), parent_world)
     return k1, n_split, err, F, P
@@ -594,16 +593,17 @@ class Branch(Component):
         return i, p, f
 
     def _segments_at(self, s: np.ndarray) -> np.ndarray:
-        """The local segment index at each arc length ``s`` (of :meth:`_where_many`)."""
-        return np.minimum(np.maximum(((s - self.arc0) // self.plan.seg_length).astype(
-            np.int64), 0), self.k1 - self.k0 - 1)
+        """The local segment index at each arc length ``s`` (of :meth:`_where_many`):
+        ``clip((s - arc0) // seg, 0, last)`` (compiled, :func:`_where_points`)."""
+        return self._where_points(s)[0]
 
     def _where_points(self, s: np.ndarray):
-        """:meth:`_where_many` without the frames: int[n], float[n, 3] (the same numbers)."""
-        i = self._segments_at(s)
-        p = self.points[i] + self.frames[i + 1, :, 1] * (
-            s - self.arc0 - i * self.plan.seg_length)[:, None]
-        return i, p
+        """:meth:`_where_many` without the frames: int[n], float[n, 3] (NumPy's numbers,
+        by one compiled call, :func:`~sylva.tree._kernels.where_points`;
+        ``tests/tree/test_clip_speed.py`` holds it to the NumPy form)."""
+        return where_points(np.asarray(s, np.float64), float(self.arc0),
+                            float(self.plan.seg_length), self.k1 - self.k0 - 1,
+                            self.points, self.frames)
 
     def _plan_children(self, rng) -> list[tuple]:
         plan, tree = self.plan, self.plan.tree
@@ -756,11 +756,16 @@ class Branch(Component):
         if length < 1e-3:
             return
         world = self.world_matrix() @ slot.matrix
-        state = rng.bit_generator.state
+        if shed is None and tree.prune_ratio > 0.0:  # pruning trials: a plan per trial
+            state = rng.bit_generator.state
 
-        def plan_of(length: float) -> StemPlan:
-            rng.bit_generator.state = state  # the same draws for every trial length
-            return self._child_plan(lv, length, s, lmax, r_here, t, rng, shed)
+            def plan_of(length: float) -> StemPlan:
+                rng.bit_generator.state = state  # the same draws for every trial length
+                return self._child_plan(lv, length, s, lmax, r_here, t, rng, shed)
+        else:  # one plan: the stream is where the trials would set it back to
+
+            def plan_of(length: float) -> StemPlan:
+                return self._child_plan(lv, length, s, lmax, r_here, t, rng, shed)
 
         if shed is not None:
             child = Branch(plan_of(length), 0, np.eye(3), key, parent_world=world)
@@ -1027,16 +1032,23 @@ def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray,
                   True, np.asarray(parent_world, np.float64), float(clearance))
 
     # (k0, frame, key, split error, world, share) of the runs still to test
+    # Tree.inside_envelope's numbers, for the compiled test of each run's points
+    st = max(tree.scale_tree, 1e-9)
+    denom = st * max(1.0 - tree.base_size, 1e-9)
+    width, peak, low, high = tree.prune
+    peak = min(max(peak, 1e-6), 1 - 1e-6)
     stack = [(0, np.eye(3), key, 0.0, world, 1.0)]
     keep = None
     while stack:
         k0, frame, bkey, err0, w, share = stack.pop()
         k1, n_split, err, F, P = _run_curve(plan, k0, frame, err0, w, bend, memo)
         pts = P @ w[:3, :3].T + w[:3, 3]
-        out = ~tree.inside_envelope(pts)
+        k = envelope_exit(pts, st, denom, width, peak, low, high)
+        if k == -2:  # a point on the envelope, to the last bits: NumPy's own numbers decide
+            out = ~tree.inside_envelope(pts)
+            k = int(np.argmax(out)) if np.any(out) else -1
         arc0 = k0 * seg
-        if np.any(out):
-            k = int(np.argmax(out))
+        if k >= 0:
             arc = arc0 + max(k - 1, 0) * seg
             keep = arc if keep is None else min(keep, arc)
             continue  # a clone after the exit cannot keep more than this
