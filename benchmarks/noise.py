@@ -53,11 +53,15 @@ import os
 import statistics
 import time
 
-import numba
-import numpy as np
-from pyfastnoiselite.pyfastnoiselite import FastNoiseLite, FractalType, NoiseType
+# the compiled kernels are what is measured: without this, a cold numba cache sends grids up
+# to 2^23 samples down the interpreted cold-start road (sylva._jit.cold) and never compiles
+os.environ.setdefault("SYLVA_JIT", "always")
 
-from sylva.texture import noise_grid
+import numba  # noqa: E402
+import numpy as np  # noqa: E402
+from pyfastnoiselite.pyfastnoiselite import FastNoiseLite, FractalType, NoiseType  # noqa: E402
+
+from sylva.texture import noise_grid  # noqa: E402
 
 
 @numba.njit(parallel=True)

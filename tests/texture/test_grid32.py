@@ -101,3 +101,27 @@ def test_worley_float32_wide_cells_3d(output):
     b = noise_grid((3, 8, 80), dtype=np.float64, **kw)
     assert np.abs(a.astype(np.float64) - b).max() < TOL
     assert b.std() > 0.02
+
+
+@pytest.mark.parametrize("kind", ["value", "perlin", "improved"])
+@pytest.mark.parametrize("shape", [(6, 200), (3, 5, 120)], ids=["2d", "3d"])
+def test_lattice_cell_road_within_tolerance(kind, shape):
+    # 20+ samples a cell in the first octaves: those go by cells (hashed once per cell,
+    # lanes pick their cell's coefficients by selects); the finest octave (2.5 samples a
+    # cell) by samples; tileable periods and an offset through both
+    kw = dict(kind=kind, octaves=4, scale=(10.0, 4.0, 3.0)[: len(shape)], tileable=True,
+              offset=(0.37, -1.5, 2.25), seed=11)
+    a = noise_grid(shape, **kw)
+    b = noise_grid(shape, dtype=np.float64, **kw)
+    assert np.abs(a.astype(np.float64) - b).max() < TOL
+    assert b.std() > 0.02
+    # the cell tables of the x axis send the first octave by cells and the last by samples
+    from sylva.texture import _gridkernels as gk
+    from sylva.texture.noise import _setup
+
+    st = _setup(kind, 11, None, "f1", "euclidean", 1.0)
+    xs = np.arange(shape[-1]) * (10.0 / shape[-1])
+    freqs = 2.0 ** np.arange(4)
+    tab = gk.axis_tables(xs, freqs, np.zeros(4), np.zeros(4), st.interp)
+    kspan = gk32.lattice_tables32(tab, st.tables.perm, True)[7]
+    assert kspan[0] <= gk32.KMAX < kspan[3]

@@ -7,7 +7,15 @@ is the accumulator), and one branch-free loop per row and octave that LLVM vecto
 the machine's widest registers (16 float32 lanes with AVX-512, 8 with AVX2): gradients come
 from bit masks or selects instead of tables, floors are float floors, fast-math lets LLVM
 fuse multiply-adds.  The permutation-table lookups stay (so that the values are the
-float64 road's within rounding) in scalar passes.
+float64 road's within rounding) in scalar passes: LLVM emits no vector gathers for this
+CPU (znver4 prefers none), and explicit ``vpgatherdd`` measured no faster than scalar loads
+here, so the lattice noises look up less instead.  Where an octave has about four samples
+a lattice cell or more along x (``KMAX``), value, classic and improved noise go by *cells*:
+each cell of a row is hashed once (scalar), its noise along the row reduced to four
+coefficients, ``lerp(u, p0 x + q0, p1 (x - 1) + q1)`` (SIMD across cells), and the
+samples take their cell's coefficients by select chains over the few cells a 16-lane block
+spans (SIMD; the trip count is ``min(16, n)``, as a literal 16 is unrolled to scalar code).
+Finer octaves keep the per-sample road (row tables of 2D corner hashes, then SIMD).
 
 Covered here, 2D and 3D, every fractal sum (fBm, turbulence, ridged) and integer lattice
 periods (``tileable``): value, classic Perlin (its 256 gradients stored into the block by
@@ -326,6 +334,158 @@ def _lat_eval(kind, ndim, base, cnt, fx, cu, y, v, z, w, hb, vb, gb, nb):
             )
             nb[q] = n
 
+#: samples per vector block of the cell road (one AVX-512 vector, two AVX2 ones)
+LANES = 16
+#: the cell road takes an octave whose 16-sample blocks span at most this many lattice
+#: cells along x (about four samples a cell or more); finer octaves keep the sample road
+#: (measured: at two samples a cell the select chains cost more than the lookups saved)
+KMAX = 5
+
+
+@njit(inline="always", **_OPTS)
+def _cx16(h, three):
+    """Improved noise's gradient ``GRAD16[h & 15]`` as coefficients ``(gx, gy, gz)`` of
+    ``(x, y, z)`` (selects; :func:`_g16` is ``gx x + gy y + gz z``; ``gz = 0`` in 2D)."""
+    h = h & 15
+    su = -ONE if h & 1 else ONE
+    sv = -ONE if h & 2 else ONE
+    lo = h < 8
+    v_y = h < 4
+    v_x = (h == 12) | (h == 14)
+    gx = (su if lo else ZERO) + (sv if (not v_y) & v_x else ZERO)
+    gy = (ZERO if lo else su) + (sv if v_y else ZERO)
+    gz = sv if three & (not v_y) & (not v_x) else ZERO
+    return gx, gy, gz
+
+
+@njit(**_OPTS)
+def _grads16(ndim, cnt, hb, gb):
+    """SIMD pass: improved noise's corner gradients ``GRAD16[hb & 15]`` into ``gb`` (the
+    layout of classic Perlin's, so that one coefficient loop serves both)."""
+    if ndim == 3:
+        for c in range(8):
+            for q in range(cnt):
+                gb[0, c, q], gb[1, c, q], gb[2, c, q] = _cx16(hb[c, q], True)
+    else:
+        for c in range(4):
+            for q in range(cnt):
+                gb[0, c, q], gb[1, c, q], _ = _cx16(hb[c, q], False)
+
+
+@njit(inline="always", **_OPTS)
+def _coef_loop(three, cnt, y, v, z, w, gb, cc):
+    # corners c = x bit + 2 y bit + 4 z bit (:func:`_lat_hash`'s order); ``three`` literal
+    # at each call, so that each copy is one branch-free loop
+    y_1 = y - ONE
+    z_1 = z - ONE
+    for q in range(cnt):
+        for side in range(2):
+            c2 = side + 2
+            p = _lerp(v, gb[0, side, q], gb[0, c2, q])
+            if three:
+                c4 = side + 4
+                c6 = side + 6
+                r = _lerp(v, gb[1, side, q] * y + gb[2, side, q] * z,
+                          gb[1, c2, q] * y_1 + gb[2, c2, q] * z)
+                p = _lerp(w, p, _lerp(v, gb[0, c4, q], gb[0, c6, q]))
+                r = _lerp(w, r, _lerp(v, gb[1, c4, q] * y + gb[2, c4, q] * z_1,
+                                      gb[1, c6, q] * y_1 + gb[2, c6, q] * z_1))
+            else:
+                r = _lerp(v, gb[1, side, q] * y, gb[1, c2, q] * y_1)
+            cc[2 * side, q] = p
+            cc[2 * side + 1, q] = r
+
+
+@njit(**_OPTS)
+def _cell_coef(kind, ndim, cnt, y, v, z, w, hb, vb, gb, cc):
+    """SIMD pass over lattice cells ``0 .. cnt - 1`` of a row (their corner hashes in
+    ``hb``, ``vb``, ``gb`` from :func:`_lat_hash`): the noise inside a cell along the row
+    is ``lerp(u, p0 x + q0, p1 (x - 1) + q1)``; ``cc[:, e] = (p0, q0, p1, q1)``
+    (value noise: ``p0 = p1 = 0``)."""
+    if kind == k.VALUE:
+        for q in range(cnt):
+            cc[0, q] = ZERO
+            cc[2, q] = ZERO
+        if ndim == 3:
+            for q in range(cnt):
+                cc[1, q] = _lerp(w, _lerp(v, vb[0, q], vb[2, q]), _lerp(v, vb[4, q], vb[6, q]))
+                cc[3, q] = _lerp(w, _lerp(v, vb[1, q], vb[3, q]), _lerp(v, vb[5, q], vb[7, q]))
+        else:
+            for q in range(cnt):
+                cc[1, q] = _lerp(v, vb[0, q], vb[2, q])
+                cc[3, q] = _lerp(v, vb[1, q], vb[3, q])
+    else:
+        if kind == k.IMPROVED:  # gradients from the hashes, as classic Perlin's are stored
+            _grads16(ndim, cnt, hb, gb)
+        if ndim == 3:
+            _coef_loop(True, cnt, y, v, z, w, gb, cc)
+        else:
+            _coef_loop(False, cnt, y, v, z, w, gb, cc)
+
+
+@njit(inline="always", **_OPTS)
+def _ld(cc, i, ce):
+    """Coefficient ``i`` of cells ``ce .. ce + KMAX - 1`` as scalars (loaded before the
+    lane loop: selects between loads inside it would become address selects, a gather)."""
+    return (cc[i, ce], cc[i, ce + uint64(1)], cc[i, ce + uint64(2)], cc[i, ce + uint64(3)],
+            cc[i, ce + uint64(4)])
+
+
+@njit(inline="always", **_OPTS)
+def _pick(lane, c, span):
+    """``c[lane]`` by a chain of selects over ``span`` cells (a literal at each call)."""
+    a = c[0]
+    if span > 1:
+        a = c[1] if lane >= np.int32(1) else a
+    if span > 2:
+        a = c[2] if lane >= np.int32(2) else a
+    if span > 3:
+        a = c[3] if lane >= np.int32(3) else a
+    if span > 4:
+        a = c[4] if lane >= np.int32(4) else a
+    return a
+
+
+@njit(inline="always", **_OPTS)
+def _cell_lanes(value, span, us, nl, cf, ce, cid, xf, xu, cc, nb, uo):
+    """A block of ``nl <= LANES`` samples from ``us`` into ``nb[uo:uo + nl]``.  The trip
+    count is ``min(LANES, ...)``: LLVM then vectorises it as one 16-lane step (a literal
+    16 would be unrolled to scalar code instead)."""
+    c1 = _ld(cc, 1, ce)
+    c3 = _ld(cc, 3, ce)
+    if value:
+        for q in range(nl):
+            p = us + uint64(q)
+            lane = np.int32(cid[p] - cf)  # 32-bit compares: 16 lanes a vector
+            nb[uo + uint64(q)] = _lerp(xu[p], _pick(lane, c1, span), _pick(lane, c3, span))
+    else:
+        c0 = _ld(cc, 0, ce)
+        c2 = _ld(cc, 2, ce)
+        for q in range(nl):
+            p = us + uint64(q)
+            lane = np.int32(cid[p] - cf)  # 32-bit compares: 16 lanes a vector
+            x = xf[p]
+            a = _pick(lane, c0, span) * x + _pick(lane, c1, span)
+            b = _pick(lane, c2, span) * (x - ONE) + _pick(lane, c3, span)
+            nb[uo + uint64(q)] = _lerp(xu[p], a, b)
+
+
+@njit(**_OPTS)
+def _cell_eval(kind, base, cnt, nx, cid, xf, xu, cc, e0, nb):
+    """SIMD pass: samples ``base .. base + cnt`` (``base`` a multiple of :data:`LANES`)
+    from their cells' coefficients (``cc``: those of cells ``e0 ..``; ``cid``: each
+    column's cell) into ``nb`` (:data:`LANES` spare entries): blocks of :data:`LANES`
+    lanes, each lane's coefficients by selects over the cells its block spans."""
+    for s in range(base, base + cnt, LANES):
+        us = uint64(s)
+        uo = uint64(s - base)
+        cf = cid[us]
+        nl = min(LANES, nx - s)
+        ce = uint64(cf - e0)
+        # a literal span (the chain unrolls); one copy for every kind (value noise has
+        # p0 = p1 = 0) keeps compile time down
+        _cell_lanes(False, KMAX, us, nl, cf, ce, cid, xf, xu, cc, nb, uo)
+
 
 @njit(**_OPTS)
 def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, vals, grad,
@@ -333,11 +493,11 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
     """Row ``(m, j)`` of 2D or 3D value, classic or improved noise, every octave summed
     into ``row`` (float32; ridged sums are left unnormalised); ``work`` is
     :func:`row_work`'s block buffers (also the texture graph's row routine)."""
-    hb, vb, gb, nb, th, tv, tg = work
+    hb, vb, gb, nb, th, tv, tg, cc = work
     nx = row.shape[0]
     row[:] = ZERO
     weight[:] = ONE
-    px0, px1, xf, xu = xt
+    px0, px1, xf, xu, cid, cp0, cp1, kspan = xt
     yi0, yi1, yf, yv = yt
     zi0, zi1, zf, zw = zt
     for o in range(px0.shape[0]):
@@ -345,18 +505,34 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
         y1 = uint64(yi1[o, j])
         z0 = uint64(zi0[o, m]) if ndim == 3 else uint64(0)
         z1 = uint64(zi1[o, m]) if ndim == 3 else uint64(0)
-        rowtab = ndim == 2 and nx > 128
+        cells = kspan[o] <= KMAX  # the cell road: corners hashed once per cell
+        rowtab = not cells and ndim == 2 and nx > 128
         if rowtab:
             _row_tables(kind, perm, vals, grad, y0, y1, th, tv, tg)
         for base in range(0, nx, BLOCK):
             cnt = min(BLOCK, nx - base)
+            if cells:  # hash the block's cells
+                h0 = cid[o, base]
+                hn = cid[o, base + cnt - 1] - h0 + 1
+                a0 = cp0[o]
+                a1 = cp1[o]
+            else:  # hash the block's samples
+                h0 = base
+                hn = cnt
+                a0 = px0[o]
+                a1 = px1[o]
             if rowtab:
                 _lat_hash2(kind, base, cnt, px0[o], px1[o], th, tv, tg, hb, vb, gb)
+            else:  # one call site each: every inlined copy costs compile time
+                _lat_hash(kind, ndim, h0, hn, a0, a1, perm, vals, grad, y0, y1, z0, z1, hb,
+                          vb, gb)
+            if cells:
+                _cell_coef(kind, ndim, hn, yf[o, j], yv[o, j], zf[o, m], zw[o, m], hb, vb, gb,
+                           cc)
+                _cell_eval(kind, base, cnt, nx, cid[o], xf[o], xu[o], cc, h0, nb)
             else:
-                _lat_hash(kind, ndim, base, cnt, px0[o], px1[o], perm, vals, grad, y0, y1,
-                          z0, z1, hb, vb, gb)
-            _lat_eval(kind, ndim, base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m],
-                      zw[o, m], hb, vb, gb, nb)
+                _lat_eval(kind, ndim, base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m],
+                          zw[o, m], hb, vb, gb, nb)
             _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
 
 
@@ -367,10 +543,11 @@ def row_work():
         np.empty((8, BLOCK), np.int32),
         np.empty((8, BLOCK), np.float32),
         np.empty((3, 8, BLOCK), np.float32),
-        np.empty(BLOCK, np.float32),
+        np.empty(BLOCK + LANES, np.float32),
         np.empty((2, 256), np.int32),
         np.empty((2, 256), np.float32),
         np.empty((2, 2, 256), np.float32),
+        np.zeros((4, BLOCK + KMAX), np.float32),  # read up to KMAX - 1 past the cells
     )
 
 
@@ -651,17 +828,39 @@ _TABS: dict = {}
 
 def lattice_tables32(axis_tab, perm, is_x):
     """Float32 tables of one axis from :func:`._gridkernels.axis_tables`' ``(i0, i1, frac,
-    curve)``: for the x axis ``perm`` is applied to the lattice indices up front."""
+    curve)``: for the x axis ``perm`` is applied to the lattice indices up front, and the
+    cell tables of :func:`cell_tables` follow."""
     i0, i1, fr, cu = axis_tab
-    if is_x:
-        i0 = perm[i0]
-        i1 = perm[i1]
-    return (
-        np.ascontiguousarray(i0, np.int32),
-        np.ascontiguousarray(i1, np.int32),
+    tabs = (
+        np.ascontiguousarray(perm[i0] if is_x else i0, np.int32),
+        np.ascontiguousarray(perm[i1] if is_x else i1, np.int32),
         np.ascontiguousarray(fr, np.float32),
         np.ascontiguousarray(cu, np.float32),
     )
+    return tabs + cell_tables(i0, i1, tabs[0], tabs[1]) if is_x else tabs
+
+
+def cell_tables(i0, i1, px0, px1):
+    """The cells along x, per octave: ``cid`` (the column's cell ordinal, counting the
+    changes of lattice cell along the row), ``cp0, cp1`` (each cell's ``perm[x0]``,
+    ``perm[x1]``) and ``kspan`` (the most cells a :data:`LANES`-sample block spans)."""
+    no, n = i0.shape
+    cid = np.empty((no, n), np.int32)
+    cp0 = np.zeros((no, n), np.int32)
+    cp1 = np.zeros((no, n), np.int32)
+    kspan = np.empty(no, np.int32)
+    for o in range(no):
+        new = np.ones(n, bool)
+        new[1:] = (i0[o, 1:] != i0[o, :-1]) | (i1[o, 1:] != i1[o, :-1])
+        c = np.cumsum(new) - 1
+        cid[o] = c
+        ne = int(c[-1]) + 1 if n else 0
+        cp0[o, :ne] = px0[o][new]
+        cp1[o, :ne] = px1[o][new]
+        firsts = c[::LANES]
+        lasts = c[np.minimum(np.arange(0, n, LANES) + LANES - 1, n - 1)]
+        kspan[o] = int((lasts - firsts).max()) + 1 if n else 1
+    return cid, cp0, cp1, kspan
 
 
 def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, full):
