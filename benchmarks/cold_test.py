@@ -180,6 +180,14 @@ def parallel(cache: Path, top: int, jobs: int | None) -> None:
             per_group[r["group"]] = per_group.get(r["group"], 0.0) + r["cpu"]
     for g, c in per_group.items():
         print(f"  {g:<10} compiling {c:6.1f} CPU s")
+    per_kernel: dict[str, float] = {}
+    for r in recs:
+        k = f"{r['module'].removeprefix('sylva.')}.{r['name']}"
+        per_kernel[k] = per_kernel.get(k, 0.0) + r["self"]
+    print(f"\n| kernel (top {top}) | compiling, CPU s (own) |")
+    print("|---|---:|")
+    for k, sec in sorted(per_kernel.items(), key=lambda kv: -kv[1])[:top]:
+        print(f"| {k} | {sec:.1f} |")
     seen: dict[tuple, set] = {}
     for r in recs:
         if r["module"].startswith("sylva."):
