@@ -102,9 +102,17 @@ def test_the_message_counts_a_terminal_line_up(tmp_path):
 def test_warmup_compiles_ahead_so_that_the_command_compiles_nothing(tmp_path):
     cache = tmp_path / "numba-cache"
     env = {"NUMBA_CACHE_DIR": str(cache)}
+    profile = tmp_path / "profile.jsonl"
     warm = _python("from sylva.cli import main; raise SystemExit(main(['warmup', '--only', "
-                   "'derivation', '--jobs', '1']))", **env)
+                   f"'derivation', '--jobs', '1', '--profile', {str(profile)!r}]))", **env)
     assert warm.returncode == 0, warm.stderr
+    # --profile: a JSON line per kernel compiled, with its CPU seconds (a compile inside
+    # another counts in both totals, once in the "self" seconds)
+    recs = [json.loads(ln) for ln in profile.read_text().splitlines()]
+    assert {r["group"] for r in recs} == {"derivation"}
+    assert any(r["module"] == "sylva.lsystem._kernels" and r["name"] == "rewrite_table"
+               for r in recs)  # fmt: skip
+    assert all(0 <= r["self"] <= r["cpu"] for r in recs) and sum(r["cpu"] for r in recs) > 0.1
     lines = warm.stderr.splitlines()
     assert lines[0].startswith("sylva warmup: compiling sylva's kernels once, 1 groups on 1 ")
     assert re.fullmatch(r"  \[1/1\] derivation (\d+) kernels compiled in [\d.]+ s - .*", lines[1])

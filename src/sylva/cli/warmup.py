@@ -4,13 +4,17 @@ A fresh install has no compiled kernels: numba compiles each the first time a co
 reaches it (tens of seconds) and caches it on disk.  This command runs each command's work
 once at a tiny size, one group per process, so that later runs only load from the cache.
 Groups that build on the turtle and the mesh builder start after ``plants``, which
-compiles those, so that no two processes compile the same kernel.
+compiles those, so that no two processes compile the same kernel.  ``--profile FILE``
+writes a JSON line per kernel compiled (group, process, kernel, signature, CPU seconds
+with and without the kernels compiled inside it): where a cold start's time goes
+(``benchmarks/cold_test.py`` sums it up).
 """
 
 from __future__ import annotations
 
 import contextlib
 import io
+import json
 import multiprocessing
 import os
 import sys
@@ -64,13 +68,64 @@ def _textures(tmp: Path) -> None:
     from ..texture import PRESETS, TEXTURE_KINDS
 
     for kind in [*TEXTURE_KINDS, *PRESETS]:
-        if kind != "lsystem":
+        if not _walks(kind):
             _cli("texture", kind, "--size", "24x16", "-o", str(tmp / "t.png"))
-    _cli("texture", "--lsystem", "01-koch-snowflake", "--size", "24x16", "-o", str(tmp / "l.png"))
     _cli("texture", "perlin", "--size", "24x16", "--tileable", "-o", str(tmp / "t.png"))
     from ..texture import _gridkernels32
 
     _gridkernels32.warm()  # noise_grid's float32 road (the default for arrays)
+    _graphs()
+
+
+def _walks(kind: str) -> bool:
+    """Whether the texture ``kind`` (a kind or a preset) draws an L-system with the turtle
+    (those run in the ``lsystems`` group, after ``plants`` compiled the turtle)."""
+    from ..texture import PRESETS
+
+    return kind == "lsystem" or PRESETS.get(kind, {}).get("kind") == "lsystem"
+
+
+def _lsystem_textures(tmp: Path) -> None:
+    from ..texture import PRESETS
+
+    for kind in PRESETS:
+        if _walks(kind):
+            _cli("texture", kind, "--size", "24x16", "-o", str(tmp / "t.png"))
+    _cli("texture", "--lsystem", "01-koch-snowflake", "--size", "24x16", "-o", str(tmp / "l.png"))
+
+
+def _graphs() -> None:
+    """The texture graphs' road (``sylva texture --graph``, the studio's texture mode, the
+    baked bark and leaf of exports): the fused kernels of the built-in graphs and the
+    point-wise and row kernels every graph calls, plus Worley orders above F3."""
+    import numpy as np
+
+    from ..texture import noise_grid, worley_features
+    from ..texture.graph.library import marble_graph
+    from ..texture.graph.surface import SURFACES, bake_surface
+
+    for name in SURFACES:
+        bake_surface(name, 8)
+    for dtype in (np.float32, np.float64):
+        marble_graph(seed=1).evaluate((4, 24), dtype=dtype)
+    worley_features([0.2, 3.7], [0.4, 1.1], order=6)
+    noise_grid((4, 24), kind="worley", output="f4", dtype=np.float64)
+
+
+def _worley32(tmp: Path) -> None:
+    """The float32 Worley grids (the slowest kernels to compile, about 37 CPU s), apart from
+    the texture group so that they compile beside it (the texture group's
+    ``_gridkernels32.warm()`` then loads them): every path its own warm-up takes."""
+    import numpy as np
+
+    from ..texture import noise_grid
+
+    for shape in ((4, 24), (2, 3, 24)):
+        for fractal in ("fbm", "ridged"):
+            noise_grid(shape, kind="worley", fractal=fractal, octaves=2, dtype=np.float32)
+    for output in ("f1", "f2"):
+        for scale in (4.0, 1.0):
+            noise_grid((2, 24), kind="worley", output=output, scale=scale, dtype=np.float32)
 
 
 def _render(tmp: Path) -> None:
@@ -93,7 +148,7 @@ def _trees(tmp: Path) -> None:
 
 def _world(tmp: Path) -> None:
     _cli("world", "--seed", "1", "--size", "32x32", "--chunk", "16", "--workers", "1",
-         "--quiet", "-o", str(tmp / "w.glb"))  # fmt: skip
+         "--caves", "--quiet", "-o", str(tmp / "w.glb"))  # fmt: skip  (caves: the carver too)
 
 
 def _studio(tmp: Path) -> None:
@@ -111,14 +166,68 @@ GROUPS = {
     "trees": ("tree growth and wind (every species)", ("plants",), _trees),
     "world": ("terrain, biomes, vegetation, voxel meshing", ("plants",), _world),
     "studio": ("the studio's traced walk", ("plants",), _studio),
+    "worley32": ("float32 Worley grids", (), _worley32),
+    "lsystems": ("L-system textures (the turtle's)", ("plants",), _lsystem_textures),
 }
 
+#: The order groups start in when a process is free: on two cores derivation and the long
+#: texture group first, then the float32 Worley grids, then plants and what waits for it
+#: (about 110 CPU s on each core instead of 141 beside 76).
+_START = ("derivation", "textures", "worley32", "plants", "render", "trees", "world", "studio",
+          "lsystems")
 
-def _run_group(name: str) -> tuple[str, int, float, str]:
-    """In a worker process: run one group, silently; (name, kernels compiled, s, error)."""
+
+class _Profile:
+    """Numba's compile events in this (worker) process: CPU seconds of each compile, in
+    all and without the kernels compiled inside it."""
+
+    def __init__(self):
+        self.on = False
+        self.group = ""
+        self.stack: list[list[float]] = []
+        self.records: list[dict] = []
+
+    def install(self, group: str) -> None:
+        self.group = group
+        self.records = []
+        if not self.on:
+            from numba.core import event
+
+            prof = self
+
+            class _Listener(event.Listener):
+                def on_start(self, ev):
+                    prof.stack.append([time.process_time(), 0.0])
+
+                def on_end(self, ev):
+                    prof.end(ev)
+
+            event.register("numba:compile", _Listener())
+            self.on = True
+
+    def end(self, ev) -> None:
+        t0, inner = self.stack.pop()
+        dt = time.process_time() - t0
+        if self.stack:
+            self.stack[-1][1] += dt
+        f = ev.data["dispatcher"].py_func
+        self.records.append({"group": self.group, "pid": os.getpid(), "module": f.__module__,
+                             "name": f.__qualname__, "args": str(ev.data["args"]),
+                             "cpu": round(dt, 4), "self": round(dt - inner, 4),
+                             "depth": len(self.stack)})  # fmt: skip
+
+
+_profile = _Profile()
+
+
+def _run_group(name: str, profile: bool = False) -> tuple[str, int, float, str, list]:
+    """In a worker process: run one group, silently; (name, kernels compiled, s, error,
+    and with ``profile`` a record of each kernel compiled)."""
     from .._jit import announce, compiled
 
     prog = announce(io.StringIO())
+    if profile:
+        _profile.install(name)
     # a worker process may have run other groups before: count and report this one's only
     before = {label: set(names) for label, names in prog.done.items()}
     _errors.clear()
@@ -132,13 +241,16 @@ def _run_group(name: str) -> tuple[str, int, float, str]:
             _errors.append(f"{type(exc).__name__}: {exc}".splitlines()[0][:200])
     compiled = sum(len(v - before.get(label, set())) for label, v in prog.done.items())
     err = f"{len(_errors)} failed, first {_errors[0]}" if _errors else ""
-    return name, compiled, time.perf_counter() - t, err
+    records = list(_profile.records) if profile else []
+    return name, compiled, time.perf_counter() - t, err, records
 
 
-def warm(names: list[str], jobs: int, out=sys.stderr) -> int:
+def warm(names: list[str], jobs: int, out=sys.stderr, profile: list | None = None) -> int:
     """Run the groups ``names`` on ``jobs`` processes, each after the groups it waits for;
-    print a line per group to ``out``; the number of groups that failed."""
-    names = [n for n in GROUPS if n in names]
+    print a line per group to ``out``; the number of groups that failed.  With a list
+    ``profile``, a record of every kernel compiled is appended to it."""
+    names = [n for n in (*_START, *GROUPS) if n in names]
+    names = list(dict.fromkeys(names))
     left = list(names)
     done: set[str] = set()
     failed = 0
@@ -154,12 +266,14 @@ def warm(names: list[str], jobs: int, out=sys.stderr) -> int:
             for n in list(left):
                 if len(running) < jobs and all(d in done or d not in names
                                                for d in GROUPS[n][1]):  # fmt: skip
-                    running[pool.submit(_run_group, n)] = n
+                    running[pool.submit(_run_group, n, profile is not None)] = n
                     left.remove(n)
             finished, _ = wait(running, return_when=FIRST_COMPLETED)
             for fut in finished:
                 del running[fut]
-                name, compiled, secs, err = fut.result()
+                name, compiled, secs, err, records = fut.result()
+                if profile is not None:
+                    profile.extend(records)
                 done.add(name)
                 k = len(done)
                 what = f"{compiled} kernels compiled" + (f" ({err})" if err else "")
@@ -183,6 +297,8 @@ def register(sub) -> None:
                    help="compile only these groups (default: all)")  # fmt: skip
     p.add_argument("--jobs", "-j", type=int, default=None,
                    help="worker processes (default: the number of cores)")
+    p.add_argument("--profile", metavar="FILE",
+                   help="write a JSON line per kernel compiled (group, kernel, CPU s) to FILE")
     p.set_defaults(func=run)
 
 
@@ -197,5 +313,11 @@ def run(args) -> int:
     jobs = args.jobs or os.cpu_count() or 1
     if jobs < 1:
         raise SylvaError(f"--jobs: expected a number of processes >= 1, got {jobs}")
-    warm(names, jobs)
+    records: list | None = [] if args.profile else None
+    warm(names, jobs, profile=records)
+    if records is not None:
+        from .._atomic import atomic_write
+
+        with atomic_write(args.profile, "w") as fh:
+            fh.writelines(json.dumps(r) + "\n" for r in records)
     return 0

@@ -125,6 +125,19 @@ class _Emit:
         self.args.append(value)
         return f"a{len(self.args) - 1}"
 
+    @staticmethod
+    def i(value) -> str:
+        """A structural integer (noise kind, octave mode, dimension, interpolation) for a
+        call of a compiled kernel: ``np.int64(v)``, not the literal ``v``, which numba would
+        compile the callee (and its callees) for once per value instead of reusing the
+        copy that ``noise_grid`` uses and ``sylva warmup`` caches."""
+        return f"np.int64({int(value)})"
+
+    @staticmethod
+    def b(value) -> str:
+        """A structural flag for a call of a compiled kernel (as :meth:`i`)."""
+        return f"np.bool_({bool(value)})"
+
     def var(self, expr) -> str:
         self.n += 1
         name = f"v{self.n}"
@@ -201,7 +214,7 @@ class _Emit:
             return self.var(f"_ops.curve({a}, {self.arg(pts)})")
         if t == "terrace":
             pts = np.sort(_points(node, "points", 1, 2))
-            inv = "True" if node.param("invert") else "False"
+            inv = self.b(node.param("invert"))
             return self.var(f"_ops.terrace({a}, {self.arg(pts)}, {inv})")
         b = self.inp(node, "b", ctx)
         ops = {"add": "{a} + {b}", "sub": "{a} - {b}", "multiply": "{a} * {b}",
@@ -271,7 +284,8 @@ class _Emit:
             self.row += [f"{acc}[:] = 0.0", f"{wt}[:] = 1.0"]
             perm = self.arg(t.perm)
             if s.kind == _k.IMPROVED:
-                self.row.append(f"_gk._row_improved({mode}, {nd}, {xt}, {yt}, {zt}, j, m, {acc},"
+                self.row.append(f"_gk._row_improved({self.i(mode)}, {self.i(nd)}, {xt}, {yt}, "
+                                f"{zt}, j, m, {acc},"
                                 f" {wt}, {amps}, {perm}, {gain}, hb, nb)")
             elif nd == 2:
                 self.row.append(f"_gk._row_lattice2({s.kind}, {mode}, {xt}, {yt}, j, {acc}, "
@@ -313,16 +327,20 @@ class _Emit:
                                 opt("metric", "euclidean"), opt("jitter", 1.0),
                                 density=opt("density", None))
                 wt = ws.tables
-                d = self.var(f"_s.fractal_at({s.kind}, {_k.FBM}, {nd}, {pt[0]}, {pt[1]}, "
-                             f"{pt[2]}, {pt[3]}, False, {tab[0]}, {amps}, {tab[1]}, {tab[2]}, "
-                             f"{s.interp}, {self.arg(wt.perm)}, {self.arg(wt.perm12)}, "
+                d = self.var(f"_s.fractal_at({self.i(s.kind)}, {self.i(_k.FBM)}, "
+                             f"{self.i(nd)}, {pt[0]}, {pt[1]}, "
+                             f"{pt[2]}, {pt[3]}, {self.b(False)}, {tab[0]}, {amps}, {tab[1]}, "
+                             f"{tab[2]}, {self.i(s.interp)}, {self.arg(wt.perm)}, "
+                             f"{self.arg(wt.perm12)}, "
                              f"{self.arg(wt.values)}, {self.arg(wt.gradients)}, "
                              f"{self.arg(ws.wpar)}, {norm}, {gain})")
                 moved.append(self.var(f"{pt[a]} + {self.p(warp)} * {d}"))
             pt = moved + pt[nd:]
-        torus = "True" if plan.torus else "False"
-        return self.var(f"_s.fractal_at({s.kind}, {mode}, {nd}, {pt[0]}, {pt[1]}, {pt[2]}, "
-                        f"{pt[3]}, {torus}, {tab[0]}, {amps}, {tab[1]}, {tab[2]}, {s.interp}, "
+        torus = self.b(plan.torus)
+        return self.var(f"_s.fractal_at({self.i(s.kind)}, {self.i(mode)}, {self.i(nd)}, "
+                        f"{pt[0]}, {pt[1]}, {pt[2]}, "
+                        f"{pt[3]}, {torus}, {tab[0]}, {amps}, {tab[1]}, {tab[2]}, "
+                        f"{self.i(s.interp)}, "
                         f"{tab[3]}, {tab[4]}, {tab[5]}, {tab[6]}, {self.arg(s.wpar)}, {norm}, "
                         f"{gain})")
 
@@ -348,7 +366,8 @@ class _Emit:
             zt = self.arg(tabs[2]) if nd == 3 else yt
             self.pre.append(f"{wk} = _gk32.row_work()")
             self.row.append(
-                f"_gk32.row_lattice32({s.kind}, {mode}, {nd}, {xt}, {yt}, {zt}, j, m, {acc}, "
+                f"_gk32.row_lattice32({self.i(s.kind)}, {self.i(mode)}, {self.i(nd)}, {xt}, "
+                f"{yt}, {zt}, j, m, {acc}, "
                 f"{wt}, {amps}, {self.arg(t.perm)}, {self.arg(t.values.astype(f32))}, "
                 f"{self.arg(t.gradients[nd - 2].astype(f32))}, {gain}, {wk})")
         elif s.kind == _k.SIMPLEX:
@@ -356,7 +375,8 @@ class _Emit:
             self.pre.append(f"{wk} = _gk32.simplex_work()")
             tab = _gk32.simplex_table(t.seed, t.perm, t.perm12)
             self.row.append(
-                f"_gk32.row_simplex32({nd}, {mode}, {ax[0]}, {self.arg(plan.axes[0].astype(f32))}"
+                f"_gk32.row_simplex32({self.i(nd)}, {self.i(mode)}, {ax[0]}, "
+                f"{self.arg(plan.axes[0].astype(f32))}"
                 f", {ax[1]}, {ax[2]}, j, m, {acc}, {wt}, {self.arg(plan.freqs)}, {amps}, "
                 f"{self.arg(plan.offs)}, {self.arg(t.perm)}, {self.arg(tab)}, {gain}, {wk})")
         else:
@@ -364,7 +384,8 @@ class _Emit:
             nb = f"nbw{self.n}"
             self.pre += [f"{wk} = _w32.row_work(nx)", f"{nb} = np.empty(nx, np.float32)"]
             self.row.append(
-                f"_w32.row_worley32({nd}, {mode}, {ax[0]}, {ax[1]}, {ax[2]}, j, m, {acc}, {wt}, "
+                f"_w32.row_worley32({self.i(nd)}, {self.i(mode)}, {ax[0]}, {ax[1]}, {ax[2]}, j, "
+                f"m, {acc}, {wt}, "
                 f"{self.arg(plan.freqs)}, {amps}, {self.arg(plan.offs)}, {self.arg(plan.pers)}, "
                 f"{self.arg(s.wpar)}, {gain}, {wk}, {nb})")
         return self.var(f"{acc}[i] * {norm}")
@@ -506,7 +527,8 @@ class _Emit:
             lo = self.p(_f(node.param("vmin"), node, "vmin"))
             hi = self.p(_f(node.param("vmax"), node, "vmax"))
             pos, cols = self.arg(cm.positions), self.arg(cm.colors)
-            return tuple(self.var(f"_ops.gradient({v}, {lo}, {hi}, {pos}, {cols}, {c})")
+            return tuple(self.var(f"_ops.gradient({v}, {lo}, {hi}, {pos}, {cols}, "
+                                  f"{self.i(c)})")
                          for c in range(3)) + ("1.0",)
         # layer
         mode = str(node.param("mode")).lower()
@@ -518,7 +540,8 @@ class _Emit:
         op = (self.inp(node, "opacity", ctx) if "opacity" in node.inputs
               else self.p(_f(node.param("opacity"), node, "opacity")))
         k = self.var(f"{op} * {b[3]}")
-        out = tuple(self.var(f"{a[c]} + {k} * (_ops.blend({BLEND[mode]}, {a[c]}, {b[c]}) - "
+        out = tuple(self.var(f"{a[c]} + {k} * (_ops.blend({self.i(BLEND[mode])}, {a[c]}, "
+                             f"{b[c]}) - "
                              f"{a[c]})") for c in range(3))
         return out + (self.var(f"{a[3]} + {k} * (1.0 - {a[3]})"),)
 
