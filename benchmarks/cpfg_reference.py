@@ -76,16 +76,23 @@ REL, ABS = 1e-5, 1e-6
 
 
 # ---------------------------------------------------------------- cpfg's side
-def parse_cpfg_string(text: str) -> tuple[list[str], list[tuple[float, ...]]]:
-    """The modules of cpfg's ``-str`` output: one character each, ``(a,b,…)`` after it
-    when it has parameters (cpfg breaks the line every 70 characters, between modules)."""
+def parse_cpfg_string(text: str, names=()) -> tuple[list[str], list[tuple[float, ...]]]:
+    """The modules of cpfg's ``-str`` output: a symbol, ``(a,b,…)`` after it when it has
+    parameters (cpfg breaks the line every 70 characters; the breaks are dropped).
+
+    cpfg's string has one character per module (``@Gs`` is three modules, as in sylva's
+    reading); a name of sylva's alphabet ``names`` of more characters (``?H``, a query
+    module, which cpfg keeps as ``?`` and ``H(x,y,z)``) is read as one module, the
+    longest that starts there."""
     text = text.replace("\n", "")
+    multi = {m for m in names if len(m) > 1 and "(" not in m}
+    lengths = sorted({len(m) for m in multi}, reverse=True)
     syms: list[str] = []
     pars: list[tuple[float, ...]] = []
     i, n = 0, len(text)
     while i < n:
-        c = text[i]
-        i += 1
+        c = next((text[i : i + k] for k in lengths if text[i : i + k] in multi), text[i])
+        i += len(c)
         if i < n and text[i] == "(":
             j = text.index(")", i)
             pars.append(tuple(float(v) for v in text[i + 1 : j].split(",")))
@@ -97,7 +104,7 @@ def parse_cpfg_string(text: str) -> tuple[list[str], list[tuple[float, ...]]]:
 
 
 def run_cpfg(cpfg: Path, model: Path, files: dict, timeout: float) -> tuple[str, object]:
-    """Run cpfg on ``model`` without graphics; ``("ok", (symbols, params))`` or
+    """Run cpfg on ``model`` without graphics; ``("ok", its -str text)`` or
     ``("cpfg failed", message)`` / ``("timeout", None)``."""
     env = dict(os.environ)
     env["PATH"] = f"{cpfg.parent}{os.pathsep}{env.get('PATH', '')}"
@@ -128,7 +135,7 @@ def run_cpfg(cpfg: Path, model: Path, files: dict, timeout: float) -> tuple[str,
         if not out.is_file() or out.stat().st_size == 0:
             msg = " / ".join((p.stdout + p.stderr).split("\n"))[-300:]
             return "cpfg failed", f"rc={p.returncode} {msg}"
-        return "ok", parse_cpfg_string(out.read_text("latin-1"))
+        return "ok", out.read_text("latin-1")
 
 
 # ---------------------------------------------------------------- sylva's side
@@ -243,6 +250,7 @@ def compare(cpfg_bin: Path, model: Path, timeout: float) -> tuple[str, str]:
         return c_status, f"{c_word or ''}{tail}"
     if s["status"] != "ok":
         return s["status"], s.get("message", f"over {timeout:g}s")
+    c_word = parse_cpfg_string(c_word, s["names"])
     n_c, n_s = len(c_word[0]), len(s["ids"])
     diff = first_difference(c_word, s)
     if diff is None:
