@@ -21,6 +21,9 @@ Per model it prints one line::
     stochastic   counts equal / counts differ: …             (random streams differ)
     cpfg failed  (its message) / sylva failed (its message) / timeout
     skipped      needs environment program X
+    no env       the object has an environment file (-e): sylva answers it with a
+                 built-in environment, cpfg here runs without one (its environment
+                 programs are not built), so the words are not comparable
 
 A model is *stochastic* when it has ``seed:``, a production with a probability, or calls
 ``ran``/``nran``/``srand``: cpfg's random stream (``srand48``) is not sylva's, so only the
@@ -266,6 +269,8 @@ def compare(cpfg_bin: Path, model: Path, timeout: float) -> tuple[str, str]:
         shown = " ".join(f"{x}:{cc.get(x, 0)}/{sc.get(x, 0)}" for x in keys
                          if cc.get(x, 0) != sc.get(x, 0))[:120]  # fmt: skip
         return "stochastic", f"counts differ (cpfg/sylva) {shown}; {n_c}/{n_s} modules"
+    if files["env"] is not None:  # cpfg ran without -e: nothing answered its ?E modules
+        return "no env", f"cpfg ran without its environment program; {where}"
     ctx = " ".join(c_word[0][max(0, k - 12) : k + 1])
     return "differ", f"{where}  [cpfg before: {ctx.replace(' ', '')}]"
 
