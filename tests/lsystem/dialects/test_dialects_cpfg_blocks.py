@@ -114,6 +114,16 @@ def test_func_values_are_cpfgs_own(tmp_path):
     assert derive(p, 1).values.tolist() == pytest.approx(cpfg_str, rel=1e-5)
 
 
+def test_trigonometry_is_in_degrees_as_in_cpfg():
+    # cpfg's sin/cos/tan take degrees and asin/acos/atan(2) give degrees, in conditions,
+    # successors and blocks alike; the word is cpfg's -str output for this model
+    text = ("Lsystem: 1\nStart: {x = cos(60)+atan(1);}\nderivation length: 1\nAxiom: A(30)\n"
+            "A(t) : sin(t) > 0.4 --> B(sin(t),tan(45),asin(0.5),acos(0.5),atan(1),x)\n"
+            "endlsystem\n")  # fmt: skip
+    p = loads(text, filename="plant.l", view=False)
+    assert derive(p, 1).to_text(float32=True) == "B(0.5,1,30,60,45,45.5)"
+
+
 def test_curve_functions_read_the_view_files_curve(tmp_path):
     # a straight curve from (0,0) to (3,4): length 5, halfway at (1.5, 2)
     (tmp_path / "c.con").write_text("version: 1.4\npoints: 2\nrange: 0.0 1.0\ndimension: 4\n"
