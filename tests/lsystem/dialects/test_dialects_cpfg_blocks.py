@@ -94,7 +94,34 @@ def test_func_reads_the_view_files_function(tmp_path):
     p = cpfg.parse((tmp_path / "plant.l").read_text(), str(tmp_path / "plant.l"))
     assert p.axiom[1].args[0].value == pytest.approx(1.0, abs=1e-4)  # read once, in the axiom
     w = derive(p, 1)
-    assert w.values[0] == pytest.approx(0.5, abs=1e-4)
+    assert w.values[0] == pytest.approx(0.500977, abs=1e-6)  # cpfg's -str: its bisection
+
+
+def test_func_values_are_cpfgs_own(tmp_path):
+    # cpfg tabulates a function at its samples (the file's 'samples: 5' for fver 1 1, the
+    # view's number for a 'range:' file, none here) by bisecting the spline's parameter to
+    # 0.001 in x, and interpolates linearly; the numbers are cpfg's -str output for this
+    # model (a cpfg built from vlab's source, benchmarks/cpfg_reference.py)
+    (tmp_path / "bend.func").write_text("fver 1 1\nname: bend\nsamples: 5\nflip: off\n"
+                                        "points: 4\n0 0.2 1\n0.3 0.9 1\n0.5 0.1 1\n1 0.6 1\n")
+    (tmp_path / "old.func").write_text("range: 0.0 1.0\npoints: 4\n0 0\n0.2 1\n0.6 0.2\n1 1\n")
+    (tmp_path / "plant.v").write_text("function: bend.func 100\nfunction: old.func\n")
+    (tmp_path / "plant.l").write_text(
+        "Lsystem: 1\nderivation length: 1\nAxiom: A\nA --> B(func(1,0))B(func(1,0.1))"
+        "B(func(1,0.37))B(func(1,1))C(func(2,0))C(func(2,0.37))C(func(2,0.8))\nendlsystem\n")
+    p = cpfg.parse((tmp_path / "plant.l").read_text(), str(tmp_path / "plant.l"))
+    cpfg_str = [0.202046, 0.32113, 0.476109, 0.599269, 0.00292454, 0.565757, 0.716187]
+    assert derive(p, 1).values.tolist() == pytest.approx(cpfg_str, rel=1e-5)
+
+
+def test_trigonometry_is_in_degrees_as_in_cpfg():
+    # cpfg's sin/cos/tan take degrees and asin/acos/atan(2) give degrees, in conditions,
+    # successors and blocks alike; the word is cpfg's -str output for this model
+    text = ("Lsystem: 1\nStart: {x = cos(60)+atan(1);}\nderivation length: 1\nAxiom: A(30)\n"
+            "A(t) : sin(t) > 0.4 --> B(sin(t),tan(45),asin(0.5),acos(0.5),atan(1),x)\n"
+            "endlsystem\n")  # fmt: skip
+    p = loads(text, filename="plant.l", view=False)
+    assert derive(p, 1).to_text(float32=True) == "B(0.5,1,30,60,45,45.5)"
 
 
 def test_curve_functions_read_the_view_files_curve(tmp_path):

@@ -363,16 +363,25 @@ _RANDOM = {
                                                     np.clip(p, 0, 1)).astype(np.float64)),
 }  # fmt: skip
 
+#: cpfg's trigonometry is in degrees (its D_TO_R / R_TO_D around C's functions)
+DEGREES = {
+    "sin": (1, lambda x: np.sin(np.radians(x))), "cos": (1, lambda x: np.cos(np.radians(x))),
+    "tan": (1, lambda x: np.tan(np.radians(x))), "asin": (1, lambda x: np.degrees(np.arcsin(x))),
+    "acos": (1, lambda x: np.degrees(np.arccos(x))),
+    "atan": (1, lambda x: np.degrees(np.arctan(x))),
+    "atan2": (2, lambda y, x: np.degrees(np.arctan2(y, x))),
+}  # fmt: skip
+
 _VECTOR = {
-    "trunc": (1, np.trunc), "sign": (1, np.sign), "fabs": (1, np.abs), "tan": (1, np.tan),
-    "atan2": (2, np.arctan2), "min": (2, np.minimum), "max": (2, np.maximum),
-    "frac": (1, lambda x: x - np.floor(x)),
+    "trunc": (1, np.trunc), "sign": (1, np.sign), "fabs": (1, np.abs),
+    "min": (2, np.minimum), "max": (2, np.maximum),
+    "frac": (1, lambda x: x - np.floor(x)), **DEGREES,
 }  # fmt: skip
 
 #: The functions a cpfg expression may call that sylva's expressions do not have, or that
 #: draw random numbers: a call to one outside a block is moved into one (the reader).
 BLOCK_ONLY = frozenset({*_RANDOM, *_VECTOR, "srand", "func", "curveX", "curveY", "curveZ",
-                        "curveGAL", "printf"}) - {"tan", "atan2", "min", "max", "sign"}  # fmt: skip
+                        "curveGAL", "printf"}) - {"min", "max", "sign"}  # fmt: skip
 
 
 def assigned(tree) -> set[str]:

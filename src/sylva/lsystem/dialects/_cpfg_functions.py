@@ -6,8 +6,15 @@ name.fset`` (a gallery of several, numbered in order) give ``func(k, x)``: the v
 ``curveY(k, t)``, ``curveZ(k, t)`` (the point at the fraction ``t`` of curve ``k``'s
 length) and ``curveGAL(k)`` (its length).  vlab's editors (funcedit, the contour editor)
 write both as the control points of a uniform cubic B-spline whose ends are clamped (its
-first and last points are on the curve), each point repeated as often as its multiplicity;
-sylva evaluates that spline at 1025 parameters and interpolates between them.
+first and last points are on the curve), each point repeated as often as its multiplicity.
+
+A function's value is cpfg's (checked against a cpfg built from vlab's source,
+``benchmarks/cpfg_reference.py``): the spline's parameter for ``x`` is found by bisection
+until the spline's x is within 0.001 of ``x`` (cpfg's ``SplineFunction::_Value``), and when
+the function has a sample count (a ``samples: k`` line in the file, ``fver 1 1``; the
+number after the file name on the view file's ``function:`` line for the older ``range:``
+files) cpfg tabulates ``k`` such values at ``x = i / (k - 1)`` and interpolates linearly
+between them.  Curves are evaluated at 1025 parameters and interpolated by arc length.
 """
 
 from __future__ import annotations
@@ -25,20 +32,28 @@ _SAMPLES = 1025
 
 def _bspline(points: np.ndarray, samples: int = _SAMPLES) -> np.ndarray:
     """Points of the clamped uniform cubic B-spline of control ``points`` ``(n, d)``."""
+    return _bspline_at(points, np.linspace(0.0, 1.0, samples))
+
+
+def _bspline_at(points: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """The clamped uniform cubic B-spline of control ``points`` ``(n, d)`` at the
+    parameters ``u`` in [0, 1] (``u = 1``: the last point)."""
     n = len(points)
     if n < 2:
-        return np.repeat(points, 2, axis=0)
+        return np.repeat(points[:1], len(u), axis=0)
     k = min(3, n - 1)
     inner = n - k - 1
     knots = np.concatenate([np.zeros(k + 1), np.arange(1, inner + 1) / (inner + 1),
                             np.ones(k + 1)])  # fmt: skip
-    u = np.linspace(0.0, 1.0, samples)
+    u = np.asarray(u, np.float64)
+    samples = len(u)
     # Cox-de Boor, vectorised over u
     basis = np.zeros((samples, len(knots) - 1))
     for i in range(len(knots) - 1):
         basis[:, i] = (knots[i] <= u) & (u < knots[i + 1])
-    basis[-1, n - 1] = 1.0  # u = 1 belongs to the last span
-    basis[-1, n:] = 0.0
+    last = u >= 1.0  # u = 1 belongs to the last span
+    basis[last, n - 1] = 1.0
+    basis[last, n:] = 0.0
     for p in range(1, k + 1):
         nxt = np.zeros((samples, len(knots) - 1 - p))
         for i in range(len(knots) - 1 - p):
@@ -84,39 +99,72 @@ def _read_points(lines: list[str], at: int, path: Path, dims: int) -> tuple[np.n
     return np.array(pts, np.float64), k
 
 
-def _function(lines: list[str], start: int, path: Path):
-    """The function (x -> y) whose ``points:`` line is at or after ``start``."""
+def _bisect(pts: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """cpfg's value of the function of control ``pts`` at ``x`` (in [0, 1]): bisect the
+    spline's parameter until its x is within 0.001 of ``x``, take its y there."""
+    x = np.asarray(x, np.float64)
+    low, high = np.zeros_like(x), np.ones_like(x)
+    y = np.zeros_like(x)
+    todo = np.ones(x.shape, bool)
+    for _ in range(64):  # 2**-64: every x is found long before
+        if not todo.any():
+            break
+        check = (low[todo] + high[todo]) / 2.0
+        p = _bspline_at(pts, check)
+        over = p[:, 0] > x[todo]
+        high[todo] = np.where(over, check, high[todo])
+        low[todo] = np.where(over, low[todo], check)
+        y[todo] = p[:, 1]
+        near = np.abs(p[:, 0] - x[todo]) <= 0.001
+        idx = np.flatnonzero(todo)
+        todo[idx[near]] = False
+    return y
+
+
+def _function(lines: list[str], start: int, path: Path, samples: int = -1):
+    """The function (x -> y) whose ``points:`` line is at or after ``start``; ``samples``:
+    cpfg's table size (none when 2 or less)."""
     k = start
     while k < len(lines) and not lines[k].strip().lower().startswith("points:"):
         k += 1
     if k == len(lines):
         raise SylvaError(f"{path}: expected a 'points:' line of a function")
     pts, end = _read_points(lines, k, path, 2)
-    curve = _bspline(pts)
-    x, y = curve[:, 0], curve[:, 1]
-    order = np.argsort(x, kind="stable")
-    x, y = x[order], y[order]
+    pts = pts.astype(np.float32).astype(np.float64)  # cpfg reads them as floats
+    table = _bisect(pts, np.arange(samples) / (samples - 1)) if samples > 2 else None
 
-    def f(v, _x=x, _y=y):
-        return np.interp(np.asarray(v, np.float64), _x, _y)
+    def f(v, _pts=pts, _table=table):
+        v = np.clip(np.asarray(v, np.float64), 0.0, 1.0)
+        if _table is None:
+            return _bisect(_pts, v.reshape(-1)).reshape(v.shape)
+        index = v * (len(_table) - 1)
+        i = np.minimum(np.floor(index).astype(np.int64), len(_table) - 1)
+        j = np.minimum(i + 1, len(_table) - 1)
+        w2 = index - i
+        return (1.0 - w2) * _table[i] + w2 * _table[j]
 
     f.cpfg_name = None
     return f, end
 
 
-def _read_func_file(path: Path) -> list:
+def _read_func_file(path: Path, samples: int = -1) -> list:
     lines = path.read_text("latin-1").splitlines()
     out, k = [], 0
     gallery = lines and lines[0].strip().lower().startswith("funcgalleryver")
-    name = None
+    name, own = None, None  # a function's own samples: line (fver 1 1) wins over the view's
     while k < len(lines):
         low = lines[k].strip().lower()
         if low.startswith("name:"):
             name = lines[k].split(":", 1)[1].strip() or None
+        if low.startswith("samples:"):
+            try:
+                own = int(low.split(":", 1)[1].split()[0])
+            except (IndexError, ValueError):
+                raise SylvaError(f"{path}:{k + 1}: expected 'samples: k'") from None
         if low.startswith("points:"):
-            f, k = _function(lines, k, path)
+            f, k = _function(lines, k, path, samples if own is None else own)
             f.cpfg_name = name
-            name = None
+            name, own = None, None
             out.append(f)
             if not gallery:
                 break
@@ -155,7 +203,8 @@ def load_functions(view: Path | None) -> dict:
         key = " ".join(key.lower().split())
         words = value.split()
         if key in ("function", "function set") and words:
-            funcs.extend(_read_func_file(view.parent / words[0]))
+            n = int(words[1]) if key == "function" and words[1:] and words[1].isdigit() else -1
+            funcs.extend(_read_func_file(view.parent / words[0], n))
         elif key == "curve" and words:
             curves.append(_read_curve(view.parent / words[0]))
     out: dict = {}

@@ -12,6 +12,7 @@ from __future__ import annotations
 import re
 
 from ..expr import FUNCTIONS
+from ._cpfg_blocks import DEGREES
 
 __all__ = ["hoist", "split_blocks"]
 
@@ -97,7 +98,7 @@ def hoist(text: str, calls: list, rename: dict, *, successor: bool) -> str:
                 k = end + 1
                 continue
         if j < n and text[j] == "(":
-            if name not in FUNCTIONS:
+            if name not in FUNCTIONS or name in DEGREES:  # cpfg's degrees: in a block
                 end = _match(text, j, "(", ")")
                 if end < 0:
                     out.append(text[k:])

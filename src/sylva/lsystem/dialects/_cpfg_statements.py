@@ -7,11 +7,12 @@ operators and cpfg's ``^`` (power).  The statements are walked by :func:`run`, n
 ``eval``; a block that runs more than :data:`STEP_BUDGET` statements and loop turns stops
 with a :class:`~sylva.errors.SylvaError` that names the block's file and line.
 
-Functions: those of sylva's expressions (:data:`sylva.lsystem.expr.FUNCTIONS`: ``sin`` …
-in radians, ``floor``, ``exp``, ``log`` …) and cpfg's ``ran(x)`` (uniform in [0, x)),
-``nran(mean, sd)`` (normal), ``srand(s)`` (reseeds both), ``trunc``, ``sign``, ``fabs``,
-``tan``, ``atan2(y, x)``, ``min``, ``max``.  The random numbers come from NumPy's PCG64
-seeded with the L-system's ``seed:`` (0 without one): the same on every machine.
+Functions: those of sylva's expressions (:data:`sylva.lsystem.expr.FUNCTIONS`: ``floor``,
+``exp``, ``log`` …) and cpfg's ``ran(x)`` (uniform in [0, x)), ``nran(mean, sd)`` (normal),
+``srand(s)`` (reseeds both), ``trunc``, ``sign``, ``fabs``, ``min``, ``max``, and cpfg's
+trigonometry in degrees, as cpfg computes it: ``sin``, ``cos``, ``tan`` of degrees,
+``asin``, ``acos``, ``atan``, ``atan2(y, x)`` in degrees.  The random numbers come from
+NumPy's PCG64 seeded with the L-system's ``seed:`` (0 without one): the same on every machine.
 """
 
 from __future__ import annotations
@@ -292,8 +293,14 @@ _CPFG = {
     "trunc": (1, lambda g, x: float(math.trunc(x))),
     "sign": (1, lambda g, x: float((x > 0) - (x < 0))),
     "fabs": (1, lambda g, x: abs(x)),
-    "tan": (1, lambda g, x: math.tan(x)),
-    "atan2": (2, lambda g, y, x: math.atan2(y, x)),
+    # cpfg's trigonometry is in degrees (its D_TO_R / R_TO_D around C's functions)
+    "sin": (1, lambda g, x: math.sin(math.radians(x))),
+    "cos": (1, lambda g, x: math.cos(math.radians(x))),
+    "tan": (1, lambda g, x: math.tan(math.radians(x))),
+    "asin": (1, lambda g, x: math.degrees(math.asin(x)) if -1 <= x <= 1 else math.nan),
+    "acos": (1, lambda g, x: math.degrees(math.acos(x)) if -1 <= x <= 1 else math.nan),
+    "atan": (1, lambda g, x: math.degrees(math.atan(x))),
+    "atan2": (2, lambda g, y, x: math.degrees(math.atan2(y, x))),
     "min": (2, lambda g, a, b: min(a, b)),
     "max": (2, lambda g, a, b: max(a, b)),
     "frac": (1, lambda g, x: x - math.floor(x)),
