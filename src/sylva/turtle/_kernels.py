@@ -13,7 +13,16 @@ import numpy as np
 from numba import njit, uint64
 
 from . import tables as T
-from ._movements import C_MOV, C_NMOV, MOV_SLOTS, MOV_W, NC_MOV, movement_adjust, old_bend
+from ._movements import (
+    C_MOV,
+    C_NMOV,
+    MOV_SLOTS,
+    MOV_W,
+    NC_MOV,
+    movement_adjust,
+    old_bend,
+    turn_frame,
+)
 from ._movements import S_H as M_H
 from ._movements import S_L as M_L
 from ._movements import S_OLD as M_OLD
@@ -230,16 +239,7 @@ def _bend(st, tx, ty, tz):  # pragma: no cover - compiled
     kx = ax / m
     ky = ay / m
     kz = az / m
-    c = math.cos(ang)
-    s = math.sin(ang)
-    for off in range(S_H, S_U + 3, 3):  # H, L and U alike (Rodrigues)
-        vx = st[off]
-        vy = st[off + 1]
-        vz = st[off + 2]
-        d = (kx * vx + ky * vy + kz * vz) * (1.0 - c)
-        st[off] = vx * c + (ky * vz - kz * vy) * s + kx * d
-        st[off + 1] = vy * c + (kz * vx - kx * vz) * s + ky * d
-        st[off + 2] = vz * c + (kx * vy - ky * vx) * s + kz * d
+    turn_frame(st, kx, ky, kz, ang, S_H)  # H, L and U alike (Rodrigues)
     st[S_NROT] += 1.0
     if st[S_NROT] >= 64.0:
         _normalize_frame(st)

@@ -51,7 +51,7 @@ NC_MOV = C_MOV + MOV_W * MAX_MOVEMENTS
 
 
 @njit(cache=True)
-def _turn(st, kx, ky, kz, ang, first):  # pragma: no cover - compiled
+def turn_frame(st, kx, ky, kz, ang, first):  # pragma: no cover - compiled
     """Rodrigues: the frame vectors from ``first`` on turn about the unit axis k by ``ang``."""
     c = math.cos(ang)
     s = math.sin(ang)
@@ -113,7 +113,7 @@ def movement_adjust(st, cfg):  # pragma: no cover - compiled
     rz = hx * vy - hy * vx
     m = math.sqrt(rx * rx + ry * ry + rz * rz)
     if m >= 1e-6:
-        _turn(st, rx / m, ry / m, rz / m, min(m, 1.0), S_H)
+        turn_frame(st, rx / m, ry / m, rz / m, min(m, 1.0), S_H)
     if not torque or (dx == 0.0 and dy == 0.0 and dz == 0.0):
         return
     size = math.sqrt(dx * dx + dy * dy + dz * dz)
@@ -140,7 +140,7 @@ def movement_adjust(st, cfg):  # pragma: no cover - compiled
     m = math.sqrt(ax * ax + ay * ay + az * az)
     if m < 1e-7:
         return
-    _turn(st, ax / m, ay / m, az / m, min(m, 1.0), S_L)  # L and U roll, H stays
+    turn_frame(st, ax / m, ay / m, az / m, min(m, 1.0), S_L)  # L and U roll, H stays
 
 
 @njit(cache=True)
