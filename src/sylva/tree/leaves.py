@@ -63,7 +63,7 @@ import numpy as np
 
 from ..errors import SylvaError
 from ._kernels import crown_leaf_turns
-from ._streams import stream
+from ._streams import stream, uniform
 from .components import Component
 
 __all__ = ["LEAF_FALL", "LeafParameterError", "Leaves", "plan_leaves"]
@@ -226,15 +226,15 @@ def _crown_leaves(branch, rng):
         tip = branch.frames[-1]
         out_f = []
         for i in range(n):
-            a = (i / max(n - 1, 1) - 0.5) * spread + rng.uniform(-0.04, 0.04)
-            f = tip @ _rz(a) @ _rx(math.radians(rng.uniform(-8, 8)))
+            a = (i / max(n - 1, 1) - 0.5) * spread + uniform(rng, -0.04, 0.04)
+            f = tip @ _rz(a) @ _rx(math.radians(uniform(rng, -8, 8)))
             out_f.append(f)
         arcs = np.full(n, branch.arc1 - 1e-6)
         sizes = np.array([scale.sample(rng) for _ in range(n)])
         return arcs, np.array(out_f).reshape(-1, 3, 3), sizes
     frac = (branch.arc1 - branch.arc0) / plan.length
     want = plan.n_leaves * frac * branch.share
-    n = int(math.floor(want + rng.uniform()))
+    n = int(math.floor(want + rng.random()))
     if n <= 0:
         return empty
     rot = tree.pf("Rotate", level=lv, default=137.5)
@@ -243,7 +243,7 @@ def _crown_leaves(branch, rng):
     u_arc = rng.uniform(0.2, 0.8, n)
     if rot.value >= 0:  # the spiral: the draws, then their arithmetic in one compiled call
         u_rot = rng.uniform(-1, 1, n)
-        phi0 = rng.uniform(0, 360)
+        phi0 = uniform(rng, 0, 360)
         u_down = rng.uniform(-1, 1, n)
         u_twist = rng.uniform(-30, 30, n)  # a petiole twist
         arcs, seg_i, ry, rx, rt = crown_leaf_turns(

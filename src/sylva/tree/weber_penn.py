@@ -85,7 +85,7 @@ import math
 import numpy as np
 
 from ._kernels import axis_rotations, bend_stem, cone_profile, envelope_exit, where_points
-from ._streams import stream
+from ._streams import stream, uniform
 from .components import Component
 from .leaves import LEAF_FALL, Leaves, plan_leaves
 
@@ -637,21 +637,21 @@ class Branch(Component):
         if hi <= lo:
             return []
         want = per_len * (hi - lo)
-        n = int(math.floor(want + rng.uniform()))
+        n = int(math.floor(want + rng.random()))
         if n <= 0:
             return []
         rot = tree.pf("Rotate", level=lv + 1, default=140.0)
         down = tree.pf("DownAngle", level=lv + 1, default=45.0)
-        phi0 = phi = rng.uniform(0.0, 360.0)
+        phi0 = phi = uniform(rng, 0.0, 360.0)
         side = 1.0
         out = []
         for i in range(n):
-            s = lo + (i + rng.uniform(0.25, 0.75)) / n * (hi - lo)
+            s = lo + (i + uniform(rng, 0.25, 0.75)) / n * (hi - lo)
             if rot.value >= 0:
                 phi += rot.sample(rng)
             else:  # the paper's negative nRotate: alternately ±(180 + nRotate ± nRotateV)
                 side = -side
-                phi = phi0 + side * (180.0 + rot.value + rng.uniform(-1, 1) * abs(rot.deviation))
+                phi = phi0 + side * (180.0 + rot.value + uniform(rng, -1, 1) * abs(rot.deviation))
             if down.deviation >= 0:
                 theta = down.sample(rng)
             else:  # the paper's special mode for a negative nDownAngleV
@@ -927,7 +927,7 @@ def _skip_run_draws(plan: StemPlan, arc0: float, arc1: float, k1: int, share: fl
         if pos > at[0]:
             rng.bit_generator.advance(pos - at[0])
         at[0] = pos + 1
-        return rng.uniform()
+        return rng.random()
 
     end = _skipped_draws(plan, arc0, arc1, share, uniform_at)
     if end > at[0]:
@@ -991,7 +991,7 @@ class _TrialStream:
     def uniform_at(self, pos: int) -> float:
         v = self.seen.get(pos)
         if v is None:
-            v = self.seen[pos] = self.at(pos).uniform()
+            v = self.seen[pos] = self.at(pos).random()
             self.pos = pos + 1
         return v
 
@@ -1069,7 +1069,7 @@ def _split_frames(plan: StemPlan, n: int, rng: np.random.Generator) -> list[np.n
     """The initial frames of the ``n + 1`` runs that continue a stem after a split (the
     draws of :meth:`Branch._continuations`, from the splitting run's stream)."""
     angle = plan.tree.params.float("SplitAngle", level=plan.level, default=20.0)
-    base_phi = rng.uniform(0, 2 * math.pi)
+    base_phi = uniform(rng, 0, 2 * math.pi)
     out = []
     for c in range(n + 1):
         if n == 0:
