@@ -106,6 +106,7 @@ class Leaves(Component):
         self.death = death
         self.juvenile = juvenile
         self._rank: np.ndarray | None = None
+        self._span: tuple[float, float] | None = None  # sizes_at's (last birth, first death)
         self._t = 0.0
 
     def __len__(self) -> int:
@@ -127,12 +128,23 @@ class Leaves(Component):
         season applies (spring's ``SpringLeafScale``, autumn's ``LeafFall``, winter)."""
         tree = self.tree
         plan = self.branch.plan
-        age = (t - self.birth) / max(tree.leaf_unfold, 1e-6)
-        # np.minimum(np.maximum(0, x), 1) is np.clip(x, 0, 1) bit for bit, without its
-        # Python-level dispatch (weber_penn.envelope)
-        size = self.size * np.minimum(np.maximum(0.0, age), 1.0) ** 0.7
-        size = size * np.minimum(np.maximum(0.0, self.death - t), 1.0)
-        size[self.birth > t] = 0.0
+        unfold = max(tree.leaf_unfold, 1e-6)
+        if self._span is None:  # the last birth and the first death (the arrays are fixed)
+            n = len(self.birth)
+            self._span = (float(self.birth.max()) if n else -math.inf,
+                          float(self.death.min()) if n else math.inf)
+        last_birth, first_death = self._span
+        if (t - last_birth) / unfold >= 1.0 and first_death - t >= 1.0:
+            # every leaf unfolded and none fading: the factors below are all exactly 1
+            # (1 ** 0.7 == 1, x * 1 == x), so the same numbers without the arithmetic
+            size = self.size.copy()
+        else:
+            age = (t - self.birth) / unfold
+            # np.minimum(np.maximum(0, x), 1) is np.clip(x, 0, 1) bit for bit, without its
+            # Python-level dispatch (weber_penn.envelope)
+            size = self.size * np.minimum(np.maximum(0.0, age), 1.0) ** 0.7
+            size = size * np.minimum(np.maximum(0.0, self.death - t), 1.0)
+            size[self.birth > t] = 0.0
         if plan.shed is not None:  # a shed branch drops its leaves before it goes
             size = size * min(max(1.0 - (t - plan.shed) / LEAF_FALL, 0.0), 1.0)
         scale, _turn, fall = tree.leaf_season(self.leaf_level)
