@@ -190,9 +190,10 @@ class Component:
             raise ValueError("attach: the slot belongs to another component")
         if child.parent is not None:
             raise ValueError("attach: the child already has a parent (detach it or duplicate it)")
-        for c in self.path_to_root():
-            if c is child:
-                raise ValueError("attach: that joint would make a cycle")
+        # a parentless child is on the path to the root only as its end (the root): only a
+        # child with a subtree of its own, or this component itself, can close a cycle
+        if child is self or (any(s.children for s in child.slots) and child is self.root()):
+            raise ValueError("attach: that joint would make a cycle")
         child.parent, child.parent_slot = self, slot
         slot.children.append(child)
         new_level = level if level is not None else self.level + (0 if slot.is_primary else 1)
