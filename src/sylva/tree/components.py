@@ -275,7 +275,7 @@ class Component:
 
     def world_matrix(self) -> np.ndarray:
         """``float64[4, 4]``: this component's frame → the root's frame (slot transforms)."""
-        m = np.eye(4)
+        m = _IDENTITY.copy()  # np.eye(4)'s numbers, without its construction
         c = self
         while c.parent_slot is not None:
             m = c.parent_slot.matrix @ m

@@ -97,6 +97,7 @@ _NONE = np.zeros(0)
 _NONE33 = np.zeros((0, 3, 3))
 _ZERO3 = np.zeros(3)
 _EYE4 = np.eye(4)
+_EYE3 = np.eye(3)  # copied where a fresh identity frame is needed (cheaper than np.eye)
 _UP = np.array([0.0, 1.0, 0.0])
 _MAX_NODES = 32  # a periodic taper with more nodes per stem is drawn as Taper 2
 _NODE_RINGS = 6  # rings per node of a periodic taper
@@ -776,7 +777,7 @@ class Branch(Component):
                 return self._child_plan(lv, length, s, lmax, r_here, t, rng, shed)
 
         if shed is not None:
-            child = Branch(plan_of(length), 0, np.eye(3), key, parent_world=world)
+            child = Branch(plan_of(length), 0, _EYE3.copy(), key, parent_world=world)
             self.attach(child, slot)
             child.schedule_own(sim)
             if plan.shed is None:  # the juvenile branch itself: it goes when it is gone
@@ -788,7 +789,7 @@ class Branch(Component):
             length = tree.prune_ratio * pruned + (1.0 - tree.prune_ratio) * length
             if length < 1e-3:
                 return
-        child = Branch(plan_of(length), 0, np.eye(3), key, parent_world=world)
+        child = Branch(plan_of(length), 0, _EYE3.copy(), key, parent_world=world)
         self.attach(child, slot)
         child.schedule_own(sim)
 
@@ -1045,7 +1046,7 @@ def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray,
     denom = st * max(1.0 - tree.base_size, 1e-9)
     width, peak, low, high = tree.prune
     peak = min(max(peak, 1e-6), 1 - 1e-6)
-    stack = [(0, np.eye(3), key, 0.0, world, 1.0)]
+    stack = [(0, _EYE3.copy(), key, 0.0, world, 1.0)]
     keep = None
     while stack:
         k0, frame, bkey, err0, w, share = stack.pop()
