@@ -60,6 +60,9 @@ def test_attach_rejects_cycles_second_parents_and_foreign_slots():
     root, a, b, c, side = _chain()
     with pytest.raises(ValueError, match="cycle"):
         b.attach(root.detach() if False else root, b.primary)
+    lone = Component()
+    with pytest.raises(ValueError, match="cycle"):  # onto its own slot
+        lone.attach(lone, lone.add_slot())
     with pytest.raises(ValueError, match="already has a parent"):
         c.attach(a, c.primary)
     with pytest.raises(ValueError, match="another component"):

@@ -31,3 +31,22 @@ def test_a_stream_is_default_rngs(words):
     assert g.integers(0, 1000) == ref.integers(0, 1000)
     twin = copy.deepcopy(g)  # components are duplicated with their streams
     assert twin.uniform() == g.uniform()
+
+
+def test_uniform_is_generator_uniform_bit_for_bit():
+    """``_streams.uniform`` (and the ``rng.random()`` the stems draw for ``rng.uniform()``)
+    takes the same step of the stream and gives the same double as ``Generator.uniform``,
+    over the bounds the stems use and random ones."""
+    rs = np.random.default_rng(3)
+    lows = rs.normal(0.0, 100.0, 2000)
+    bounds = [(0.0, 2 * np.pi), (-1, 1), (0.2, 0.8), (0.25, 0.75), (0, 360), (-0.04, 0.04),
+              (-8, 8), (-30.0, 30.0), (0.0, 1.0)]
+    bounds += list(zip(lows.tolist(), (lows + np.abs(rs.normal(0.0, 100.0, 2000))).tolist()))
+    a, b = np.random.default_rng([7, 1, 2]), np.random.default_rng([7, 1, 2])
+    for lo, hi in bounds:
+        for _ in range(10):
+            assert np.float64(a.uniform(lo, hi)).tobytes() == np.float64(
+                _streams.uniform(b, lo, hi)).tobytes()
+        assert a.uniform() == b.random()
+        d = abs(hi - lo)
+        assert a.uniform(-d, d) == -d + (d + d) * b.random()  # FloatParameter.sample's form

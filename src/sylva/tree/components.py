@@ -190,9 +190,10 @@ class Component:
             raise ValueError("attach: the slot belongs to another component")
         if child.parent is not None:
             raise ValueError("attach: the child already has a parent (detach it or duplicate it)")
-        for c in self.path_to_root():
-            if c is child:
-                raise ValueError("attach: that joint would make a cycle")
+        # a parentless child is on the path to the root only as its end (the root): only a
+        # child with a subtree of its own, or this component itself, can close a cycle
+        if child is self or (any(s.children for s in child.slots) and child is self.root()):
+            raise ValueError("attach: that joint would make a cycle")
         child.parent, child.parent_slot = self, slot
         slot.children.append(child)
         new_level = level if level is not None else self.level + (0 if slot.is_primary else 1)
@@ -274,7 +275,7 @@ class Component:
 
     def world_matrix(self) -> np.ndarray:
         """``float64[4, 4]``: this component's frame → the root's frame (slot transforms)."""
-        m = np.eye(4)
+        m = _IDENTITY.copy()  # np.eye(4)'s numbers, without its construction
         c = self
         while c.parent_slot is not None:
             m = c.parent_slot.matrix @ m

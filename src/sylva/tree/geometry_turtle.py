@@ -133,7 +133,11 @@ class TreeTurtle:
             ids[0] = parent_joint
         new = np.arange(self._nj, self._nj + n)
         ids[start:] = new
-        parents = np.concatenate([[parent_joint], new[:-1]])
+        if n:  # the joints are chained: each one's parent is the one before
+            parents = new - 1
+            parents[0] = parent_joint
+        else:  # what np.concatenate([[parent_joint], new[:-1]]) gave
+            parents = np.array([parent_joint], np.int64)
         # the joint matrices, levels and components are assembled once, in finish()
         self._jm.append((wf[start:], wp[start:]))
         self._jp.append(parents)

@@ -63,7 +63,7 @@ import numpy as np
 
 from ..errors import SylvaError
 from ._kernels import crown_leaf_turns
-from ._streams import stream
+from ._streams import stream, uniform
 from .components import Component
 
 __all__ = ["LEAF_FALL", "LeafParameterError", "Leaves", "plan_leaves"]
@@ -106,6 +106,7 @@ class Leaves(Component):
         self.death = death
         self.juvenile = juvenile
         self._rank: np.ndarray | None = None
+        self._span: tuple[float, float] | None = None  # sizes_at's (last birth, first death)
         self._t = 0.0
 
     def __len__(self) -> int:
@@ -127,12 +128,23 @@ class Leaves(Component):
         season applies (spring's ``SpringLeafScale``, autumn's ``LeafFall``, winter)."""
         tree = self.tree
         plan = self.branch.plan
-        age = (t - self.birth) / max(tree.leaf_unfold, 1e-6)
-        # np.minimum(np.maximum(0, x), 1) is np.clip(x, 0, 1) bit for bit, without its
-        # Python-level dispatch (weber_penn.envelope)
-        size = self.size * np.minimum(np.maximum(0.0, age), 1.0) ** 0.7
-        size = size * np.minimum(np.maximum(0.0, self.death - t), 1.0)
-        size[self.birth > t] = 0.0
+        unfold = max(tree.leaf_unfold, 1e-6)
+        if self._span is None:  # the last birth and the first death (the arrays are fixed)
+            n = len(self.birth)
+            self._span = (float(self.birth.max()) if n else -math.inf,
+                          float(self.death.min()) if n else math.inf)
+        last_birth, first_death = self._span
+        if (t - last_birth) / unfold >= 1.0 and first_death - t >= 1.0:
+            # every leaf unfolded and none fading: the factors below are all exactly 1
+            # (1 ** 0.7 == 1, x * 1 == x), so the same numbers without the arithmetic
+            size = self.size.copy()
+        else:
+            age = (t - self.birth) / unfold
+            # np.minimum(np.maximum(0, x), 1) is np.clip(x, 0, 1) bit for bit, without its
+            # Python-level dispatch (weber_penn.envelope)
+            size = self.size * np.minimum(np.maximum(0.0, age), 1.0) ** 0.7
+            size = size * np.minimum(np.maximum(0.0, self.death - t), 1.0)
+            size[self.birth > t] = 0.0
         if plan.shed is not None:  # a shed branch drops its leaves before it goes
             size = size * min(max(1.0 - (t - plan.shed) / LEAF_FALL, 0.0), 1.0)
         scale, _turn, fall = tree.leaf_season(self.leaf_level)
@@ -226,15 +238,15 @@ def _crown_leaves(branch, rng):
         tip = branch.frames[-1]
         out_f = []
         for i in range(n):
-            a = (i / max(n - 1, 1) - 0.5) * spread + rng.uniform(-0.04, 0.04)
-            f = tip @ _rz(a) @ _rx(math.radians(rng.uniform(-8, 8)))
+            a = (i / max(n - 1, 1) - 0.5) * spread + uniform(rng, -0.04, 0.04)
+            f = tip @ _rz(a) @ _rx(math.radians(uniform(rng, -8, 8)))
             out_f.append(f)
         arcs = np.full(n, branch.arc1 - 1e-6)
         sizes = np.array([scale.sample(rng) for _ in range(n)])
         return arcs, np.array(out_f).reshape(-1, 3, 3), sizes
     frac = (branch.arc1 - branch.arc0) / plan.length
     want = plan.n_leaves * frac * branch.share
-    n = int(math.floor(want + rng.uniform()))
+    n = int(math.floor(want + rng.random()))
     if n <= 0:
         return empty
     rot = tree.pf("Rotate", level=lv, default=137.5)
@@ -243,7 +255,7 @@ def _crown_leaves(branch, rng):
     u_arc = rng.uniform(0.2, 0.8, n)
     if rot.value >= 0:  # the spiral: the draws, then their arithmetic in one compiled call
         u_rot = rng.uniform(-1, 1, n)
-        phi0 = rng.uniform(0, 360)
+        phi0 = uniform(rng, 0, 360)
         u_down = rng.uniform(-1, 1, n)
         u_twist = rng.uniform(-30, 30, n)  # a petiole twist
         arcs, seg_i, ry, rx, rt = crown_leaf_turns(

@@ -97,7 +97,8 @@ class FloatParameter:
     def sample(self, rng: np.random.Generator) -> float:
         """A fresh draw in ``value ± |deviation|`` from ``rng`` (per-component variation)."""
         d = abs(self.deviation)
-        return float(self.value + (rng.uniform(-d, d) if d else 0.0))
+        # rng.uniform(-d, d) bit for bit: -d + (d - -d) * next_double (sylva.tree._streams)
+        return float(self.value + (-d + (d + d) * rng.random() if d else 0.0))
 
 
 @dataclass

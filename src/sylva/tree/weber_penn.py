@@ -85,7 +85,7 @@ import math
 import numpy as np
 
 from ._kernels import axis_rotations, bend_stem, cone_profile, envelope_exit, where_points
-from ._streams import stream
+from ._streams import stream, uniform
 from .components import Component
 from .leaves import LEAF_FALL, Leaves, plan_leaves
 
@@ -97,6 +97,7 @@ _NONE = np.zeros(0)
 _NONE33 = np.zeros((0, 3, 3))
 _ZERO3 = np.zeros(3)
 _EYE4 = np.eye(4)
+_EYE3 = np.eye(3)  # copied where a fresh identity frame is needed (cheaper than np.eye)
 _UP = np.array([0.0, 1.0, 0.0])
 _MAX_NODES = 32  # a periodic taper with more nodes per stem is drawn as Taper 2
 _NODE_RINGS = 6  # rings per node of a periodic taper
@@ -164,19 +165,20 @@ def _clip03(x: float) -> float:
     return 3.0 if x > 3.0 else x
 
 
+# the rotations are built from flat tuples (a quarter cheaper than nested lists)
 def _rx(a: float) -> np.ndarray:
     c, s = math.cos(a), math.sin(a)
-    return np.array([[1.0, 0, 0], [0, c, -s], [0, s, c]])
+    return np.array((1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c)).reshape(3, 3)
 
 
 def _ry(a: float) -> np.ndarray:
     c, s = math.cos(a), math.sin(a)
-    return np.array([[c, 0, s], [0, 1.0, 0], [-s, 0, c]])
+    return np.array((c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c)).reshape(3, 3)
 
 
 def _rz(a: float) -> np.ndarray:
     c, s = math.cos(a), math.sin(a)
-    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1.0]])
+    return np.array((c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)).reshape(3, 3)
 
 
 def _rx_many(a: np.ndarray) -> np.ndarray:
@@ -419,13 +421,22 @@ def _run_curve(plan: StemPlan, k0: int, frame: np.ndarray, split_error: float,
     res = plan.curve_res
     seg = plan.seg_length
     lv = plan.level
+    # the level's numbers, looked up once per tree (they are asked for every run and trial)
+    ck = ("run", lv)
+    numbers = tree._pcache.get(ck)
+    if numbers is None:
+        numbers = tree._pcache[ck] = (
+            tree.pf("SegSplits", level=lv, default=0.0).value,
+            float(tree.pi("BaseSplits", default=0)),
+            tree.pf("AttractionUp", default=0.0).value if lv >= 2 else 0.0,
+            tree.pf("GroundClearance", default=0.15).value)
+    seg_splits, base_splits, attraction, clearance = numbers
     # -- splits: error-diffused nSegSplits (0BaseSplits at the trunk's first segment) ----
-    seg_splits = tree.pf("SegSplits", level=lv, default=0.0).value
     k1, n_split, err = res, 0, split_error
     for k in range(k0, res - 1):
         want = seg_splits
         if lv == 0 and k == 0:
-            want = float(tree.pi("BaseSplits", default=0))
+            want = base_splits
         if want <= 0:
             continue
         if lv == 0 and k == 0:
@@ -441,8 +452,6 @@ def _run_curve(plan: StemPlan, k0: int, frame: np.ndarray, split_error: float,
     F = np.empty((m + 1, 3, 3))
     P = np.zeros((m + 1, 3))
     F[0] = frame
-    attraction = tree.pf("AttractionUp", default=0.0).value if lv >= 2 else 0.0
-    clearance = tree.pf("GroundClearance", default=0.15).value
     up_local = None
     if attraction and parent_world is not None:
         up_local = parent_world[:3, :3].T @ _UP
@@ -637,21 +646,21 @@ class Branch(Component):
         if hi <= lo:
             return []
         want = per_len * (hi - lo)
-        n = int(math.floor(want + rng.uniform()))
+        n = int(math.floor(want + rng.random()))
         if n <= 0:
             return []
         rot = tree.pf("Rotate", level=lv + 1, default=140.0)
         down = tree.pf("DownAngle", level=lv + 1, default=45.0)
-        phi0 = phi = rng.uniform(0.0, 360.0)
+        phi0 = phi = uniform(rng, 0.0, 360.0)
         side = 1.0
         out = []
         for i in range(n):
-            s = lo + (i + rng.uniform(0.25, 0.75)) / n * (hi - lo)
+            s = lo + (i + uniform(rng, 0.25, 0.75)) / n * (hi - lo)
             if rot.value >= 0:
                 phi += rot.sample(rng)
             else:  # the paper's negative nRotate: alternately ±(180 + nRotate ± nRotateV)
                 side = -side
-                phi = phi0 + side * (180.0 + rot.value + rng.uniform(-1, 1) * abs(rot.deviation))
+                phi = phi0 + side * (180.0 + rot.value + uniform(rng, -1, 1) * abs(rot.deviation))
             if down.deviation >= 0:
                 theta = down.sample(rng)
             else:  # the paper's special mode for a negative nDownAngleV
@@ -768,7 +777,7 @@ class Branch(Component):
                 return self._child_plan(lv, length, s, lmax, r_here, t, rng, shed)
 
         if shed is not None:
-            child = Branch(plan_of(length), 0, np.eye(3), key, parent_world=world)
+            child = Branch(plan_of(length), 0, _EYE3.copy(), key, parent_world=world)
             self.attach(child, slot)
             child.schedule_own(sim)
             if plan.shed is None:  # the juvenile branch itself: it goes when it is gone
@@ -780,7 +789,7 @@ class Branch(Component):
             length = tree.prune_ratio * pruned + (1.0 - tree.prune_ratio) * length
             if length < 1e-3:
                 return
-        child = Branch(plan_of(length), 0, np.eye(3), key, parent_world=world)
+        child = Branch(plan_of(length), 0, _EYE3.copy(), key, parent_world=world)
         self.attach(child, slot)
         child.schedule_own(sim)
 
@@ -927,7 +936,7 @@ def _skip_run_draws(plan: StemPlan, arc0: float, arc1: float, k1: int, share: fl
         if pos > at[0]:
             rng.bit_generator.advance(pos - at[0])
         at[0] = pos + 1
-        return rng.uniform()
+        return rng.random()
 
     end = _skipped_draws(plan, arc0, arc1, share, uniform_at)
     if end > at[0]:
@@ -991,7 +1000,7 @@ class _TrialStream:
     def uniform_at(self, pos: int) -> float:
         v = self.seen.get(pos)
         if v is None:
-            v = self.seen[pos] = self.at(pos).uniform()
+            v = self.seen[pos] = self.at(pos).random()
             self.pos = pos + 1
         return v
 
@@ -1037,7 +1046,7 @@ def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray,
     denom = st * max(1.0 - tree.base_size, 1e-9)
     width, peak, low, high = tree.prune
     peak = min(max(peak, 1e-6), 1 - 1e-6)
-    stack = [(0, np.eye(3), key, 0.0, world, 1.0)]
+    stack = [(0, _EYE3.copy(), key, 0.0, world, 1.0)]
     keep = None
     while stack:
         k0, frame, bkey, err0, w, share = stack.pop()
@@ -1069,7 +1078,7 @@ def _split_frames(plan: StemPlan, n: int, rng: np.random.Generator) -> list[np.n
     """The initial frames of the ``n + 1`` runs that continue a stem after a split (the
     draws of :meth:`Branch._continuations`, from the splitting run's stream)."""
     angle = plan.tree.params.float("SplitAngle", level=plan.level, default=20.0)
-    base_phi = rng.uniform(0, 2 * math.pi)
+    base_phi = uniform(rng, 0, 2 * math.pi)
     out = []
     for c in range(n + 1):
         if n == 0:
