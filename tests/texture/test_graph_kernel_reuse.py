@@ -3,11 +3,13 @@ with the same types: numba then loads them from the cache ``sylva warmup`` fille
 of compiling a copy per graph (issue 25: a constant argument such as ``f(2, x)`` made numba
 compile ``f`` and its callees once per value, 74 copies and 60 CPU s in the graph tests)."""
 
+import numba
 import numpy as np
 
 from sylva.texture import _gridkernels32 as gk32
 from sylva.texture import _sampling
 from sylva.texture import graph as tg
+from sylva.texture.graph import _compile
 from sylva.texture.graph._compile import _Emit
 
 
@@ -23,6 +25,13 @@ def test_graph_kernels_call_the_noise_kernels_without_literal_copies():
     a = flat.evaluate((4, 16), dtype=np.float32)
     b = warped.evaluate((4, 16), dtype=np.float64)
     assert a.shape == b.shape == (4, 16) and np.isfinite(a).all() and np.isfinite(b).all()
+    # the fused kernels may come from numba's disk cache (an earlier run, sylva warmup), and
+    # then their callees are never typed in this process: type each once more, uncached
+    for g, dtype in ((flat, np.float32), (warped, np.float64)):
+        em = _compile._Emit(g, (4, 16), dtype)
+        kernel = _compile._load(em.source([em.emit(g.output, None)], False))
+        assert kernel.signatures  # evaluate() ran it
+        numba.njit(nogil=True, error_model="numpy")(kernel.py_func).compile(kernel.signatures[0])
     assert gk32.row_lattice32.signatures and _sampling.fractal_at.signatures
     assert _literal(gk32.row_lattice32) == []
     assert _literal(_sampling.fractal_at) == []
