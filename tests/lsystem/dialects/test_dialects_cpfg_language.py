@@ -142,6 +142,7 @@ def test_bad_directives_and_unsupported_constructs(text, line, column, words):
 def test_multi_line_productions():
     text = """Lsystem: 1
 derivation length: 1
+seed: 1
 Axiom: A(1)
 A(x) : x > 0 --> F(x)
                  [+F(x/2)]

@@ -56,7 +56,7 @@ errors name the file's (or the included file's) lines and columns (a column righ
 
 Examples
 --------
->>> p = parse("Lsystem: tree\\nderivation length: 2\\nAxiom: A\\nA --> F[+A]A : 0.5\\n"
+>>> p = parse("Lsystem: tree\\nderivation length: 2\\nseed: 1\\nAxiom: A\\nA --> F[+A]A : 0.5\\n"
 ...           "A --> F[-A]A : 0.5\\nendlsystem\\n")
 >>> p.dialect, p.name, p.steps, p.turtle, len(p.rules)
 ('cpfg', 'tree', 2, 'abop', 2)
@@ -67,11 +67,12 @@ from __future__ import annotations
 import copy
 import math
 import re
+import warnings
 from dataclasses import replace
 from pathlib import Path
 
-from ...errors import LSystemSyntaxError, SylvaError
-from ..ast import Program, Span
+from ...errors import LSystemSyntaxError, SylvaError, SylvaWarning
+from ..ast import Num, Program, Span
 from ..expr import evaluate_constant
 from . import (
     _cpfg_blocks,
@@ -617,6 +618,8 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
         settings["first_match"] = 1.0
     rules = tuple(r if r.span is None else replace(r, span=_remap(r.span, src))
                   for r in raw_rules)  # fmt: skip
+    if settings.get("first_match"):
+        _warn_ignored_probability(rules, filename)
     if block_src:
         rules, written = _attach_blocks(raw_rules, rules, made,
                                         (set(globals_.values) - set(pre.values)) | each_names,
@@ -645,6 +648,22 @@ def _homomorphism_has_depth(lines: list[str]) -> bool:
 def _has_seed(lines: list[_cpp.Line]) -> bool:
     """Whether an L-system of the file has a ``seed:`` line (cpfg's stochastic L-system)."""
     return any((m := _KEY.match(ln.text)) and m.group(1).lower() == "seed" for ln in lines)
+
+
+def _warn_ignored_probability(rules, file: str | None) -> None:
+    """cpfg's warning "Probability given for deterministic production", once, at the first
+    production whose probability an L-system without ``seed:`` ignores."""
+    for r in rules:
+        if not (isinstance(r.weight, Num) and r.weight.value == 1.0):
+            at = r.span
+            where = (f"{at.filename or file or '<string>'}:{at.line}:{at.column}: "
+                     if at is not None else f"{file or '<string>'}: ")  # fmt: skip
+            warnings.warn(f"{where}probability given for a production of an L-system without "
+                          "'seed:'; as in cpfg, the first applicable production in the file's "
+                          "order rewrites the module and probabilities are ignored (add a "
+                          "'seed:' line for a stochastic L-system)", SylvaWarning,
+                          stacklevel=4)  # fmt: skip
+            return
 
 
 def _competing(rules) -> bool:
