@@ -57,6 +57,13 @@ def uniform(key, positions):  # pragma: no cover - compiled
     return out
 
 
+@njit(cache=True, inline="always")
+def _arity_ok(have, want):  # pragma: no cover - compiled
+    """A module of ``have`` parameters against a pattern's arity: ``want >= 0`` at least
+    that many, ``-(a + 1)`` exactly ``a`` (cpfg's, :mod:`sylva.lsystem._arity`)."""
+    return have >= want if want >= 0 else have == -want - 1
+
+
 @njit(cache=True)
 def _left_one(ids, match, offsets, ignored, p, pat, arity, pos, row):  # pragma: no cover
     """Match a left context at position ``p``; write the positions into ``pos[row]``."""
@@ -86,7 +93,7 @@ def _left_one(ids, match, offsets, ignored, p, pat, arity, pos, row):  # pragma:
             break
         if not found:
             return False
-        if check and offsets[i + 1] - offsets[i] < arity[j]:
+        if check and not _arity_ok(offsets[i + 1] - offsets[i], arity[j]):
             return False
         pos[row, j] = i
         j -= 1
@@ -141,7 +148,7 @@ def _right_one(ids, match, offsets, ignored, p, pat, arity, pos, row, fj, fi):  
                     i += 1
                     continue
                 break
-            if found and (not check or offsets[i + 1] - offsets[i] >= arity[j]):
+            if found and (not check or _arity_ok(offsets[i + 1] - offsets[i], arity[j])):
                 pos[row, j] = i
                 i += 1
                 j += 1

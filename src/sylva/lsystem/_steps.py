@@ -55,8 +55,10 @@ def growth_floor(rs: _RuleSet, counts: np.ndarray, steps: int, limit: int) -> in
     copy = np.ones(size, np.bool_)
     for cr in rs.rules:
         if (cr.cond is None and not cr.rule.has_context and cr.weight_const is not None
-                and cr.weight_const > 0):
-            copy[cr.pred] = False  # a rule always applies: the module never stays
+                and cr.weight_const > 0 and not rs.exact):
+            # a rule always applies: the module never stays (with cpfg's exact parameter
+            # counts, a module of its letter but another count stays)
+            copy[cr.pred] = False
     cap = 2.0**52 / max(len(flat), 1)  # sums stay exact integers below 2**53
     w = counts.astype(np.float64)
 

@@ -34,34 +34,37 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._arity import arity_ok, need
 from .lstring import CLOSE, OPEN, ModuleString
 
 __all__ = ["contexts", "match_left", "match_right", "needs_walk"]
 
 
 def contexts(word: ModuleString, cr, candidates: np.ndarray, ignored, ok: np.ndarray,
-             kernels, ring: bool = False, skip: int = -1):  # fmt: skip
+             kernels, ring: bool = False, skip: int = -1, exact: bool = False):  # fmt: skip
     """Match the left and right context of the engine's compiled rule ``cr`` at
     ``candidates``: ``ok`` is cleared where one fails; returns the matched positions
     ``(lpos, rpos)`` (None for a context the rule lacks).  The compiled kernels
     (``kernels.match_left`` / ``match_right``) do it, except for the walks of this module:
-    ring L-systems and right contexts that need cpfg's walk (``cr.walk_right``)."""
+    ring L-systems and right contexts that need cpfg's walk (``cr.walk_right``).  ``exact``:
+    a context module matches only a module of as many parameters (cpfg's, :mod:`._arity`)."""
     lpos = rpos = None
+    left_arity, right_arity = need(cr.left_arity, exact), need(cr.right_arity, exact)
     if cr.left.size:
         if ring:
-            okl, lpos = match_left(word, candidates, cr.left, cr.left_arity, ignored)
+            okl, lpos = match_left(word, candidates, cr.left, left_arity, ignored)
         else:
             okl, lpos = kernels.match_left(word.ids, word.match, word.offsets, ignored,
-                                           candidates, cr.left, cr.left_arity)  # fmt: skip
+                                           candidates, cr.left, left_arity)  # fmt: skip
         ok &= okl
     if cr.right.size:
         if cr.walk_right or ring:
-            okr, rpos = match_right(word, candidates, cr.right, cr.right_arity, ignored, skip,
+            okr, rpos = match_right(word, candidates, cr.right, right_arity, ignored, skip,
                                     ring)  # fmt: skip
         else:
             okr, rpos = kernels.match_right(word.ids, word.match, word.offsets, ignored,
                                             candidates, cr.right, cr.right_match,
-                                            cr.right_arity)  # fmt: skip
+                                            right_arity)  # fmt: skip
         ok &= okr
     return lpos, rpos
 
@@ -140,7 +143,7 @@ def match_right(word: ModuleString, candidates: np.ndarray, pattern: np.ndarray,
                     good = False
                     break
                 p = m + 1
-            elif s != want or (s > CLOSE and nparams[p] < ar[j]):
+            elif s != want or (s > CLOSE and not arity_ok(nparams[p], ar[j])):
                 good = False
                 break
             else:
@@ -188,7 +191,7 @@ def match_left(
                 p = m - 1
             elif s == OPEN:
                 p -= 1
-            elif s == pat[j] and nparams[p] >= ar[j]:
+            elif s == pat[j] and arity_ok(nparams[p], ar[j]):
                 pos[c, j] = p
                 p -= 1
                 j -= 1

@@ -39,8 +39,8 @@ import numpy as np
 
 from .._jit import road
 from ..errors import GrowthLimitError, LSystemSemanticError, StepsError
+from . import _arity, _walk
 from . import _sublsystems as _sub
-from . import _walk
 from . import environment as _open
 from ._cut import _apply_cut, _cut_keep
 from ._lineage import axiom_keys, child_index, decomposed_keys, lineage_keys
@@ -109,8 +109,9 @@ class _RuleSet:
 
     def __init__(self, rules: Sequence[Rule], alphabet: Alphabet, constants, *,
                  cpfg: bool = False, ring: bool = False, live: frozenset = frozenset(),
-                 live_get: Callable | None = None, first: bool = False) -> None:  # fmt: skip
-        self.alphabet = alphabet
+                 live_get: Callable | None = None, first: bool = False,
+                 exact: bool = False) -> None:  # fmt: skip
+        self.alphabet, self.exact = alphabet, exact  # exact: cpfg's parameter counts, _arity
         self.ring, self.skip = ring, (alphabet.id("=") if cpfg else -1)  # cpfg's ring and =
         # globals blocks assign, read per application (live_get()): module by module
         self.live = tuple(sorted(live)) if any(r.block is not None for r in rules) else ()
@@ -351,6 +352,7 @@ class _Compiled:
         stm = program.statements
         self._kind = {"cpfg": program.dialect == "cpfg", "ring": bool(program.ring),
                       "first": bool(program.settings.get("first_match")),
+                      "exact": bool(program.settings.get("exact_arity")),
                       "live": frozenset(getattr(stm, "written", ()) or ()),
                       "live_get": getattr(stm, "live_values", None)}  # fmt: skip
         self.productions = self.group_rules(0)
@@ -578,19 +580,12 @@ def _step_general(
             weights = np.zeros((k, len(tier)), np.float64) if len(tier) > 1 else None
             staged = []
             for r, cr in enumerate(tier):
-                if cr.pred_arity:
-                    ok = (
-                        nparams[undecided] >= cr.pred_arity
-                        if nparams is not None
-                        else np.zeros(k, np.bool_)
-                    )
-                else:
-                    ok = np.ones(k, np.bool_)
+                ok = _arity.pred_ok(nparams, undecided, cr.pred_arity, rs.exact)
                 if scope is not None:
                     ok &= scope[undecided] == cr.rule.lsystem
                 ign = ignored if comp.sub_ctx is None else comp.sub_ctx.get(word, cr, ignored)
                 lpos, rpos = _walk.contexts(word, cr, undecided, ign, ok, _kernels,
-                                            rs.ring, rs.skip)  # fmt: skip
+                                            rs.ring, rs.skip, rs.exact)  # fmt: skip
                 sel = np.flatnonzero(ok)
                 if sel.size == 0:
                     continue

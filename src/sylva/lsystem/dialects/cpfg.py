@@ -48,6 +48,8 @@ decomposition and homomorphism of L-system N rewrite only the modules between a 
 ``?(N, s)`` and its ``$``.  A context ``*`` is none (``* < A``).  A file
 without ``seed:`` is deterministic, as in cpfg: the first applicable production in the
 file's order rewrites a module (the setting ``first_match``), probabilities are ignored.
+A module matches a predecessor or context module only with as many parameters (ABOP p. 41,
+cpfg's ``PredDiff``; the setting ``exact_arity``, made where it changes a derivation).
 ``group`` is an error that names it (cpfg has no production groups; they are lpfg's).
 
 The reader turns each line into one line of sylva's ``.lsys`` language and parses that, so
@@ -72,6 +74,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from ...errors import LSystemSyntaxError, SylvaError, SylvaWarning
+from .._arity import differs
 from ..ast import Num, Program, Span
 from ..expr import evaluate_constant
 from . import (
@@ -616,6 +619,11 @@ def parse(text: str, filename: str | None = None, *, view=None, colormap=None,
         # takes the first applicable production in the file's order (probabilities are
         # ignored, with cpfg's warning "Probability given for deterministic production")
         settings["first_match"] = 1.0
+    if differs(program.axiom, raw_rules):
+        # ABOP p. 41 and generate.c's PredDiff: a module matches a predecessor or context
+        # module of as many parameters only (``A --> B`` leaves ``A(1)``); set only where
+        # that changes a word, so the rest still convert to .lsys
+        settings["exact_arity"] = 1.0
     rules = tuple(r if r.span is None else replace(r, span=_remap(r.span, src))
                   for r in raw_rules)  # fmt: skip
     if settings.get("first_match"):
