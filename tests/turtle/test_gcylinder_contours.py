@@ -124,3 +124,26 @@ def test_contour_sides_sets_the_points_of_a_ring(tmp_path):
     ring = g.poly_vertices.reshape(-1, 4, 3)[:, 0]
     assert g.n_polygons == 4  # one strip of 4 quads, from the 4 corners
     assert np.allclose(np.linalg.norm(ring - [0.0, 0.0, 0.0], axis=1), 1.0)
+
+
+@pytest.mark.parametrize("twist", [False, True])
+def test_a_roll_between_control_points_and_the_twist_of_cylinders(tmp_path, twist):
+    # cpfg: twist off carries the frame from @Gs (the roll is not seen); on, each point's
+    # ring is in the turtle's own frame there, turned about the heading in between
+    view = "contour: 3 sq.con\n" + ("twist of cylinders: on\n" if twist else "")
+    axiom = "#(2)@#(3)@Gsf(1)/(60)@Gc(2)f(1)@Ge(2)"
+    p = _program(tmp_path, axiom, view)
+    word = Derivation(p).word
+    g = interpret(word, p)
+    q = g.poly_vertices.reshape(2, 2, 8, 4, 3)
+    end0, start1 = q[0, 1, :, 3], q[1, 0, :, 0]
+    assert np.allclose(end0, start1, atol=1e-9)  # one ring at the shared point
+    tr = trace(word, p)
+    at = 10  # the @ of @Gc, after the roll
+    pos, (_, left, up) = tr.positions[at], tr.frames[at]
+    own = pos + 1.0 * (CORNERS[:, :1] * up - CORNERS[:, 1:2] * left)
+    assert np.allclose(start1[0:8:2], own, atol=1e-9) == twist
+    if not twist:  # the frame of @Gs, where the roll has not happened
+        _, left0, up0 = tr.frames[4]
+        carried = pos + 1.0 * (CORNERS[:, :1] * up0 - CORNERS[:, 1:2] * left0)
+        assert np.allclose(start1[0:8:2], carried, atol=1e-9)

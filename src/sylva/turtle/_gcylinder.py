@@ -34,6 +34,7 @@ cpfg, ``F`` cylinders stay round (cpfg's ``F`` ignores ``@#``).
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass, field
 
@@ -221,6 +222,23 @@ def contour_ring(contour, sides: int) -> np.ndarray:
     return ring
 
 
+def _turn1(v: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``v`` turned by the least rotation taking unit ``a`` onto unit ``b``."""
+    ax, ay, az = float(a[0]), float(a[1]), float(a[2])
+    bx, by, bz = float(b[0]), float(b[1]), float(b[2])
+    kx, ky, kz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+    sn = math.sqrt(kx * kx + ky * ky + kz * kz)
+    cs = ax * bx + ay * by + az * bz
+    if sn < 1e-12:
+        return v if cs > 0 else -v
+    kx, ky, kz = kx / sn, ky / sn, kz / sn
+    vx, vy, vz = float(v[0]), float(v[1]), float(v[2])
+    kv = (kx * vx + ky * vy + kz * vz) * (1.0 - cs)
+    return np.array([vx * cs + (ky * vz - kz * vy) * sn + kx * kv,
+                     vy * cs + (kz * vx - kx * vz) * sn + ky * kv,
+                     vz * cs + (kx * vy - ky * vx) * sn + kz * kv])  # fmt: skip
+
+
 def _contour_of(cid: int, table: dict, p: int, unknown: set):
     if cid == 0:
         return None
@@ -245,7 +263,7 @@ def _contour_quads(rows, strips, tr_pos, tr_frame, radius, ring):
     in the start's frame turned onto the curve's heading."""
     m0, m1 = rows[:, 0].astype(np.int64), rows[:, 1].astype(np.int64)
     t0, t1, d = rows[:, 2:3], rows[:, 3:4], rows[:, 4]
-    h0, l0, u0 = tr_frame[m0, 0], tr_frame[m0, 1], tr_frame[m0, 2]
+    h0, l0, u0, spin = tr_frame[m0, 0], rows[:, 7:10], rows[:, 10:13], rows[:, 13]
     h1 = tr_frame[m1, 0]
     p0, p1 = tr_pos[m0], tr_pos[m1]
     t = np.linspace(0.0, 1.0, strips + 1)[None, :, None]
@@ -272,6 +290,11 @@ def _contour_quads(rows, strips, tr_pos, tr_frame, radius, ring):
 
     up, left = turn(u0), turn(l0)
     up[:, 0], left[:, 0] = u0, l0
+    if np.any(spin != 0.0):  # twist of cylinders: on, the frame turned about the heading
+        a = spin[:, None, None] * t
+        ca, sa = np.cos(a), np.sin(a)
+        up = up * ca + np.cross(heads, up) * sa  # up and left stay normal to the heading
+        left = left * ca + np.cross(heads, left) * sa
     w = t[..., None]
     sec = ring[rows[:, 5].astype(np.int64)][:, None] * (1 - w) + ring[
         rows[:, 6].astype(np.int64)][:, None] * w  # fmt: skip
@@ -287,7 +310,12 @@ def _contour_quads(rows, strips, tr_pos, tr_frame, radius, ring):
 
 
 def splice(
-    out: tuple, cyl: Cylinders, keep_trace: bool, contours: dict | None = None, sides: int = 8
+    out: tuple,
+    cyl: Cylinders,
+    keep_trace: bool,
+    contours: dict | None = None,
+    sides: int = 8,
+    twist: bool = False,
 ) -> tuple:
     """The walked word's records ``out`` (:func:`~sylva.turtle._kernels.finish_word`)
     without the marker spheres and with the cylinders' segments; the trace kept only when
@@ -317,7 +345,8 @@ def splice(
         out[16] = np.concatenate([[0], np.cumsum(sizes[keep])]).astype(poly_off.dtype)
         out[17], out[18], out[19] = poly_col[keep], poly_mat[keep], poly_mod[keep]
     rows = []  # start, end, r0, r1, colour, material, module, parent (-1 / previous), ref
-    pieces = {}  # strips -> the contoured pieces: m0, m1, |T0|, |T1|, d, ring ids
+    pieces = {}  # strips -> the contoured pieces: m0, m1, |T0|, |T1|, d, ring ids, L, U, spin
+    frame_of = {}  # control point -> the cylinder's (L, U) there (twist of cylinders: off)
     table, unknown, rings = dict(contours or {}), set(), {}
     end_of = {}
     n0 = out[0].shape[0]
@@ -329,6 +358,18 @@ def splice(
         if d < 1e-5:  # cpfg draws nothing between coinciding points
             continue
         if cyl.contour:
+            # the ring's frame (L, U) at m0: carried along the cylinder from @Gs, turned
+            # onto each control point's heading (cpfg's twist of cylinders: off), or the
+            # turtle's own at every point, turned about the heading in between (on)
+            h0, h1 = tr_frame[m0, 0], tr_frame[m1, 0]
+            l0, u0 = (tr_frame[m0, 1], tr_frame[m0, 2]) if twist else frame_of.get(
+                m0, (tr_frame[m0, 1], tr_frame[m0, 2]))  # fmt: skip
+            u1 = _turn1(u0, h0, h1)
+            frame_of[m1] = (_turn1(l0, h0, h1), u1)
+            spin = 0.0
+            if twist:
+                own = tr_frame[m1, 2]
+                spin = math.atan2(float(np.cross(u1, own) @ h1), float(u1 @ own))
             c0 = _contour_of(cyl.contour.get(m0, 0), table, m0, unknown)
             c1 = _contour_of(cyl.contour.get(m1, 0), table, m1, unknown)
             if c0 is not None or c1 is not None:
@@ -336,8 +377,8 @@ def splice(
                     if id(c) not in rings:
                         rings[id(c)] = (len(rings), contour_ring(c, sides))
                 pieces.setdefault(strips, []).append(
-                    (m0, m1, d * b0, d * a1, d, rings[id(c0)][0], rings[id(c1)][0])
-                )
+                    (m0, m1, d * b0, d * a1, d, rings[id(c0)][0], rings[id(c1)][0], *l0, *u0,
+                     spin))  # fmt: skip
                 continue
         t = np.linspace(0.0, 1.0, strips + 1)
         pts = _hermite(p0, tr_frame[m0, 0] * d * b0, p1, tr_frame[m1, 0] * d * a1, t)

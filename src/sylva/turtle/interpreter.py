@@ -421,7 +421,7 @@ def _run_word(word, program, dialect, seed, overrides, trace_on):
         out = _walk(args, out[-1], counts, sel, threads)
     if cylinders is not None:
         out = _gcylinder.splice(out, cylinders, trace_on, s.get("contours"),
-                                s.get("contour_sides") or 8)
+                                s.get("contour_sides") or 8, bool(s.get("cylinder_twist")))
     return dialect, s, materials, vertex_colors, bg, out
 
 

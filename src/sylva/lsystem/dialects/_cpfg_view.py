@@ -220,6 +220,8 @@ def _honour(settings, number, key, value, at, style, filename, source) -> None:
                           f"pixels with line style {style!r}; not honoured (sylva draws "
                           "widths in units: set line style: cylinder)", SylvaWarning,
                           stacklevel=4)  # fmt: skip
+    elif key == "twist of cylinders":  # cpfg: 'on' keeps each control point's own up
+        settings["cylinder_twist"] = value.strip().lower().startswith("on")
     elif key == "contour sides":  # the points of a generalised cylinder's contour ring
         n = _numbers(value, 1, err)[0]
         if n < 3:
@@ -330,7 +332,8 @@ _HONOURED = frozenset({"angle increment", "angle factor", "initial line width", 
                        "elasticity increment", "function", "function set", "curve",
                        "surface", "color map", "colormap", "material",
                        "initial color", "tropism", "torque", "background scene",
-                       "texture", "contour", "contour sides"})  # fmt: skip
+                       "texture", "contour", "contour sides",
+                       "twist of cylinders"})  # fmt: skip
 
 
 def load_view(view, filename: str | None) -> dict[str, object]:
