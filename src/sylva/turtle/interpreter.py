@@ -420,7 +420,8 @@ def _run_word(word, program, dialect, seed, overrides, trace_on):
     if out[-1] > 0:  # blocks were counted, not written: run again with room for them
         out = _walk(args, out[-1], counts, sel, threads)
     if cylinders is not None:
-        out = _gcylinder.splice(out, cylinders, trace_on)
+        out = _gcylinder.splice(out, cylinders, trace_on, s.get("contours"),
+                                s.get("contour_sides") or 8, bool(s.get("cylinder_twist")))
     return dialect, s, materials, vertex_colors, bg, out
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sylva.errors import SylvaError
+from sylva.errors import SylvaError, SylvaWarning
 from sylva.lsystem import Derivation, derive, loads
 from sylva.lsystem.dialects import cpfg, dumps
 
@@ -179,9 +179,11 @@ def test_cpfg_at_functions_read_and_drawn():
             "Axiom: @Gs F @Gc(1) @o(1) f @c(0.5) @Tx(1) @!(6) @#(1) @Ge(1) @Tf\n"
             "endlsystem\n")  # fmt: skip
     p = loads(text, view=False)
-    g = interpret(derive(p, 0), p)
+    with pytest.warns(SylvaWarning, match="contour 1, which the view file does not define"):
+        g = interpret(derive(p, 0), p)  # @#(1) without a contour: 1 line, the circle
     assert g.n_polygons > 0  # @o and @c drew their spheres
-    plain = loads(text.replace("@o(1)", "").replace("@c(0.5)", ""), view=False)
+    plain = loads(text.replace("@o(1)", "").replace("@c(0.5)", "").replace("@#(1)", ""),
+                  view=False)  # fmt: skip
     assert interpret(derive(plain, 0), plain).n_polygons == 0
 
 

@@ -87,8 +87,8 @@ _UNHONOURED = {
     "render mode": "the renderer's shading is its own",
     "light": "the renderer's lights are its own",
     "color increment": "colour indices step by 1",
-    "generalized cylinders": "generalised cylinders are drawn as cpfg's Hermite curves with "
-                             "round sections (contours are read, not yet applied)",
+    "generalized cylinders": "generalised cylinders are drawn as cpfg's Hermite curves, "
+                             "their sections the view file's contours (@#), radii linear",
     "maximum depth": "the stack depth is not limited",
     "box": "bounding boxes are not drawn",
     "shadow map": "the renderer's shadows are its own",
@@ -220,6 +220,15 @@ def _honour(settings, number, key, value, at, style, filename, source) -> None:
                           f"pixels with line style {style!r}; not honoured (sylva draws "
                           "widths in units: set line style: cylinder)", SylvaWarning,
                           stacklevel=4)  # fmt: skip
+    elif key == "twist of cylinders":  # cpfg: 'on' keeps each control point's own up
+        settings["cylinder_twist"] = value.strip().lower().startswith("on")
+    elif key == "contour sides":  # the points of a generalised cylinder's contour ring
+        n = _numbers(value, 1, err)[0]
+        if n < 3:
+            warnings.warn(f"{filename or '<view>'}:{number}: 'contour sides: {n:g}': cpfg "
+                          "cannot draw cylinders with less than 3 sides; 3 used",
+                          SylvaWarning, stacklevel=4)  # fmt: skip
+        settings["contour_sides"] = max(3, int(n))
     elif key == "line width increment":
         w = _numbers(value, 1, err)[0]
         if style in ("polygon", "polygons", "cylinder", "cylinders"):
@@ -323,7 +332,8 @@ _HONOURED = frozenset({"angle increment", "angle factor", "initial line width", 
                        "elasticity increment", "function", "function set", "curve",
                        "surface", "color map", "colormap", "material",
                        "initial color", "tropism", "torque", "background scene",
-                       "texture", "contour"})  # fmt: skip
+                       "texture", "contour", "contour sides",
+                       "twist of cylinders"})  # fmt: skip
 
 
 def load_view(view, filename: str | None) -> dict[str, object]:
