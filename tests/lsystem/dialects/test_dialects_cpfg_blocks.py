@@ -136,6 +136,31 @@ def test_curve_functions_read_the_view_files_curve(tmp_path):
     assert derive(p, 1).values.tolist() == pytest.approx([1.5, 2.0, 5.0], abs=1e-6)
 
 
+def test_a_curves_point_is_cpfgs_table_lookup(tmp_path):
+    # cpfg's CCurveXYZ: a table of the curve: line's sample count (here 3) of spline points
+    # at u = 0, 0.5, 1, chord lengths normalised; the fraction t of the length is found in
+    # the table, the parameter interpolated linearly, the spline evaluated there.  A curved
+    # spline (control points (0,0) (0,2) (2,2) (2,0), a cubic Bezier) makes the table's
+    # chords differ from the true arc, so the point is not the true arc-length point.
+    (tmp_path / "c.con").write_text("version: 1.4\npoints: 4\nrange: 0.0 1.0\ndimension: 4\n"
+                                    "type: bspline\n0 0 0 1\n0 2 0 1\n2 2 0 1\n2 0 0 1\n")
+    (tmp_path / "plant.v").write_text("curve: c.con 3\n")
+    (tmp_path / "plant.l").write_text(
+        "Lsystem: 1\nStart: {L = curveGAL(1);}\nderivation length: 1\nAxiom: A(0.25)\n"
+        "A(t) --> P(curveX(1, t), curveY(1, t), L)\nendlsystem\n")  # fmt: skip
+    p = cpfg.parse((tmp_path / "plant.l").read_text(), str(tmp_path / "plant.l"))
+
+    def bezier(u):  # the four-point clamped cubic B-spline is this Bezier curve
+        b = np.array([(1 - u) ** 3, 3 * u * (1 - u) ** 2, 3 * u * u * (1 - u), u**3])
+        return b @ np.array([[0.0, 0.0], [0.0, 2.0], [2.0, 2.0], [2.0, 0.0]])
+
+    mid = bezier(0.5)  # (1, 1.5): the table's chords are (0,0)-(1,1.5)-(2,0), equal
+    chord = float(np.hypot(*mid))
+    # t = 0.25 is halfway along the first chord: u = (0 + 0.5) / 2 = 0.25
+    want = [*bezier(0.25), 2 * chord]
+    assert derive(p, 1).values.tolist() == pytest.approx(want, abs=1e-6)
+
+
 def test_a_strict_predecessor_of_several_modules_rewrites_them_together():
     # XF --> G: the X and the F after it become one G; a lone F stays
     text = "Lsystem: 1\nderivation length: 1\nAxiom: XFYF\nXF --> G\nendlsystem\n"

@@ -14,7 +14,9 @@ until the spline's x is within 0.001 of ``x`` (cpfg's ``SplineFunction::_Value``
 the function has a sample count (a ``samples: k`` line in the file, ``fver 1 1``; the
 number after the file name on the view file's ``function:`` line for the older ``range:``
 files) cpfg tabulates ``k`` such values at ``x = i / (k - 1)`` and interpolates linearly
-between them.  Curves are evaluated at 1025 parameters and interpolated by arc length.
+between them.  A curve's point at a fraction of its length is cpfg's too: an arc-length
+table of the ``curve:`` line's sample count (100 without one), the spline parameter
+interpolated in it and the spline evaluated there (``CCurveXYZ::calcAValue``).
 """
 
 from __future__ import annotations
@@ -28,6 +30,8 @@ from ...errors import SylvaError
 __all__ = ["load_functions"]
 
 _SAMPLES = 1025
+#: cpfg's arc-length table of a curve without a sample count on its ``curve:`` line
+_CURVE_SAMPLES = 100
 
 
 def _bspline(points: np.ndarray, samples: int = _SAMPLES) -> np.ndarray:
@@ -175,16 +179,33 @@ def _read_func_file(path: Path, samples: int = -1) -> list:
     return out
 
 
-def _read_curve(path: Path):
+def _read_curve(path: Path, samples: int = _CURVE_SAMPLES):
+    """``(control points, normalised arc lengths, length)`` of a ``.con`` curve: cpfg's
+    arc-length table (``CCurveXYZ::createAPoints``) of ``samples`` spline points at
+    ``u = i / (samples - 1)``, chord lengths summed and divided by their total."""
     lines = path.read_text("latin-1").splitlines()
     for k, line in enumerate(lines):
         if line.strip().lower().startswith("points:"):
             pts, _ = _read_points(lines, k, path, 3)
-            curve = _bspline(pts)
-            seg = np.linalg.norm(np.diff(curve, axis=0), axis=1)
+            table = _bspline(pts, max(int(samples), 2))
+            seg = np.linalg.norm(np.diff(table, axis=0), axis=1)
             s = np.concatenate([[0.0], np.cumsum(seg)])
-            return curve, s
+            length = float(s[-1])
+            return pts, (s / length if length > 0.0 else s), length
     raise SylvaError(f"{path}: expected a curve ('points:' and its points)")
+
+
+def _curve_point(curve, t) -> np.ndarray:
+    """The point at the fraction ``t`` (clipped to [0, 1]) of a curve's length, as cpfg's
+    ``calcAValue``: the table's bracket of ``t`` found by bisection, the spline parameter
+    interpolated linearly in the table's index, and the spline evaluated there."""
+    pts, lnorm, _ = curve
+    t = np.clip(np.asarray(t, np.float64).reshape(-1), 0.0, 1.0)
+    n = len(lnorm)
+    lo = np.clip(np.searchsorted(lnorm, t, side="right") - 1, 0, n - 2)
+    span = lnorm[lo + 1] - lnorm[lo]
+    frac = np.divide(t - lnorm[lo], span, out=np.zeros_like(t), where=span > 0.0)
+    return _bspline_at(pts, np.clip((lo + frac) / (n - 1), 0.0, 1.0))
 
 
 def load_functions(view: Path | None) -> dict:
@@ -206,7 +227,8 @@ def load_functions(view: Path | None) -> dict:
             n = int(words[1]) if key == "function" and words[1:] and words[1].isdigit() else -1
             funcs.extend(_read_func_file(view.parent / words[0], n))
         elif key == "curve" and words:
-            curves.append(_read_curve(view.parent / words[0]))
+            n = int(words[1]) if words[1:] and words[1].isdigit() else _CURVE_SAMPLES
+            curves.append(_read_curve(view.parent / words[0], n))
     out: dict = {}
     if funcs:
         def func(k, x, _f=funcs):
@@ -229,12 +251,11 @@ def load_functions(view: Path | None) -> dict:
 
         def coord(axis):
             def f(k, t):
-                curve, s = pick(k)
-                at = np.clip(np.asarray(t, np.float64), 0.0, 1.0) * s[-1]
-                return np.interp(at, s, curve[:, axis])
+                v = _curve_point(pick(k), t)[:, axis]
+                return v[0] if np.ndim(t) == 0 else v.reshape(np.shape(t))
 
             return f
 
         out["curveX"], out["curveY"], out["curveZ"] = coord(0), coord(1), coord(2)
-        out["curveGAL"] = lambda k: pick(k)[1][-1]
+        out["curveGAL"] = lambda k: pick(k)[2]
     return out
