@@ -154,10 +154,17 @@ def test_view_surface_errors_and_a_missing_file(tmp_path):
         _cpfg(tmp_path, "surface: l leaf.s\n")
     assert (e.value.line, "expected an id, a file name and a scale" in e.value.message) == \
         (1, True)  # fmt: skip
+    (tmp_path / "leaf.s").write_text("")  # only its existence is checked on reading
     with pytest.warns(SylvaWarning, match="surface .l.: .bark.rgb. is not a texture number"):
-        p = _cpfg(tmp_path, "surface: l nowhere.s 1 4 4 bark.rgb\n")
-    with pytest.raises(SylvaError, match=r"surface 'l': cannot read the surface file .*nowhere\.s"):
-        interpret("F~l", p)
+        _cpfg(tmp_path, "surface: l leaf.s 1 4 4 bark.rgb\n")
+    # cpfg skips a surface line whose file does not exist (interpret.c checks access()):
+    # so does sylva, with a warning naming the line and column, and ~l draws nothing
+    with pytest.warns(SylvaWarning, match=r":1:12: surface 'l': no file .*nowhere\.s; as in cpfg"):
+        p = _cpfg(tmp_path, "surface: l nowhere.s 1 4 4\n")
+    assert "l" not in (p.settings.get("surfaces") or {})
+    # a Surface setting naming a file that is gone is still an error at drawing time
+    with pytest.raises(SylvaError, match=r"surface 'l': cannot read the surface file .*gone\.s"):
+        interpret("F~l", p, surfaces={"l": str(tmp_path / "gone.s")})
 
 
 def test_builtin_leaf_and_petal_surfaces_in_an_lsys_program():

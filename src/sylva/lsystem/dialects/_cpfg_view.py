@@ -68,6 +68,7 @@ file's.
 from __future__ import annotations
 
 import math
+import os
 import re
 import warnings
 from pathlib import Path
@@ -437,7 +438,8 @@ def _files(settings: dict, key: str, value: str, err, filename: str | None,
         if len(words) < 3:
             raise err(len(value), "surface: expected an id, a file name and a scale "
                       "(surface: l leaf.s 1.0 [s t])")  # fmt: skip
-        (name, _), (file, _), (scale, at) = words[:3]
+        value_at = at
+        (name, _), (file, file_at), (scale, at) = words[:3]
         numbers = [_numbers(value[at:], 1, lambda p, _a=at: err(_a + p))[0]]
         for text, pos in words[3:6]:
             if _NUMBER.fullmatch(text) is None:
@@ -452,8 +454,15 @@ def _files(settings: dict, key: str, value: str, err, filename: str | None,
         s, t = (int(numbers[1]), int(numbers[2])) if len(numbers) >= 3 else (None, None)
         tex = int(numbers[3]) if len(numbers) >= 4 else int(numbers[1]) if len(
             numbers) == 2 else None  # fmt: skip
+        path = _beside(file, filename)
+        if not os.path.isfile(path):  # cpfg's interpret.c: access() fails, the line is skipped
+            col = value_at + file_at + 1
+            warnings.warn(f"{filename or '<view>'}:{number}:{col}: surface {name!r}: no "
+                          f"file {path}; as in cpfg, the line is skipped and ~{name} draws "
+                          "nothing", SylvaWarning, stacklevel=5)  # fmt: skip
+            return
         table = dict(settings.get("surfaces") or {})
-        entry = (_beside(file, filename), numbers[0], s, t)
+        entry = (path, numbers[0], s, t)
         table[name] = entry if tex is None else (*entry, tex)  # the texture's number
         settings["surfaces"] = table
         return
