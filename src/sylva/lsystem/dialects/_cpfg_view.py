@@ -212,14 +212,14 @@ def _honour(settings, number, key, value, at, style, filename, source) -> None:
         if n == 0:
             raise err(0, "angle factor: expected a number other than 0")
         settings["rot"] = 360.0 / n
-    elif key == "initial line width":
+    elif key in ("initial line width", "line width increment"):
         w = _numbers(value, 1, err)[0]
         if style in ("polygon", "polygons", "cylinder", "cylinders"):
-            settings["thick"] = w
+            settings["thick" if key == "initial line width" else "width_step"] = w
         else:
-            warnings.warn(f"{filename or '<view>'}:{number}: 'initial line width' is in "
-                          f"pixels with line style {style!r}; not honoured (sylva draws "
-                          "widths in units: set line style: cylinder)", SylvaWarning,
+            warnings.warn(f"{filename or '<view>'}:{number}: {key!r} is in pixels with "
+                          f"line style {style!r}; not honoured (sylva draws widths in "
+                          "units: set line style: cylinder)", SylvaWarning,
                           stacklevel=4)  # fmt: skip
     elif key == "twist of cylinders":  # cpfg: 'on' keeps each control point's own up
         settings["cylinder_twist"] = value.strip().lower().startswith("on")
@@ -230,15 +230,6 @@ def _honour(settings, number, key, value, at, style, filename, source) -> None:
                           "cannot draw cylinders with less than 3 sides; 3 used",
                           SylvaWarning, stacklevel=4)  # fmt: skip
         settings["contour_sides"] = max(3, int(n))
-    elif key == "line width increment":
-        w = _numbers(value, 1, err)[0]
-        if style in ("polygon", "polygons", "cylinder", "cylinders"):
-            settings["width_step"] = w
-        else:
-            warnings.warn(f"{filename or '<view>'}:{number}: 'line width increment' is in "
-                          f"pixels with line style {style!r}; not honoured (sylva draws "
-                          "widths in units: set line style: cylinder)", SylvaWarning,
-                          stacklevel=4)  # fmt: skip
     elif key == "line style":
         if style == "wireframe":  # cpfg draws lines: as pixel, sylva's tubes
             warnings.warn(f"{filename or '<view>'}:{number}: line style 'wireframe' is "
