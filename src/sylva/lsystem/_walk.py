@@ -100,22 +100,26 @@ def _branch_end(ids: list, p: int, n: int) -> int:
     return n
 
 
+def _prepare(word, candidates, pattern, arity, ignored):
+    """The word and the pattern as Python lists (the walks below index them one module at
+    a time, where lists beat arrays) and the empty results: ``ok`` and ``pos``."""
+    off = word.offsets
+    pat = pattern.tolist()
+    ok = np.zeros(len(candidates), np.bool_)
+    pos = np.full((len(candidates), len(pat)), -1, np.int64)
+    return (word.ids.tolist(), word.match.tolist(), (off[1:] - off[:-1]).tolist(),
+            ignored.tolist(), pat, arity.tolist(), ok, pos)  # fmt: skip
+
+
 def match_right(word: ModuleString, candidates: np.ndarray, pattern: np.ndarray,
                 arity: np.ndarray, ignored: np.ndarray, skip: int = -1,
                 ring: bool = False) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
     """cpfg's right context at each candidate: ``ok bool[k]`` and the word position of
     each pattern module ``int64[k, len(pattern)]`` (-1 for brackets and ``=``)."""
-    ids = word.ids.tolist()
-    match = word.match.tolist()
-    off = word.offsets
-    nparams = (off[1:] - off[:-1]).tolist()
-    ign = ignored.tolist()
-    pat = pattern.tolist()
-    ar = arity.tolist()
+    ids, match, nparams, ign, pat, ar, ok, pos = _prepare(
+        word, candidates, pattern, arity, ignored
+    )
     n = len(ids)
-    k = len(candidates)
-    ok = np.zeros(k, np.bool_)
-    pos = np.full((k, len(pat)), -1, np.int64)
     for c, i in enumerate(candidates.tolist()):
         p, j, wrapped, good = i + 1, 0, False, True
         row = pos[c]
@@ -161,17 +165,10 @@ def match_left(
 ) -> tuple[np.ndarray, np.ndarray]:
     """A left context in a ring L-system (the word's first module is preceded by its
     last): ``ok bool[k]`` and ``positions int64[k, len(pattern)]``."""
-    ids = word.ids.tolist()
-    match = word.match.tolist()
-    off = word.offsets
-    nparams = (off[1:] - off[:-1]).tolist()
-    ign = ignored.tolist()
-    pat = pattern.tolist()
-    ar = arity.tolist()
+    ids, match, nparams, ign, pat, ar, ok, pos = _prepare(
+        word, candidates, pattern, arity, ignored
+    )
     n = len(ids)
-    k = len(candidates)
-    ok = np.zeros(k, np.bool_)
-    pos = np.full((k, len(pat)), -1, np.int64)
     for c, i in enumerate(candidates.tolist()):
         p, j, seen, good = i - 1, len(pat) - 1, 0, True
         while j >= 0:
