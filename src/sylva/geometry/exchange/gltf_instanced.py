@@ -32,6 +32,7 @@ import numpy as np
 
 from ..mesh import Material, Mesh, Scene
 from ._common import PathOrFile, gltf_color0, open_target, scaled_base, tint_scales
+from .gltf import _Builder
 
 __all__ = ["EXTENSION", "InstancedMesh", "write_glb_instanced"]
 
@@ -82,13 +83,13 @@ class InstancedMesh:
         return int(self.translation.shape[0])
 
 
-class _Doc:
+class _Doc(_Builder):
+    """gltf.py's buffer builder plus the instanced document's materials, textures, meshes
+    and nodes."""
+
     def __init__(self, scales: dict[str, float] | None = None) -> None:
+        super().__init__()
         self.scales = scales or {}
-        self.chunks: list[bytes] = []
-        self.size = 0
-        self.views: list[dict] = []
-        self.accessors: list[dict] = []
         self.materials: list[dict] = []
         self.mat_index: dict[str, int] = {}
         self.images: list[dict] = []
@@ -96,30 +97,6 @@ class _Doc:
         self.image_index: dict[str, int] = {}
         self.meshes: list[dict] = []
         self.nodes: list[dict] = []
-
-    def view(self, data: bytes, target: int | None) -> int:
-        pad = (-self.size) % 4
-        if pad:
-            self.chunks.append(b"\0" * pad)
-            self.size += pad
-        v = {"buffer": 0, "byteOffset": self.size, "byteLength": len(data)}
-        if target is not None:
-            v["target"] = target
-        self.views.append(v)
-        self.chunks.append(data)
-        self.size += len(data)
-        return len(self.views) - 1
-
-    def accessor(self, arr: np.ndarray, kind: str, component: int, target: int | None,
-                 minmax: bool = False) -> int:  # fmt: skip
-        arr = np.ascontiguousarray(arr)
-        acc = {"bufferView": self.view(arr.tobytes(), target), "componentType": component,
-               "count": int(arr.shape[0]), "type": kind}  # fmt: skip
-        if minmax:
-            acc["min"] = [float(x) for x in arr.min(axis=0)]
-            acc["max"] = [float(x) for x in arr.max(axis=0)]
-        self.accessors.append(acc)
-        return len(self.accessors) - 1
 
     def texture(self, path: Path) -> int | None:
         key = str(path.resolve())
@@ -213,8 +190,7 @@ class _Doc:
             del doc["materials"]
         if not self.accessors:
             del doc["accessors"], doc["bufferViews"]
-        blob = b"".join(self.chunks)
-        blob += b"\0" * ((-len(blob)) % 4)
+        blob = self.blob()
         if blob:
             doc["buffers"] = [{"byteLength": len(blob)}]
         js = json.dumps(doc, separators=(",", ":")).encode("utf-8")
