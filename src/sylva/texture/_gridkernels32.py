@@ -595,10 +595,17 @@ def _gz(g):
     return (-ONE if g & 2 else ONE) if g >= 4 else ZERO
 
 
+#: row stride of :func:`simplex_table` (``tab[i * TAB_STRIDE + m]``)
+TAB_STRIDE = 512
+
+
 @njit(**_OPTS)
-def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bi, bj, bc):
-    """SIMD pass: skew, find the simplex of samples ``base..base + cnt``."""
+def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bc, a0, a1, a2):
+    """SIMD pass: skew, find the simplex of samples ``base..base + cnt`` and the flat
+    :func:`simplex_table` addresses of its three corners' gradient indices (so that the
+    scalar pass is three plain loads a sample)."""
     b0 = uint64(base)
+    st = np.int32(TAB_STRIDE)
     for q in range(cnt):
         xin = xs[b0 + uint64(q)] * fx + ox
         s = (xin + yin) * F2
@@ -609,23 +616,24 @@ def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bi, bj, bc):
         y0 = yin - (fj - t)
         bx[q] = x0
         by[q] = y0
-        bi[q] = np.int32(fi) & 255
-        bj[q] = np.int32(fj) & 255
-        bc[q] = np.int32(x0 > y0)
+        ii = np.int32(fi) & 255
+        jj = np.int32(fj) & 255
+        c = np.int32(x0 > y0)
+        bc[q] = c
+        a = ii * st + jj
+        a0[q] = a
+        a1[q] = a + c * (st - 1) + 1
+        a2[q] = a + st + 1
 
 
 @njit(**_OPTS)
-def _s2_hash(cnt, bi, bj, bc, tab, g0, g1, g2):
-    """Scalar pass: the corners' gradient indices, ``perm12[i + perm[j]]`` as one lookup
-    in ``tab[j, i]`` (:func:`simplex_table`)."""
-    one = uint64(1)
+def _gather3(cnt, tab, a0, a1, a2, g0, g1, g2):
+    """Scalar pass: the corners' gradient indices, one load each from the flat
+    :func:`simplex_table` (LLVM emits no vector gathers for this CPU)."""
     for q in range(cnt):
-        ii = uint64(bi[q])
-        jj = uint64(bj[q])
-        i1 = uint64(bc[q])
-        g0[q] = tab[jj, ii]
-        g1[q] = tab[jj + one - i1, ii + i1]
-        g2[q] = tab[jj + one, ii + one]
+        g0[q] = tab[uint64(a0[q])]
+        g1[q] = tab[uint64(a1[q])]
+        g2[q] = tab[uint64(a2[q])]
 
 
 @njit(**_OPTS)
@@ -654,30 +662,20 @@ def _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb):
         nb[q] = S2 * n
 
 
-@njit(inline="always", **_OPTS)
-def _corners3(c):
-    """Second and third corner offsets of the 3D simplex from the comparison bits."""
-    ca = c & 1
-    cb = (c >> 1) & 1
-    cc = (c >> 2) & 1
-    rx = ca + cc
-    ry = 1 - ca + cb
-    rz = 2 - cb - cc
-    return (
-        np.int32(rx >= 2),
-        np.int32(ry >= 2),
-        np.int32(rz >= 2),
-        np.int32(rx >= 1),
-        np.int32(ry >= 1),
-        np.int32(rz >= 1),
-    )
+@njit(inline="always", cache=True, error_model="numpy")
+def _bit(cond):
+    return 1.0 if cond else 0.0
 
 
 @njit(cache=True, error_model="numpy")  # no fast-math: the float64 road's roundings
-def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc):
+def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf):
     """SIMD pass, in float64 (``xs``, ``fx`` ... ``zin``): Gustavson's 3D kernel
     (r² = 0.6) jumps by up to 1e-2 across simplex faces, so the simplex must be the one
-    the float64 road picks; the offsets are then rounded to float32."""
+    the float64 road picks.  Into float32 rows: the offsets ``x0, y0, z0`` (rounded),
+    ``bf[0:3]`` the cell's ``i & 255, j & 255, k & 255`` and ``bf[3:5]`` the ranks
+    ``rx, ry`` of ``x0, y0`` among the three (Gustavson's six-way choice, as
+    :func:`._kernels.simplex3`); the rest is float32 work (:func:`_s3_addr`,
+    :func:`_s3_eval`)."""
     b0 = uint64(base)
     for q in range(cnt):
         xin = xs[b0 + uint64(q)] * fx + ox
@@ -689,61 +687,81 @@ def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc):
         x0 = xin - (fi - t)
         y0 = yin - (fj - t)
         z0 = zin - (fk - t)
+        ca = _bit(x0 >= y0)
+        cb = _bit(y0 >= z0)
+        cc = _bit(x0 >= z0)
         bx[q] = x0
         by[q] = y0
         bz[q] = z0
-        bi[q] = np.int32(np.int64(fi) & 255)
-        bj[q] = np.int32(np.int64(fj) & 255)
-        bk[q] = np.int32(np.int64(fk) & 255)
-        bc[q] = np.int32(x0 >= y0) | (np.int32(y0 >= z0) << 1) | (np.int32(x0 >= z0) << 2)
+        bf[0, q] = fi - 256.0 * np.floor(fi * (1.0 / 256.0))  # i & 255, exactly
+        bf[1, q] = fj - 256.0 * np.floor(fj * (1.0 / 256.0))
+        bf[2, q] = fk - 256.0 * np.floor(fk * (1.0 / 256.0))
+        bf[3, q] = ca + cc
+        bf[4, q] = 1.0 - ca + cb
+
+
+@njit(inline="always", **_OPTS)
+def _ranks3(rx, ry):
+    """Corners 1 and 2's offsets ``(i1, j1, k1, i2, j2, k2)`` from the ranks (float32)."""
+    rz = THREE - rx - ry
+    return (ONE if rx >= TWO else ZERO, ONE if ry >= TWO else ZERO,
+            ONE if rz >= TWO else ZERO, ONE if rx >= ONE else ZERO,
+            ONE if ry >= ONE else ZERO, ONE if rz >= ONE else ZERO)
 
 
 @njit(**_OPTS)
-def _s3_hash(cnt, bi, bj, bk, bc, perm, tab, g0, g1, g2, g3):
+def _s3_addr(cnt, bf, bk, bc, a0, a1, a2, a3):
+    """SIMD pass (float32 lanes; integers exact): the corners' :func:`simplex_table`
+    addresses but for ``perm[k]`` into ``a0 .. a3``, ``k & 255`` into ``bk``, the z
+    offsets of corners 1 and 2 into ``bc`` (bits 0 and 1)."""
+    st = _F(TAB_STRIDE)
+    for q in range(cnt):
+        i1, j1, k1, i2, j2, k2 = _ranks3(bf[3, q], bf[4, q])
+        a = bf[0, q] * st + bf[1, q]
+        bk[q] = np.int32(bf[2, q])
+        bc[q] = np.int32(k1 + TWO * k2)
+        a0[q] = np.int32(a)
+        a1[q] = np.int32(a + i1 * st + j1)
+        a2[q] = np.int32(a + i2 * st + j2)
+        a3[q] = np.int32(a + st + ONE)
+
+
+@njit(**_OPTS)
+def _s3_hash(cnt, bk, bc, perm, tab, a0, a1, a2, a3, g0, g1, g2, g3):
+    """Scalar pass: ``perm[k]``, ``perm[k + 1]`` and one flat :func:`simplex_table` load
+    per corner."""
     one = uint64(1)
     for q in range(cnt):
-        i1, j1, k1, i2, j2, k2 = _corners3(bc[q])
-        ii = uint64(bi[q])
-        jj = uint64(bj[q])
         kk = uint64(bk[q])
-        g0[q] = tab[jj + uint64(perm[kk]), ii]
-        g1[q] = tab[jj + uint64(j1) + uint64(perm[kk + uint64(k1)]), ii + uint64(i1)]
-        g2[q] = tab[jj + uint64(j2) + uint64(perm[kk + uint64(k2)]), ii + uint64(i2)]
-        g3[q] = tab[jj + one + uint64(perm[kk + one]), ii + one]
+        p0 = uint64(perm[kk])
+        p1 = uint64(perm[kk + one])
+        c = bc[q]
+        g0[q] = tab[uint64(a0[q]) + p0]
+        g1[q] = tab[uint64(a1[q]) + (p1 if c & 1 else p0)]
+        g2[q] = tab[uint64(a2[q]) + (p1 if c & 2 else p0)]
+        g3[q] = tab[uint64(a3[q]) + p1]
+
+
+@njit(inline="always", **_OPTS)
+def _c3(g, x, y, z):
+    """One corner's contribution (before the factor 32)."""
+    t = max(R3 - x * x - y * y - z * z, ZERO)
+    t *= t
+    return t * t * (_gx(g) * x + _gy(g) * y + _gz(g) * z)
 
 
 @njit(**_OPTS)
-def _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb):
+def _s3_eval(cnt, bx, by, bz, bf, g0, g1, g2, g3, nb):
+    """SIMD pass: the four corner contributions (float32, 16 lanes)."""
     for q in range(cnt):
-        i1, j1, k1, i2, j2, k2 = _corners3(bc[q])
+        i1, j1, k1, i2, j2, k2 = _ranks3(bf[3, q], bf[4, q])
         x0 = bx[q]
         y0 = by[q]
         z0 = bz[q]
-        x1 = x0 - _F(i1) + G3
-        y1 = y0 - _F(j1) + G3
-        z1 = z0 - _F(k1) + G3
-        x2 = x0 - _F(i2) + G3X2
-        y2 = y0 - _F(j2) + G3X2
-        z2 = z0 - _F(k2) + G3X2
-        x3 = x0 + G3X3
-        y3 = y0 + G3X3
-        z3 = z0 + G3X3
-        t0 = max(R3 - x0 * x0 - y0 * y0 - z0 * z0, ZERO)
-        t1 = max(R3 - x1 * x1 - y1 * y1 - z1 * z1, ZERO)
-        t2 = max(R3 - x2 * x2 - y2 * y2 - z2 * z2, ZERO)
-        t3 = max(R3 - x3 * x3 - y3 * y3 - z3 * z3, ZERO)
-        t0 *= t0
-        t1 *= t1
-        t2 *= t2
-        t3 *= t3
-        a = g0[q]
-        b = g1[q]
-        c = g2[q]
-        d = g3[q]
-        n = t0 * t0 * (_gx(a) * x0 + _gy(a) * y0 + _gz(a) * z0)
-        n += t1 * t1 * (_gx(b) * x1 + _gy(b) * y1 + _gz(b) * z1)
-        n += t2 * t2 * (_gx(c) * x2 + _gy(c) * y2 + _gz(c) * z2)
-        n += t3 * t3 * (_gx(d) * x3 + _gy(d) * y3 + _gz(d) * z3)
+        n = _c3(g0[q], x0, y0, z0)
+        n += _c3(g1[q], x0 - i1 + G3, y0 - j1 + G3, z0 - k1 + G3)
+        n += _c3(g2[q], x0 - i2 + G3X2, y0 - j2 + G3X2, z0 - k2 + G3X2)
+        n += _c3(g3[q], x0 + G3X3, y0 + G3X3, z0 + G3X3)
         nb[q] = S3 * n
 
 
@@ -753,7 +771,8 @@ def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, 
     """Row ``(m, j)`` of 2D or 3D simplex noise, every octave summed into ``row`` (float32;
     ridged sums are left unnormalised); ``work``: :func:`simplex_work` (also the texture
     graph's row routine)."""
-    bx, by, bz, nb, bi, bj, bk, bc, g0, g1, g2, g3 = work
+    bx, by, bz, nb, bk, bc, a0, a1, a2, a3, g0, g1, g2, g3, bf = work
+    tf = tab.reshape(tab.size)
     nx = row.shape[0]
     row[:] = ZERO
     weight[:] = ONE
@@ -768,13 +787,14 @@ def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, 
         for base in range(0, nx, BLOCK):
             cnt = min(BLOCK, nx - base)
             if ndim == 2:
-                _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bi, bj, bc)
-                _s2_hash(cnt, bi, bj, bc, tab, g0, g1, g2)
+                _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bc, a0, a1, a2)
+                _gather3(cnt, tf, a0, a1, a2, g0, g1, g2)
                 _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb)
             else:
-                _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc)
-                _s3_hash(cnt, bi, bj, bk, bc, perm, tab, g0, g1, g2, g3)
-                _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb)
+                _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf)
+                _s3_addr(cnt, bf, bk, bc, a0, a1, a2, a3)
+                _s3_hash(cnt, bk, bc, perm, tf, a0, a1, a2, a3, g0, g1, g2, g3)
+                _s3_eval(cnt, bx, by, bz, bf, g0, g1, g2, g3, nb)
             _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
 
 
@@ -785,7 +805,8 @@ def simplex_work():
     i = np.int32
     return (np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f),
             np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i),
-            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i))
+            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i),
+            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty((5, BLOCK), f))
 
 
 @njit(cache=True, parallel=True, error_model="numpy")  # no fast-math: yin, zin as in float64
@@ -811,12 +832,14 @@ def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, t
 
 
 def simplex_table(seed, perm, perm12):
-    """``tab[m, i] = perm12[i + perm[m]]`` (int8, m in 0..511, i in 0..256): simplex's two
-    chained lookups as one (cached per seed)."""
+    """``tab[i, m] = perm12[i + perm[m]]`` (int8, i in 0..256, m in 0..511, C order, so
+    the flat address is ``i * TAB_STRIDE + m``): simplex's two chained lookups as one
+    (cached per seed)."""
     tab = _TABS.get(seed)
     if tab is None:
-        m = np.arange(512)
-        tab = perm12[np.arange(257)[None, :] + perm[m][:, None]].astype(np.int8)
+        m = np.arange(TAB_STRIDE)
+        tab = np.ascontiguousarray(
+            perm12[np.arange(257)[:, None] + perm[m][None, :]].astype(np.int8))
         if len(_TABS) > 16:
             _TABS.clear()
         _TABS[seed] = tab
