@@ -597,13 +597,19 @@ def _gz(g):
 
 #: row stride of :func:`simplex_table` (``tab[i * TAB_STRIDE + m]``)
 TAB_STRIDE = 512
+_N15 = np.int32(15)
+
+
+@njit(inline="always", **_OPTS)
+def _nib(w, n):
+    """Nibble ``n`` (0..3) of the packed corners ``w`` (:func:`simplex_table`)."""
+    return (w >> (n << np.int32(2))) & _N15
 
 
 @njit(**_OPTS)
-def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bc, a0, a1, a2):
-    """SIMD pass: skew, find the simplex of samples ``base..base + cnt`` and the flat
-    :func:`simplex_table` addresses of its three corners' gradient indices (so that the
-    scalar pass is three plain loads a sample)."""
+def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bc, ba):
+    """SIMD pass: skew, find the simplex of samples ``base..base + cnt``, and the flat
+    address of its cell's packed corners in :func:`simplex_table` (``ba``)."""
     b0 = uint64(base)
     st = np.int32(TAB_STRIDE)
     for q in range(cnt):
@@ -616,33 +622,29 @@ def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bc, a0, a1, a2):
         y0 = yin - (fj - t)
         bx[q] = x0
         by[q] = y0
-        ii = np.int32(fi) & 255
-        jj = np.int32(fj) & 255
-        c = np.int32(x0 > y0)
-        bc[q] = c
-        a = ii * st + jj
-        a0[q] = a
-        a1[q] = a + c * (st - 1) + 1
-        a2[q] = a + st + 1
+        bc[q] = np.int32(x0 > y0)
+        ba[q] = (np.int32(fi) & 255) * st + (np.int32(fj) & 255)
 
 
 @njit(**_OPTS)
-def _gather3(cnt, tab, a0, a1, a2, g0, g1, g2):
-    """Scalar pass: the corners' gradient indices, one load each from the flat
-    :func:`simplex_table` (LLVM emits no vector gathers for this CPU)."""
+def _gather(cnt, tab, ba, off, bw):
+    """Scalar pass: one load a sample, ``bw = tab[ba + off]`` (``off``: 0, or a row of
+    ``perm[k]``; LLVM emits no vector gathers for this CPU, and ``vpgatherdd`` measured
+    no faster here)."""
     for q in range(cnt):
-        g0[q] = tab[uint64(a0[q])]
-        g1[q] = tab[uint64(a1[q])]
-        g2[q] = tab[uint64(a2[q])]
+        bw[q] = tab[uint64(ba[q]) + uint64(off[q])]
 
 
 @njit(**_OPTS)
-def _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb):
-    """SIMD pass: the three corner contributions, gradients by selects."""
+def _s2_eval(cnt, bx, by, bc, bw, nb):
+    """SIMD pass: the three corner contributions, gradient indices from the packed cell
+    corners, gradients by selects."""
     for q in range(cnt):
         x0 = bx[q]
         y0 = by[q]
-        i1 = _F(bc[q])
+        c = bc[q]
+        w = bw[q]
+        i1 = _F(c)
         x1 = x0 - i1 + G2
         y1 = y0 - (ONE - i1) + G2
         x2 = x0 + G2X2
@@ -653,12 +655,12 @@ def _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb):
         t0 *= t0
         t1 *= t1
         t2 *= t2
-        a = g0[q]
-        b = g1[q]
-        c = g2[q]
+        a = w & _N15
+        b = _nib(w, c + np.int32(1))  # corner (1, 0) is nibble 2, (0, 1) nibble 1
+        d = w >> np.int32(12)
         n = t0 * t0 * (_gx(a) * x0 + _gy(a) * y0)
         n += t1 * t1 * (_gx(b) * x1 + _gy(b) * y1)
-        n += t2 * t2 * (_gx(c) * x2 + _gy(c) * y2)
+        n += t2 * t2 * (_gx(d) * x2 + _gy(d) * y2)
         nb[q] = S2 * n
 
 
@@ -668,14 +670,13 @@ def _bit(cond):
 
 
 @njit(cache=True, error_model="numpy")  # no fast-math: the float64 road's roundings
-def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf):
+def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk):
     """SIMD pass, in float64 (``xs``, ``fx`` ... ``zin``): Gustavson's 3D kernel
     (r² = 0.6) jumps by up to 1e-2 across simplex faces, so the simplex must be the one
-    the float64 road picks.  Into float32 rows: the offsets ``x0, y0, z0`` (rounded),
-    ``bf[0:3]`` the cell's ``i & 255, j & 255, k & 255`` and ``bf[3:5]`` the ranks
-    ``rx, ry`` of ``x0, y0`` among the three (Gustavson's six-way choice, as
-    :func:`._kernels.simplex3`); the rest is float32 work (:func:`_s3_addr`,
-    :func:`_s3_eval`)."""
+    the float64 road picks.  Into float32 rows: the offsets ``x0, y0, z0`` (rounded) and
+    the ranks ``rx, ry`` of ``x0, y0`` among the three (``bf``; Gustavson's six-way
+    choice, as :func:`._kernels.simplex3`); the cell's :func:`simplex_table` address but
+    for ``perm[k]`` into ``ba``, ``k & 255`` into ``bk``."""
     b0 = uint64(base)
     for q in range(cnt):
         xin = xs[b0 + uint64(q)] * fx + ox
@@ -693,11 +694,23 @@ def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf):
         bx[q] = x0
         by[q] = y0
         bz[q] = z0
-        bf[0, q] = fi - 256.0 * np.floor(fi * (1.0 / 256.0))  # i & 255, exactly
-        bf[1, q] = fj - 256.0 * np.floor(fj * (1.0 / 256.0))
-        bf[2, q] = fk - 256.0 * np.floor(fk * (1.0 / 256.0))
-        bf[3, q] = ca + cc
-        bf[4, q] = 1.0 - ca + cb
+        bf[0, q] = ca + cc
+        bf[1, q] = 1.0 - ca + cb
+        ii = fi - 256.0 * np.floor(fi * (1.0 / 256.0))  # i & 255, exactly
+        jj = fj - 256.0 * np.floor(fj * (1.0 / 256.0))
+        ba[q] = np.int32(ii * TAB_STRIDE + jj)
+        bk[q] = np.int32(fk - 256.0 * np.floor(fk * (1.0 / 256.0)))
+
+
+@njit(**_OPTS)
+def _s3_perm(cnt, perm, bk, p0, p1):
+    """Scalar pass: ``perm[k]`` and ``perm[k + 1]``, the rows of the cell's two
+    z planes in :func:`simplex_table`."""
+    one = uint64(1)
+    for q in range(cnt):
+        kk = uint64(bk[q])
+        p0[q] = perm[kk]
+        p1[q] = perm[kk + one]
 
 
 @njit(inline="always", **_OPTS)
@@ -709,39 +722,6 @@ def _ranks3(rx, ry):
             ONE if ry >= ONE else ZERO, ONE if rz >= ONE else ZERO)
 
 
-@njit(**_OPTS)
-def _s3_addr(cnt, bf, bk, bc, a0, a1, a2, a3):
-    """SIMD pass (float32 lanes; integers exact): the corners' :func:`simplex_table`
-    addresses but for ``perm[k]`` into ``a0 .. a3``, ``k & 255`` into ``bk``, the z
-    offsets of corners 1 and 2 into ``bc`` (bits 0 and 1)."""
-    st = _F(TAB_STRIDE)
-    for q in range(cnt):
-        i1, j1, k1, i2, j2, k2 = _ranks3(bf[3, q], bf[4, q])
-        a = bf[0, q] * st + bf[1, q]
-        bk[q] = np.int32(bf[2, q])
-        bc[q] = np.int32(k1 + TWO * k2)
-        a0[q] = np.int32(a)
-        a1[q] = np.int32(a + i1 * st + j1)
-        a2[q] = np.int32(a + i2 * st + j2)
-        a3[q] = np.int32(a + st + ONE)
-
-
-@njit(**_OPTS)
-def _s3_hash(cnt, bk, bc, perm, tab, a0, a1, a2, a3, g0, g1, g2, g3):
-    """Scalar pass: ``perm[k]``, ``perm[k + 1]`` and one flat :func:`simplex_table` load
-    per corner."""
-    one = uint64(1)
-    for q in range(cnt):
-        kk = uint64(bk[q])
-        p0 = uint64(perm[kk])
-        p1 = uint64(perm[kk + one])
-        c = bc[q]
-        g0[q] = tab[uint64(a0[q]) + p0]
-        g1[q] = tab[uint64(a1[q]) + (p1 if c & 1 else p0)]
-        g2[q] = tab[uint64(a2[q]) + (p1 if c & 2 else p0)]
-        g3[q] = tab[uint64(a3[q]) + p1]
-
-
 @njit(inline="always", **_OPTS)
 def _c3(g, x, y, z):
     """One corner's contribution (before the factor 32)."""
@@ -750,18 +730,28 @@ def _c3(g, x, y, z):
     return t * t * (_gx(g) * x + _gy(g) * y + _gz(g) * z)
 
 
+@njit(inline="always", **_OPTS)
+def _corner3(w0, w1, i, j, k):
+    """The gradient index of corner ``(i, j, k)`` (float32 0/1) of the cell: nibble
+    ``2 i + j`` of its z plane's packed corners."""
+    w = w1 if k > ZERO else w0
+    return _nib(w, np.int32(i + i + j))
+
+
 @njit(**_OPTS)
-def _s3_eval(cnt, bx, by, bz, bf, g0, g1, g2, g3, nb):
+def _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb):
     """SIMD pass: the four corner contributions (float32, 16 lanes)."""
     for q in range(cnt):
-        i1, j1, k1, i2, j2, k2 = _ranks3(bf[3, q], bf[4, q])
+        i1, j1, k1, i2, j2, k2 = _ranks3(bf[0, q], bf[1, q])
+        a = w0[q]
+        b = w1[q]
         x0 = bx[q]
         y0 = by[q]
         z0 = bz[q]
-        n = _c3(g0[q], x0, y0, z0)
-        n += _c3(g1[q], x0 - i1 + G3, y0 - j1 + G3, z0 - k1 + G3)
-        n += _c3(g2[q], x0 - i2 + G3X2, y0 - j2 + G3X2, z0 - k2 + G3X2)
-        n += _c3(g3[q], x0 + G3X3, y0 + G3X3, z0 + G3X3)
+        n = _c3(a & _N15, x0, y0, z0)
+        n += _c3(_corner3(a, b, i1, j1, k1), x0 - i1 + G3, y0 - j1 + G3, z0 - k1 + G3)
+        n += _c3(_corner3(a, b, i2, j2, k2), x0 - i2 + G3X2, y0 - j2 + G3X2, z0 - k2 + G3X2)
+        n += _c3(b >> np.int32(12), x0 + G3X3, y0 + G3X3, z0 + G3X3)
         nb[q] = S3 * n
 
 
@@ -770,8 +760,9 @@ def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, 
                   tab, gain, work):
     """Row ``(m, j)`` of 2D or 3D simplex noise, every octave summed into ``row`` (float32;
     ridged sums are left unnormalised); ``work``: :func:`simplex_work` (also the texture
-    graph's row routine)."""
-    bx, by, bz, nb, bk, bc, a0, a1, a2, a3, g0, g1, g2, g3, bf = work
+    graph's row routine).  Blocks of :data:`BLOCK` samples go in passes: locate (SIMD; 3D
+    in float64), one table load a sample and z plane (scalar), corner sums (SIMD)."""
+    bx, by, bz, nb, bf, ba, bk, bc, p0, p1, w0, w1 = work
     tf = tab.reshape(tab.size)
     nx = row.shape[0]
     row[:] = ZERO
@@ -787,14 +778,15 @@ def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, 
         for base in range(0, nx, BLOCK):
             cnt = min(BLOCK, nx - base)
             if ndim == 2:
-                _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bc, a0, a1, a2)
-                _gather3(cnt, tf, a0, a1, a2, g0, g1, g2)
-                _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb)
+                _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bc, ba)
+                _gather(cnt, tf, ba, p0, w0)  # p0: zeros (simplex_work)
+                _s2_eval(cnt, bx, by, bc, w0, nb)
             else:
-                _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf)
-                _s3_addr(cnt, bf, bk, bc, a0, a1, a2, a3)
-                _s3_hash(cnt, bk, bc, perm, tf, a0, a1, a2, a3, g0, g1, g2, g3)
-                _s3_eval(cnt, bx, by, bz, bf, g0, g1, g2, g3, nb)
+                _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk)
+                _s3_perm(cnt, perm, bk, p0, p1)
+                _gather(cnt, tf, ba, p0, w0)
+                _gather(cnt, tf, ba, p1, w1)
+                _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb)
             _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
 
 
@@ -804,9 +796,9 @@ def simplex_work():
     f = np.float32
     i = np.int32
     return (np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f),
-            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i),
-            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i),
-            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty((5, BLOCK), f))
+            np.empty((2, BLOCK), f), np.empty(BLOCK, i), np.empty(BLOCK, i),
+            np.empty(BLOCK, i), np.zeros(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i),
+            np.empty(BLOCK, i))
 
 
 @njit(cache=True, parallel=True, error_model="numpy")  # no fast-math: yin, zin as in float64
@@ -814,9 +806,8 @@ def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, t
     """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D or 3D simplex noise (Gustavson's
     corners, hashes and gradients), every octave in one pass per row.  ``xs, ys, zs``,
     ``freqs``, ``offs`` as for :func:`._gridkernels.simplex_grid` (float64; ``xs32``:
-    ``xs`` in float32 for the 2D pass); ``amps``
-    already carry ``norm`` unless ``mode`` is ridged.  Blocks go in three passes: locate
-    (SIMD), hash (scalar table lookups), corner sums (SIMD)."""
+    ``xs`` in float32 for the 2D pass); ``amps`` already carry ``norm`` unless ``mode``
+    is ridged; ``tab``: :func:`simplex_table`."""
     nz, ny, nx = out.shape
     nrows = ny * nz
     for c in prange((nrows + ROWS - 1) // ROWS):
@@ -832,14 +823,19 @@ def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, t
 
 
 def simplex_table(seed, perm, perm12):
-    """``tab[i, m] = perm12[i + perm[m]]`` (int8, i in 0..256, m in 0..511, C order, so
-    the flat address is ``i * TAB_STRIDE + m``): simplex's two chained lookups as one
-    (cached per seed)."""
+    """The packed corner gradients of simplex noise (cached per seed): ``tab[i, m]``
+    (int32, i in 0..255, m in 0..511, C order: flat address ``i * TAB_STRIDE + m``) holds
+    ``g(i + di, m + dj) = perm12[i + di + perm[m + dj]]`` in nibble ``2 di + dj``.  With
+    ``m = j`` in 2D and ``m = j + perm[k]`` in 3D one load gives the four corners of a
+    cell's (z) plane: Gustavson's chained lookups ``perm12[i + perm[j + perm[k]]]``, as
+    the float64 road's, once a sample and plane."""
     tab = _TABS.get(seed)
     if tab is None:
-        m = np.arange(TAB_STRIDE)
-        tab = np.ascontiguousarray(
-            perm12[np.arange(257)[:, None] + perm[m][None, :]].astype(np.int8))
+        g = perm12[np.arange(257)[:, None] + perm[np.arange(TAB_STRIDE)][None, :]]
+        g = g.astype(np.int32)
+        tab = np.zeros((256, TAB_STRIDE), np.int32)
+        tab[:, :-1] = (g[:-1, :-1] | (g[:-1, 1:] << 4) | (g[1:, :-1] << 8)
+                       | (g[1:, 1:] << 12))
         if len(_TABS) > 16:
             _TABS.clear()
         _TABS[seed] = tab
