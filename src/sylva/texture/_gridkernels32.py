@@ -600,12 +600,6 @@ TAB_STRIDE = 512
 _N15 = np.int32(15)
 
 
-@njit(inline="always", **_OPTS)
-def _nib(w, n):
-    """Nibble ``n`` (0..3) of the packed corners ``w`` (:func:`simplex_table`)."""
-    return (w >> (n << np.int32(2))) & _N15
-
-
 @njit(**_OPTS)
 def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bc, ba):
     """SIMD pass: skew, find the simplex of samples ``base..base + cnt``, and the flat
@@ -627,12 +621,11 @@ def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bc, ba):
 
 
 @njit(**_OPTS)
-def _gather(cnt, tab, ba, off, bw):
-    """Scalar pass: one load a sample, ``bw = tab[ba + off]`` (``off``: 0, or a row of
-    ``perm[k]``; LLVM emits no vector gathers for this CPU, and ``vpgatherdd`` measured
-    no faster here)."""
+def _gather(cnt, tab, ba, bw):
+    """Scalar pass: one load a sample, ``bw = tab[ba]`` (LLVM emits no vector gathers for
+    this CPU, and ``vpgatherdd`` measured only ~10% faster here)."""
     for q in range(cnt):
-        bw[q] = tab[uint64(ba[q]) + uint64(off[q])]
+        bw[q] = tab[uint64(ba[q])]
 
 
 @njit(**_OPTS)
@@ -655,9 +648,11 @@ def _s2_eval(cnt, bx, by, bc, bw, nb):
         t0 *= t0
         t1 *= t1
         t2 *= t2
-        a = w & _N15
-        b = _nib(w, c + np.int32(1))  # corner (1, 0) is nibble 2, (0, 1) nibble 1
-        d = w >> np.int32(12)
+        a = np.int32(w & _N15)
+        # corner (1, 0) is nibble 2, (0, 1) nibble 1 (constant shifts and a select: a
+        # variable shift would be int64 in numba, half the lanes)
+        b = np.int32(((w >> np.int32(8)) if c else (w >> np.int32(4))) & _N15)
+        d = np.int32(w >> np.int32(12))
         n = t0 * t0 * (_gx(a) * x0 + _gy(a) * y0)
         n += t1 * t1 * (_gx(b) * x1 + _gy(b) * y1)
         n += t2 * t2 * (_gx(d) * x2 + _gy(d) * y2)
@@ -703,14 +698,15 @@ def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk):
 
 
 @njit(**_OPTS)
-def _s3_perm(cnt, perm, bk, p0, p1):
-    """Scalar pass: ``perm[k]`` and ``perm[k + 1]``, the rows of the cell's two
-    z planes in :func:`simplex_table`."""
+def _s3_gather(cnt, tab, perm, ba, bk, w0, w1):
+    """Scalar pass: the packed corners of the cell's two z planes, rows ``j + perm[k]``
+    and ``j + perm[k + 1]`` of :func:`simplex_table`."""
     one = uint64(1)
     for q in range(cnt):
         kk = uint64(bk[q])
-        p0[q] = perm[kk]
-        p1[q] = perm[kk + one]
+        a = uint64(ba[q])
+        w0[q] = tab[a + uint64(perm[kk])]
+        w1[q] = tab[a + uint64(perm[kk + one])]
 
 
 @njit(inline="always", **_OPTS)
@@ -733,9 +729,11 @@ def _c3(g, x, y, z):
 @njit(inline="always", **_OPTS)
 def _corner3(w0, w1, i, j, k):
     """The gradient index of corner ``(i, j, k)`` (float32 0/1) of the cell: nibble
-    ``2 i + j`` of its z plane's packed corners."""
+    ``2 i + j`` of its z plane's packed corners (constant shifts and selects)."""
     w = w1 if k > ZERO else w0
-    return _nib(w, np.int32(i + i + j))
+    w = np.int32(w >> np.int32(8)) if i > ZERO else w  # int32 again: 16 lanes
+    w = np.int32(w >> np.int32(4)) if j > ZERO else w
+    return np.int32(w & _N15)
 
 
 @njit(**_OPTS)
@@ -748,10 +746,10 @@ def _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb):
         x0 = bx[q]
         y0 = by[q]
         z0 = bz[q]
-        n = _c3(a & _N15, x0, y0, z0)
+        n = _c3(np.int32(a & _N15), x0, y0, z0)
         n += _c3(_corner3(a, b, i1, j1, k1), x0 - i1 + G3, y0 - j1 + G3, z0 - k1 + G3)
         n += _c3(_corner3(a, b, i2, j2, k2), x0 - i2 + G3X2, y0 - j2 + G3X2, z0 - k2 + G3X2)
-        n += _c3(b >> np.int32(12), x0 + G3X3, y0 + G3X3, z0 + G3X3)
+        n += _c3(np.int32(b >> np.int32(12)), x0 + G3X3, y0 + G3X3, z0 + G3X3)
         nb[q] = S3 * n
 
 
@@ -762,7 +760,7 @@ def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, 
     ridged sums are left unnormalised); ``work``: :func:`simplex_work` (also the texture
     graph's row routine).  Blocks of :data:`BLOCK` samples go in passes: locate (SIMD; 3D
     in float64), one table load a sample and z plane (scalar), corner sums (SIMD)."""
-    bx, by, bz, nb, bf, ba, bk, bc, p0, p1, w0, w1 = work
+    bx, by, bz, nb, bf, ba, bk, bc, w0, w1 = work
     tf = tab.reshape(tab.size)
     nx = row.shape[0]
     row[:] = ZERO
@@ -779,13 +777,11 @@ def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, 
             cnt = min(BLOCK, nx - base)
             if ndim == 2:
                 _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bc, ba)
-                _gather(cnt, tf, ba, p0, w0)  # p0: zeros (simplex_work)
+                _gather(cnt, tf, ba, w0)
                 _s2_eval(cnt, bx, by, bc, w0, nb)
             else:
                 _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk)
-                _s3_perm(cnt, perm, bk, p0, p1)
-                _gather(cnt, tf, ba, p0, w0)
-                _gather(cnt, tf, ba, p1, w1)
+                _s3_gather(cnt, tf, perm, ba, bk, w0, w1)
                 _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb)
             _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
 
@@ -797,8 +793,7 @@ def simplex_work():
     i = np.int32
     return (np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f),
             np.empty((2, BLOCK), f), np.empty(BLOCK, i), np.empty(BLOCK, i),
-            np.empty(BLOCK, i), np.zeros(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i),
-            np.empty(BLOCK, i))
+            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i))
 
 
 @njit(cache=True, parallel=True, error_model="numpy")  # no fast-math: yin, zin as in float64
