@@ -16,6 +16,10 @@ coefficients, ``lerp(u, p0 x + q0, p1 (x - 1) + q1)`` (SIMD across cells), and t
 samples take their cell's coefficients by select chains over the few cells a 16-lane block
 spans (SIMD; the trip count is ``min(16, n)``, as a literal 16 is unrolled to scalar code).
 Finer octaves keep the per-sample road (row tables of 2D corner hashes, then SIMD).
+Simplex noise needs one load a sample (2D) or z plane (3D): :func:`simplex_table` packs
+the gradient indices of a cell's four (x, y) corners in one word (Gustavson's chained
+lookups precomputed), the SIMD corner pass takes its corners' nibbles out; 3D locates in
+float64 (its kernel jumps across simplex faces) and does the rest in float32 lanes.
 
 Covered here, 2D and 3D, every fractal sum (fBm, turbulence, ridged) and integer lattice
 periods (``tileable``): value, classic Perlin (its 256 gradients stored into the block by
