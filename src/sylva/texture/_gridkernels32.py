@@ -16,6 +16,10 @@ coefficients, ``lerp(u, p0 x + q0, p1 (x - 1) + q1)`` (SIMD across cells), and t
 samples take their cell's coefficients by select chains over the few cells a 16-lane block
 spans (SIMD; the trip count is ``min(16, n)``, as a literal 16 is unrolled to scalar code).
 Finer octaves keep the per-sample road (row tables of 2D corner hashes, then SIMD).
+Simplex noise needs one load a sample (2D) or z plane (3D): :func:`simplex_table` packs
+the gradient indices of a cell's four (x, y) corners in one word (Gustavson's chained
+lookups precomputed), the SIMD corner pass takes its corners' nibbles out; 3D locates in
+float64 (its kernel jumps across simplex faces) and does the rest in float32 lanes.
 
 Covered here, 2D and 3D, every fractal sum (fBm, turbulence, ridged) and integer lattice
 periods (``tileable``): value, classic Perlin (its 256 gradients stored into the block by
@@ -595,10 +599,17 @@ def _gz(g):
     return (-ONE if g & 2 else ONE) if g >= 4 else ZERO
 
 
+#: row stride of :func:`simplex_table` (``tab[i * TAB_STRIDE + m]``)
+TAB_STRIDE = 512
+_N15 = np.int32(15)
+
+
 @njit(**_OPTS)
-def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bi, bj, bc):
-    """SIMD pass: skew, find the simplex of samples ``base..base + cnt``."""
+def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bc, ba):
+    """SIMD pass: skew, find the simplex of samples ``base..base + cnt``, and the flat
+    address of its cell's packed corners in :func:`simplex_table` (``ba``)."""
     b0 = uint64(base)
+    st = np.int32(TAB_STRIDE)
     for q in range(cnt):
         xin = xs[b0 + uint64(q)] * fx + ox
         s = (xin + yin) * F2
@@ -609,32 +620,28 @@ def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bi, bj, bc):
         y0 = yin - (fj - t)
         bx[q] = x0
         by[q] = y0
-        bi[q] = np.int32(fi) & 255
-        bj[q] = np.int32(fj) & 255
         bc[q] = np.int32(x0 > y0)
+        ba[q] = (np.int32(fi) & 255) * st + (np.int32(fj) & 255)
 
 
 @njit(**_OPTS)
-def _s2_hash(cnt, bi, bj, bc, tab, g0, g1, g2):
-    """Scalar pass: the corners' gradient indices, ``perm12[i + perm[j]]`` as one lookup
-    in ``tab[j, i]`` (:func:`simplex_table`)."""
-    one = uint64(1)
+def _gather(cnt, tab, ba, bw):
+    """Scalar pass: one load a sample, ``bw = tab[ba]`` (LLVM emits no vector gathers for
+    this CPU, and ``vpgatherdd`` measured only ~10% faster here)."""
     for q in range(cnt):
-        ii = uint64(bi[q])
-        jj = uint64(bj[q])
-        i1 = uint64(bc[q])
-        g0[q] = tab[jj, ii]
-        g1[q] = tab[jj + one - i1, ii + i1]
-        g2[q] = tab[jj + one, ii + one]
+        bw[q] = tab[uint64(ba[q])]
 
 
 @njit(**_OPTS)
-def _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb):
-    """SIMD pass: the three corner contributions, gradients by selects."""
+def _s2_eval(cnt, bx, by, bc, bw, nb):
+    """SIMD pass: the three corner contributions, gradient indices from the packed cell
+    corners, gradients by selects."""
     for q in range(cnt):
         x0 = bx[q]
         y0 = by[q]
-        i1 = _F(bc[q])
+        c = bc[q]
+        w = bw[q]
+        i1 = _F(c)
         x1 = x0 - i1 + G2
         y1 = y0 - (ONE - i1) + G2
         x2 = x0 + G2X2
@@ -645,39 +652,30 @@ def _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb):
         t0 *= t0
         t1 *= t1
         t2 *= t2
-        a = g0[q]
-        b = g1[q]
-        c = g2[q]
+        a = np.int32(w & _N15)
+        # corner (1, 0) is nibble 2, (0, 1) nibble 1 (constant shifts and a select: a
+        # variable shift would be int64 in numba, half the lanes)
+        b = np.int32(((w >> np.int32(8)) if c else (w >> np.int32(4))) & _N15)
+        d = np.int32(w >> np.int32(12))
         n = t0 * t0 * (_gx(a) * x0 + _gy(a) * y0)
         n += t1 * t1 * (_gx(b) * x1 + _gy(b) * y1)
-        n += t2 * t2 * (_gx(c) * x2 + _gy(c) * y2)
+        n += t2 * t2 * (_gx(d) * x2 + _gy(d) * y2)
         nb[q] = S2 * n
 
 
-@njit(inline="always", **_OPTS)
-def _corners3(c):
-    """Second and third corner offsets of the 3D simplex from the comparison bits."""
-    ca = c & 1
-    cb = (c >> 1) & 1
-    cc = (c >> 2) & 1
-    rx = ca + cc
-    ry = 1 - ca + cb
-    rz = 2 - cb - cc
-    return (
-        np.int32(rx >= 2),
-        np.int32(ry >= 2),
-        np.int32(rz >= 2),
-        np.int32(rx >= 1),
-        np.int32(ry >= 1),
-        np.int32(rz >= 1),
-    )
+@njit(inline="always", cache=True, error_model="numpy")
+def _bit(cond):
+    return 1.0 if cond else 0.0
 
 
 @njit(cache=True, error_model="numpy")  # no fast-math: the float64 road's roundings
-def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc):
+def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk):
     """SIMD pass, in float64 (``xs``, ``fx`` ... ``zin``): Gustavson's 3D kernel
     (r² = 0.6) jumps by up to 1e-2 across simplex faces, so the simplex must be the one
-    the float64 road picks; the offsets are then rounded to float32."""
+    the float64 road picks.  Into float32 rows: the offsets ``x0, y0, z0`` (rounded) and
+    the ranks ``rx, ry`` of ``x0, y0`` among the three (``bf``; Gustavson's six-way
+    choice, as :func:`._kernels.simplex3`); the cell's :func:`simplex_table` address but
+    for ``perm[k]`` into ``ba``, ``k & 255`` into ``bk``."""
     b0 = uint64(base)
     for q in range(cnt):
         xin = xs[b0 + uint64(q)] * fx + ox
@@ -689,61 +687,73 @@ def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc):
         x0 = xin - (fi - t)
         y0 = yin - (fj - t)
         z0 = zin - (fk - t)
+        ca = _bit(x0 >= y0)
+        cb = _bit(y0 >= z0)
+        cc = _bit(x0 >= z0)
         bx[q] = x0
         by[q] = y0
         bz[q] = z0
-        bi[q] = np.int32(np.int64(fi) & 255)
-        bj[q] = np.int32(np.int64(fj) & 255)
-        bk[q] = np.int32(np.int64(fk) & 255)
-        bc[q] = np.int32(x0 >= y0) | (np.int32(y0 >= z0) << 1) | (np.int32(x0 >= z0) << 2)
+        bf[0, q] = ca + cc
+        bf[1, q] = 1.0 - ca + cb
+        ii = fi - 256.0 * np.floor(fi * (1.0 / 256.0))  # i & 255, exactly
+        jj = fj - 256.0 * np.floor(fj * (1.0 / 256.0))
+        ba[q] = np.int32(ii * TAB_STRIDE + jj)
+        bk[q] = np.int32(fk - 256.0 * np.floor(fk * (1.0 / 256.0)))
 
 
 @njit(**_OPTS)
-def _s3_hash(cnt, bi, bj, bk, bc, perm, tab, g0, g1, g2, g3):
+def _s3_gather(cnt, tab, perm, ba, bk, w0, w1):
+    """Scalar pass: the packed corners of the cell's two z planes, rows ``j + perm[k]``
+    and ``j + perm[k + 1]`` of :func:`simplex_table`."""
     one = uint64(1)
     for q in range(cnt):
-        i1, j1, k1, i2, j2, k2 = _corners3(bc[q])
-        ii = uint64(bi[q])
-        jj = uint64(bj[q])
         kk = uint64(bk[q])
-        g0[q] = tab[jj + uint64(perm[kk]), ii]
-        g1[q] = tab[jj + uint64(j1) + uint64(perm[kk + uint64(k1)]), ii + uint64(i1)]
-        g2[q] = tab[jj + uint64(j2) + uint64(perm[kk + uint64(k2)]), ii + uint64(i2)]
-        g3[q] = tab[jj + one + uint64(perm[kk + one]), ii + one]
+        a = uint64(ba[q])
+        w0[q] = tab[a + uint64(perm[kk])]
+        w1[q] = tab[a + uint64(perm[kk + one])]
+
+
+@njit(inline="always", **_OPTS)
+def _ranks3(rx, ry):
+    """Corners 1 and 2's offsets ``(i1, j1, k1, i2, j2, k2)`` from the ranks (float32)."""
+    rz = THREE - rx - ry
+    return (ONE if rx >= TWO else ZERO, ONE if ry >= TWO else ZERO,
+            ONE if rz >= TWO else ZERO, ONE if rx >= ONE else ZERO,
+            ONE if ry >= ONE else ZERO, ONE if rz >= ONE else ZERO)
+
+
+@njit(inline="always", **_OPTS)
+def _c3(g, x, y, z):
+    """One corner's contribution (before the factor 32)."""
+    t = max(R3 - x * x - y * y - z * z, ZERO)
+    t *= t
+    return t * t * (_gx(g) * x + _gy(g) * y + _gz(g) * z)
+
+
+@njit(inline="always", **_OPTS)
+def _corner3(w0, w1, i, j, k):
+    """The gradient index of corner ``(i, j, k)`` (float32 0/1) of the cell: nibble
+    ``2 i + j`` of its z plane's packed corners (constant shifts and selects)."""
+    w = w1 if k > ZERO else w0
+    w = np.int32(w >> np.int32(8)) if i > ZERO else w  # int32 again: 16 lanes
+    w = np.int32(w >> np.int32(4)) if j > ZERO else w
+    return np.int32(w & _N15)
 
 
 @njit(**_OPTS)
-def _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb):
+def _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb):
+    """SIMD pass: the four corner contributions (float32, 16 lanes)."""
     for q in range(cnt):
-        i1, j1, k1, i2, j2, k2 = _corners3(bc[q])
+        i1, j1, k1, i2, j2, k2 = _ranks3(bf[0, q], bf[1, q])
+        a = w0[q]
+        b = w1[q]
         x0 = bx[q]
         y0 = by[q]
         z0 = bz[q]
-        x1 = x0 - _F(i1) + G3
-        y1 = y0 - _F(j1) + G3
-        z1 = z0 - _F(k1) + G3
-        x2 = x0 - _F(i2) + G3X2
-        y2 = y0 - _F(j2) + G3X2
-        z2 = z0 - _F(k2) + G3X2
-        x3 = x0 + G3X3
-        y3 = y0 + G3X3
-        z3 = z0 + G3X3
-        t0 = max(R3 - x0 * x0 - y0 * y0 - z0 * z0, ZERO)
-        t1 = max(R3 - x1 * x1 - y1 * y1 - z1 * z1, ZERO)
-        t2 = max(R3 - x2 * x2 - y2 * y2 - z2 * z2, ZERO)
-        t3 = max(R3 - x3 * x3 - y3 * y3 - z3 * z3, ZERO)
-        t0 *= t0
-        t1 *= t1
-        t2 *= t2
-        t3 *= t3
-        a = g0[q]
-        b = g1[q]
-        c = g2[q]
-        d = g3[q]
-        n = t0 * t0 * (_gx(a) * x0 + _gy(a) * y0 + _gz(a) * z0)
-        n += t1 * t1 * (_gx(b) * x1 + _gy(b) * y1 + _gz(b) * z1)
-        n += t2 * t2 * (_gx(c) * x2 + _gy(c) * y2 + _gz(c) * z2)
-        n += t3 * t3 * (_gx(d) * x3 + _gy(d) * y3 + _gz(d) * z3)
+        n = _c3(np.int32(a & _N15), x0, y0, z0)
+        n += _c3(_corner3(a, b, i1, j1, k1), x0 - i1 + G3, y0 - j1 + G3, z0 - k1 + G3)
+        n += _c3(_corner3(a, b, i2, j2, k2), x0 - i2 + G3X2, y0 - j2 + G3X2, z0 - k2 + G3X2)
+        n += _c3(np.int32(b >> np.int32(12)), x0 + G3X3, y0 + G3X3, z0 + G3X3)
         nb[q] = S3 * n
 
 
@@ -752,8 +762,10 @@ def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, 
                   tab, gain, work):
     """Row ``(m, j)`` of 2D or 3D simplex noise, every octave summed into ``row`` (float32;
     ridged sums are left unnormalised); ``work``: :func:`simplex_work` (also the texture
-    graph's row routine)."""
-    bx, by, bz, nb, bi, bj, bk, bc, g0, g1, g2, g3 = work
+    graph's row routine).  Blocks of :data:`BLOCK` samples go in passes: locate (SIMD; 3D
+    in float64), one table load a sample and z plane (scalar), corner sums (SIMD)."""
+    bx, by, bz, nb, bf, ba, bk, bc, w0, w1 = work
+    tf = tab.reshape(tab.size)
     nx = row.shape[0]
     row[:] = ZERO
     weight[:] = ONE
@@ -768,13 +780,13 @@ def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, 
         for base in range(0, nx, BLOCK):
             cnt = min(BLOCK, nx - base)
             if ndim == 2:
-                _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bi, bj, bc)
-                _s2_hash(cnt, bi, bj, bc, tab, g0, g1, g2)
-                _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb)
+                _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bc, ba)
+                _gather(cnt, tf, ba, w0)
+                _s2_eval(cnt, bx, by, bc, w0, nb)
             else:
-                _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc)
-                _s3_hash(cnt, bi, bj, bk, bc, perm, tab, g0, g1, g2, g3)
-                _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb)
+                _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk)
+                _s3_gather(cnt, tf, perm, ba, bk, w0, w1)
+                _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb)
             _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
 
 
@@ -784,8 +796,8 @@ def simplex_work():
     f = np.float32
     i = np.int32
     return (np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f),
-            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i),
-            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i))
+            np.empty((2, BLOCK), f), np.empty(BLOCK, i), np.empty(BLOCK, i),
+            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i))
 
 
 @njit(cache=True, parallel=True, error_model="numpy")  # no fast-math: yin, zin as in float64
@@ -793,9 +805,8 @@ def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, t
     """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D or 3D simplex noise (Gustavson's
     corners, hashes and gradients), every octave in one pass per row.  ``xs, ys, zs``,
     ``freqs``, ``offs`` as for :func:`._gridkernels.simplex_grid` (float64; ``xs32``:
-    ``xs`` in float32 for the 2D pass); ``amps``
-    already carry ``norm`` unless ``mode`` is ridged.  Blocks go in three passes: locate
-    (SIMD), hash (scalar table lookups), corner sums (SIMD)."""
+    ``xs`` in float32 for the 2D pass); ``amps`` already carry ``norm`` unless ``mode``
+    is ridged; ``tab``: :func:`simplex_table`."""
     nz, ny, nx = out.shape
     nrows = ny * nz
     for c in prange((nrows + ROWS - 1) // ROWS):
@@ -811,12 +822,19 @@ def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, t
 
 
 def simplex_table(seed, perm, perm12):
-    """``tab[m, i] = perm12[i + perm[m]]`` (int8, m in 0..511, i in 0..256): simplex's two
-    chained lookups as one (cached per seed)."""
+    """The packed corner gradients of simplex noise (cached per seed): ``tab[i, m]``
+    (int32, i in 0..255, m in 0..511, C order: flat address ``i * TAB_STRIDE + m``) holds
+    ``g(i + di, m + dj) = perm12[i + di + perm[m + dj]]`` in nibble ``2 di + dj``.  With
+    ``m = j`` in 2D and ``m = j + perm[k]`` in 3D one load gives the four corners of a
+    cell's (z) plane: Gustavson's chained lookups ``perm12[i + perm[j + perm[k]]]``, as
+    the float64 road's, once a sample and plane."""
     tab = _TABS.get(seed)
     if tab is None:
-        m = np.arange(512)
-        tab = perm12[np.arange(257)[None, :] + perm[m][:, None]].astype(np.int8)
+        g = perm12[np.arange(257)[:, None] + perm[np.arange(TAB_STRIDE)][None, :]]
+        g = g.astype(np.int32)
+        tab = np.zeros((256, TAB_STRIDE), np.int32)
+        tab[:, :-1] = (g[:-1, :-1] | (g[:-1, 1:] << 4) | (g[1:, :-1] << 8)
+                       | (g[1:, 1:] << 12))
         if len(_TABS) > 16:
             _TABS.clear()
         _TABS[seed] = tab
