@@ -1,0 +1,547 @@
+"""The float32 road of the noise grids that :mod:`._gridkernels32` does not cover: 4D grids
+(and 3D grids with ``time``), tileable simplex (its flat 4D torus) and domain warping
+(private; see :func:`sylva.texture.noise_grid`).
+
+One kernel, :func:`_block`, takes the fractal sum of value, classic Perlin, improved
+Perlin or simplex noise, in 2D, 3D or 4D, at a block of :data:`BLOCK` points, octave by
+octave, in three passes per octave:
+
+1. *locate* (float64, SIMD): the octave's coordinates (``x * freq + offset``, or the torus
+   embedding), their lattice cells and float32 fractions, or the simplex and its corner
+   ranks: the same float64 operations as the float64 road of :mod:`._sampling`, so every
+   sample lands in the float64 road's lattice cell and simplex (3D and 4D simplex jump
+   across simplex faces: a simplex chosen from float32 coordinates would differ there);
+2. *hash* (scalar): the permutation-table chains of every corner (the lookups stay scalar,
+   as in :mod:`._gridkernels32`: no vector gathers on this CPU);
+3. *blend* (float32, SIMD): every corner's contribution (improved and simplex gradients by
+   selects, no tables), then the multilinear blend axis by axis (one straight loop per
+   pair of corners) or the simplex sum, and the octave's fBm, turbulence or ridged term.
+
+Drivers: :func:`grid32` (the grid's rows in parallel, the torus embedding when asked),
+:func:`points32` (points in parallel: domain warping).  Results differ from the float64
+road by float32 rounding: below :data:`TOLERANCE` (absolute, values about [-1, 1]);
+see ``tests/texture/test_points32.py``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .. import _jit
+from . import _kernels as k
+
+#: bound on the absolute difference from the float64 road (values about [-1, 1]): the
+#: lattice cells and simplices are the float64 road's, the fractions are rounded to float32
+#: once and blended in float32 (measured up to ~1e-6 on 6 octaves of 4D noise); a warped
+#: grid's positions move by the warp field's float32 rounding times ``warp`` (~1e-6 of a
+#: cell), so the same bound holds, except where that move carries a sample across a face
+#: of a 3D or 4D simplex, whose kernel (r^2 = 0.6) jumps there: a sample within ~1e-6 of a
+#: cell of a face, none in the 40,960 samples of 3D and 4D warped simplex measured
+TOLERANCE = 2e-4
+
+#: points per block (the buffers stay in L1)
+BLOCK = 256
+_OPTS = dict(cache=True, fastmath=True, error_model="numpy")
+_F = np.float32
+ZERO = _F(0.0)
+ONE = _F(1.0)
+HALF = _F(0.5)
+TWO = _F(2.0)
+THREE = _F(3.0)
+SIX = _F(6.0)
+TEN = _F(10.0)
+FIFTEEN = _F(15.0)
+PI = _F(math.pi)
+# simplex: per dimension 2..4 the unskew factor G, the kernel radius r^2 and the scale
+_SG = np.array([0.0, 0.0, k.G2, k.G3, k.G4], np.float32)
+_SR = np.array([0.0, 0.0, 0.5, 0.6, 0.6], np.float32)
+_SS = np.array([0.0, 0.0, 70.0, 32.0, 27.0], np.float32)
+# the time direction of the 4D torus (as :mod:`._sampling`)
+_TD = (0.3872983346207417, -0.5477225575051661, 0.4472135954999579, 0.5916079783099616)
+
+
+@njit(inline="always", **_OPTS)
+def _g16(h, x, y, z):
+    """``GRAD16[h & 15] . (x, y, z)`` by selects: improved noise's gradients, and simplex's
+    (``GRAD3[g]`` for ``g < 12`` is ``GRAD16[g]``)."""
+    h = h & 15
+    u = x if h < 8 else y
+    v = y if h < 4 else (x if (h == 12) | (h == 14) else z)
+    return (-u if h & 1 else u) + (-v if h & 2 else v)
+
+
+@njit(inline="always", **_OPTS)
+def _g32(h, x, y, z, w):
+    """``GRAD4[h & 31] . (x, y, z, w)`` by selects: the axis ``h >> 3`` is left out, the
+    other three, in order, take the signs of bits 2, 1, 0."""
+    h = h & 31
+    s = h >> 3
+    a = y if s == 0 else x
+    b = z if s <= 1 else y
+    c = z if s == 3 else w
+    return (-a if h & 4 else a) + (-b if h & 2 else b) + (-c if h & 1 else c)
+
+
+@njit(**_OPTS)
+def work():
+    """The buffers of :func:`_block`."""
+    B = BLOCK
+    return (
+        np.empty((4, B)),  # octave coordinates (float64)
+        np.empty((4, B), np.int32),  # lattice index 0, or simplex cell
+        np.empty((4, B), np.int32),  # lattice index 1, or simplex corner ranks
+        np.empty((4, B), np.float32),  # fractions, or simplex offsets x0..w0
+        np.empty((4, B), np.float32),  # curve weights
+        np.empty((16, B), np.int32),  # corner hashes
+        np.empty((16, B), np.float32),  # corner values / contributions
+        np.empty((16, B), np.float32),  # the blend's other buffer
+        np.empty((4, 16, B), np.float32),  # classic Perlin gradients
+        np.empty(B, np.float32),  # ridged weight
+    )
+
+
+@njit(**_OPTS)
+def _coords(torus, ndim, P, tz, m, o, freqs, offs, pers, C):
+    """Octave ``o``'s coordinates of the block's points ``P`` (float64, as the float64
+    road computes them); with ``torus`` ``P`` holds cos x, sin x, cos y, sin y and ``tz``
+    the time."""
+    if torus:
+        rx = pers[o, 0] / k.TWO_PI
+        ry = pers[o, 1] / k.TWO_PI
+        t = tz * freqs[o, 2] if ndim >= 3 else 0.0
+        for q in range(m):
+            C[0, q] = rx * P[0, q] + offs[o, 0] + t * _TD[0]
+            C[1, q] = rx * P[1, q] + offs[o, 1] + t * _TD[1]
+            C[2, q] = ry * P[2, q] + offs[o, 2] + t * _TD[2]
+            C[3, q] = ry * P[3, q] + offs[o, 3] + t * _TD[3]
+        return
+    for a in range(ndim):
+        f = freqs[o, a]
+        d = offs[o, a]
+        for q in range(m):
+            C[a, q] = P[a, q] * f + d
+
+
+@njit(**_OPTS)
+def _locate_lattice(nd, m, C, o, pers, interp, I0, I1, FR, CU):
+    for a in range(nd):
+        per = int(pers[o, a])
+        for q in range(m):
+            c = C[a, q]
+            f = np.floor(c)
+            FR[a, q] = _F(c - f)
+            I0[a, q] = np.int32(f)
+        if per > 0:
+            for q in range(m):
+                i = I0[a, q] % per
+                I0[a, q] = i & 255
+                I1[a, q] = ((i + 1) % per) & 255
+        else:
+            for q in range(m):
+                i = I0[a, q]
+                I0[a, q] = i & 255
+                I1[a, q] = (i + 1) & 255
+        if interp == 3:
+            for q in range(m):
+                t = FR[a, q]
+                CU[a, q] = t * t * t * (t * (t * SIX - FIFTEEN) + TEN)
+        elif interp == 2:
+            for q in range(m):
+                t = FR[a, q]
+                CU[a, q] = t * t * (THREE - TWO * t)
+        elif interp == 1:
+            for q in range(m):
+                CU[a, q] = (ONE - math.cos(PI * FR[a, q])) * HALF
+        else:
+            for q in range(m):
+                CU[a, q] = FR[a, q]
+
+
+@njit(**_OPTS)
+def _hash_lattice(kind, nd, m, I0, I1, perm, H):
+    """Corner ``c`` (bit ``a`` set: index 1 along axis ``a``) of every point: the float64
+    road's chain, ``perm[w]`` then x, y, z (the extra ``perm[h + 0]`` of 2D improved noise
+    is its z = 0)."""
+    nc = 1 << nd
+    for q in range(m):
+        for c in range(nc):
+            h = I1[0, q] if c & 1 else I0[0, q]
+            if nd == 4:
+                h += perm[I1[3, q] if c & 8 else I0[3, q]]
+            h = perm[h]
+            h = perm[h + (I1[1, q] if c & 2 else I0[1, q])]
+            if nd >= 3:
+                h = perm[h + (I1[2, q] if c & 4 else I0[2, q])]
+            elif kind == k.IMPROVED:
+                h = perm[h]
+            H[c, q] = h
+
+
+@njit(**_OPTS)
+def _lattice(kind, nd, m, I0, I1, FR, CU, perm, vals, grad, H, K, L, G):
+    """One octave of lattice noise at the block's located points, into ``K[0, :m]``."""
+    nc = 1 << nd
+    _hash_lattice(kind, nd, m, I0, I1, perm, H)
+    if kind == k.VALUE:
+        for c in range(nc):
+            for q in range(m):
+                K[c, q] = vals[H[c, q]]
+    elif kind == k.PERLIN:
+        for c in range(nc):  # the gathers (scalar), then the dot products (SIMD)
+            for q in range(m):
+                h = H[c, q]
+                for a in range(nd):
+                    G[a, c, q] = grad[h, a]
+        for c in range(nc):
+            dx = ONE if c & 1 else ZERO
+            dy = ONE if c & 2 else ZERO
+            dz = ONE if c & 4 else ZERO
+            dw = ONE if c & 8 else ZERO
+            if nd == 2:
+                for q in range(m):
+                    K[c, q] = G[0, c, q] * (FR[0, q] - dx) + G[1, c, q] * (FR[1, q] - dy)
+            elif nd == 3:
+                for q in range(m):
+                    K[c, q] = (G[0, c, q] * (FR[0, q] - dx) + G[1, c, q] * (FR[1, q] - dy)
+                               + G[2, c, q] * (FR[2, q] - dz))
+            else:
+                for q in range(m):
+                    K[c, q] = (G[0, c, q] * (FR[0, q] - dx) + G[1, c, q] * (FR[1, q] - dy)
+                               + G[2, c, q] * (FR[2, q] - dz) + G[3, c, q] * (FR[3, q] - dw))
+    else:
+        for c in range(nc):
+            dx = ONE if c & 1 else ZERO
+            dy = ONE if c & 2 else ZERO
+            dz = ONE if c & 4 else ZERO
+            dw = ONE if c & 8 else ZERO
+            if nd == 4:
+                for q in range(m):
+                    K[c, q] = _g32(H[c, q], FR[0, q] - dx, FR[1, q] - dy, FR[2, q] - dz,
+                                   FR[3, q] - dw)
+            elif nd == 3:
+                for q in range(m):
+                    K[c, q] = _g16(H[c, q], FR[0, q] - dx, FR[1, q] - dy, FR[2, q] - dz)
+            else:
+                for q in range(m):
+                    K[c, q] = _g16(H[c, q], FR[0, q] - dx, FR[1, q] - dy, ZERO)
+    # the blend, axis by axis (x first): pairs of corners into the other buffer
+    src, dst = K, L
+    for a in range(nd):
+        nc >>= 1
+        for j in range(nc):
+            for q in range(m):
+                lo = src[2 * j, q]
+                dst[j, q] = lo + CU[a, q] * (src[2 * j + 1, q] - lo)
+        src, dst = dst, src
+    if nd & 1:  # the result went to L
+        for q in range(m):
+            K[0, q] = L[0, q]
+
+
+@njit(**_OPTS)
+def _locate_simplex(nd, m, C, I0, R, FR):
+    """The simplex of every point (skew, floor, unskew and the ranks of the offsets, in
+    float64 as Gustavson's code): cell ``I0``, corner ranks ``R``, offsets ``FR``."""
+    if nd == 2:
+        for q in range(m):
+            x = C[0, q]
+            y = C[1, q]
+            s = (x + y) * k.F2
+            i = np.floor(x + s)
+            j = np.floor(y + s)
+            t = (i + j) * k.G2
+            x0 = x - (i - t)
+            y0 = y - (j - t)
+            I0[0, q] = np.int32(i) & 255
+            I0[1, q] = np.int32(j) & 255
+            r = 1 if x0 > y0 else 0
+            R[0, q] = r
+            R[1, q] = 1 - r
+            FR[0, q] = _F(x0)
+            FR[1, q] = _F(y0)
+    elif nd == 3:
+        for q in range(m):
+            x = C[0, q]
+            y = C[1, q]
+            z = C[2, q]
+            s = (x + y + z) * k.F3
+            i = np.floor(x + s)
+            j = np.floor(y + s)
+            kk = np.floor(z + s)
+            t = (i + j + kk) * k.G3
+            x0 = x - (i - t)
+            y0 = y - (j - t)
+            z0 = z - (kk - t)
+            I0[0, q] = np.int32(i) & 255
+            I0[1, q] = np.int32(j) & 255
+            I0[2, q] = np.int32(kk) & 255
+            ca = 1 if x0 >= y0 else 0
+            cb = 1 if y0 >= z0 else 0
+            cc = 1 if x0 >= z0 else 0
+            R[0, q] = ca + cc
+            R[1, q] = 1 - ca + cb
+            R[2, q] = 2 - cb - cc
+            FR[0, q] = _F(x0)
+            FR[1, q] = _F(y0)
+            FR[2, q] = _F(z0)
+    else:
+        for q in range(m):
+            x = C[0, q]
+            y = C[1, q]
+            z = C[2, q]
+            w = C[3, q]
+            s = (x + y + z + w) * k.F4
+            i = np.floor(x + s)
+            j = np.floor(y + s)
+            kk = np.floor(z + s)
+            ll = np.floor(w + s)
+            t = (i + j + kk + ll) * k.G4
+            x0 = x - (i - t)
+            y0 = y - (j - t)
+            z0 = z - (kk - t)
+            w0 = w - (ll - t)
+            I0[0, q] = np.int32(i) & 255
+            I0[1, q] = np.int32(j) & 255
+            I0[2, q] = np.int32(kk) & 255
+            I0[3, q] = np.int32(ll) & 255
+            a = 1 if x0 > y0 else 0
+            b = 1 if x0 > z0 else 0
+            c = 1 if x0 > w0 else 0
+            d = 1 if y0 > z0 else 0
+            e = 1 if y0 > w0 else 0
+            f = 1 if z0 > w0 else 0
+            R[0, q] = a + b + c
+            R[1, q] = 1 - a + d + e
+            R[2, q] = 2 - b - d + f
+            R[3, q] = 3 - c - e - f
+            FR[0, q] = _F(x0)
+            FR[1, q] = _F(y0)
+            FR[2, q] = _F(z0)
+            FR[3, q] = _F(w0)
+
+
+@njit(**_OPTS)
+def _simplex(nd, m, I0, R, FR, perm, perm12, H, K):
+    """One octave of simplex noise at the located points, into ``K[0, :m]``: corner ``c``
+    (0..nd) is offset by 1 along the axes whose rank is at least ``nd - c``."""
+    nc = nd + 1
+    for q in range(m):  # the hashes (scalar)
+        for c in range(nc):
+            lim = nd - c
+            ii = I0[0, q] + (1 if R[0, q] >= lim else 0)
+            jj = I0[1, q] + (1 if R[1, q] >= lim else 0)
+            if nd == 2:
+                H[c, q] = perm12[ii + perm[jj]]
+            elif nd == 3:
+                kk = I0[2, q] + (1 if R[2, q] >= lim else 0)
+                H[c, q] = perm12[ii + perm[jj + perm[kk]]]
+            else:
+                kk = I0[2, q] + (1 if R[2, q] >= lim else 0)
+                ll = I0[3, q] + (1 if R[3, q] >= lim else 0)
+                H[c, q] = perm[ii + perm[jj + perm[kk + perm[ll]]]] & 31
+    g = _SG[nd]
+    r2 = _SR[nd]
+    for q in range(m):
+        K[0, q] = ZERO
+    for c in range(nc):  # the contributions (SIMD)
+        lim = nd - c
+        off = _F(c) * g
+        if nd == 2:
+            for q in range(m):
+                x = FR[0, q] - (ONE if R[0, q] >= lim else ZERO) + off
+                y = FR[1, q] - (ONE if R[1, q] >= lim else ZERO) + off
+                t = max(r2 - x * x - y * y, ZERO)
+                t *= t
+                K[0, q] += t * t * _g16(H[c, q], x, y, ZERO)
+        elif nd == 3:
+            for q in range(m):
+                x = FR[0, q] - (ONE if R[0, q] >= lim else ZERO) + off
+                y = FR[1, q] - (ONE if R[1, q] >= lim else ZERO) + off
+                z = FR[2, q] - (ONE if R[2, q] >= lim else ZERO) + off
+                t = max(r2 - x * x - y * y - z * z, ZERO)
+                t *= t
+                K[0, q] += t * t * _g16(H[c, q], x, y, z)
+        else:
+            for q in range(m):
+                x = FR[0, q] - (ONE if R[0, q] >= lim else ZERO) + off
+                y = FR[1, q] - (ONE if R[1, q] >= lim else ZERO) + off
+                z = FR[2, q] - (ONE if R[2, q] >= lim else ZERO) + off
+                w = FR[3, q] - (ONE if R[3, q] >= lim else ZERO) + off
+                t = max(r2 - x * x - y * y - z * z - w * w, ZERO)
+                t *= t
+                K[0, q] += t * t * _g32(H[c, q], x, y, z, w)
+    s = _SS[nd]
+    for q in range(m):
+        K[0, q] *= s
+
+
+@njit(**_OPTS)
+def _block(kind, mode, ndim, torus, P, tz, m, freqs, amps, offs, pers, interp, perm,
+           perm12, vals, grad, norm, gain, wk, acc):
+    """The fractal sum at the block's ``m`` points into ``acc[:m]`` (``amps`` already
+    carry ``norm`` unless ``mode`` is ridged)."""
+    C, I0, I1, FR, CU, H, K, L, G, wgt = wk
+    nd = 4 if torus else ndim
+    for q in range(m):
+        acc[q] = ZERO
+        wgt[q] = ONE
+    for o in range(freqs.shape[0]):
+        _coords(torus, ndim, P, tz, m, o, freqs, offs, pers, C)
+        if kind == k.SIMPLEX:
+            _locate_simplex(nd, m, C, I0, I1, FR)
+            _simplex(nd, m, I0, I1, FR, perm, perm12, H, K)
+        else:
+            _locate_lattice(nd, m, C, o, pers, interp, I0, I1, FR, CU)
+            _lattice(kind, nd, m, I0, I1, FR, CU, perm, vals, grad, H, K, L, G)
+        a = amps[o]
+        if mode == k.FBM:
+            for q in range(m):
+                acc[q] += a * K[0, q]
+        elif mode == k.TURBULENCE:
+            for q in range(m):
+                acc[q] += a * abs(K[0, q])
+        else:
+            for q in range(m):
+                s = ONE - abs(K[0, q])
+                s *= s
+                s *= wgt[q]
+                wgt[q] = min(max(s * gain, ZERO), ONE)
+                acc[q] += a * s
+    if mode == k.RIDGED:
+        for q in range(m):
+            acc[q] *= norm
+
+
+@njit(parallel=True, **_OPTS)
+def grid_kernel(kind, mode, ndim, torus, xs, ys, zs, ws, out, freqs, amps, offs, pers,
+                interp, perm, perm12, vals, grad, norm, gain):
+    """Fill ``out`` (float32, shape (nw, nz, ny, nx)) with the fractal sum on the product
+    grid of ``xs, ys, zs, ws``, rows in parallel; with ``torus`` ``xs`` and ``ys`` are the
+    angles of the 4D torus and ``zs`` the time."""
+    nw, nz, ny, nx = out.shape
+    nb = (nx + BLOCK - 1) // BLOCK
+    for r in prange(nw * nz * ny):
+        iy = r % ny
+        iz = (r // ny) % nz
+        iw = r // (ny * nz)
+        wk = work()
+        P = np.empty((4, BLOCK))
+        acc = np.empty(BLOCK, np.float32)
+        row = out[iw, iz, iy]
+        for b in range(nb):
+            x0 = b * BLOCK
+            m = min(BLOCK, nx - x0)
+            if torus:
+                cy = math.cos(ys[iy])
+                sy = math.sin(ys[iy])
+                for q in range(m):
+                    P[0, q] = math.cos(xs[x0 + q])
+                    P[1, q] = math.sin(xs[x0 + q])
+                    P[2, q] = cy
+                    P[3, q] = sy
+            else:
+                for q in range(m):
+                    P[0, q] = xs[x0 + q]
+                    P[1, q] = ys[iy]
+                    P[2, q] = zs[iz]
+                    P[3, q] = ws[iw]
+            _block(kind, mode, ndim, torus, P, zs[iz], m, freqs, amps, offs, pers, interp,
+                   perm, perm12, vals, grad, norm, gain, wk, acc)
+            for q in range(m):
+                row[x0 + q] = acc[q]
+
+
+@njit(parallel=True, **_OPTS)
+def points_kernel(kind, mode, ndim, px, py, pz, pw, out, freqs, amps, offs, pers, interp,
+                  perm, perm12, vals, grad, norm, gain):
+    """The fractal sum at the points ``(px, py, pz, pw)[i]`` into ``out[i]`` (float32),
+    blocks in parallel."""
+    n = out.shape[0]
+    for b in prange((n + BLOCK - 1) // BLOCK):
+        wk = work()
+        P = np.empty((4, BLOCK))
+        acc = np.empty(BLOCK, np.float32)
+        x0 = b * BLOCK
+        m = min(BLOCK, n - x0)
+        for q in range(m):
+            P[0, q] = px[x0 + q]
+            P[1, q] = py[x0 + q]
+            P[2, q] = pz[x0 + q]
+            P[3, q] = pw[x0 + q]
+        _block(kind, mode, ndim, False, P, 0.0, m, freqs, amps, offs, pers, interp, perm,
+               perm12, vals, grad, norm, gain, wk, acc)
+        for q in range(m):
+            out[x0 + q] = acc[q]
+
+
+# ----------------------------------------------------------------------------- roads
+#: the noise kinds of this road (Worley keeps its own roads)
+KINDS = (k.VALUE, k.PERLIN, k.IMPROVED, k.SIMPLEX)
+
+
+def _tables(setup, ndim, mode, amps, norm, gain):
+    """The kernels' arguments after ``pers``: float32 amplitudes (carrying ``norm`` unless
+    ridged), the interpolation, the tables of ``setup`` and float32 norm and gain."""
+    t = setup.tables
+    a32 = (amps if mode == k.RIDGED else amps * norm).astype(np.float32)
+    grad = np.ascontiguousarray(t.gradients[ndim - 2], np.float32)
+    return (setup.interp, t.perm, t.perm12, t.values.astype(np.float32), grad,
+            np.float32(norm), np.float32(gain)), a32
+
+
+def road(plan, warp) -> str | None:
+    """Which kernel of this module takes the float32 grid ``plan`` (``"grid"``, ``"torus"``,
+    ``"warp"``), or None (another road: :mod:`._gridkernels32`, or float64 and rounding)."""
+    s = plan.setup
+    if plan.dt != np.float32 or s.kind not in KINDS or plan.norder:
+        return None
+    if warp or plan.torus:
+        return None
+    return "grid" if plan.ndim == 4 else None
+
+
+def grid32(plan, warp, setup):
+    """The float32 road of :func:`.noise.noise_grid` for ``plan`` (4D grids, tileable
+    simplex, domain warping; ``setup(seed)``: the noise set-up of another seed, for the
+    warp fields), or None
+    where :func:`road` names none, or while the kernel is not compiled and the grid is
+    small (the float64 road's interpreted source is then quicker than compiling)."""
+    from ._gridplan import SCALAR_WORK
+
+    which = road(plan, warp)
+    n = math.prod(plan.shape)
+    kernel = points_kernel if which == "warp" else grid_kernel
+    if which is None or _jit.cold(kernel, n, SCALAR_WORK):
+        return None
+    s, ndim, mode = plan.setup, plan.ndim, plan.mode
+    axes = [np.ascontiguousarray(a, np.float64) for a in plan.axes]
+    freqs, offs, pers = plan.freqs, plan.offs, plan.pers
+    tail, a32 = _tables(s, 4 if plan.torus else ndim, mode, plan.amps, plan.norm, plan.gain)
+    if which != "warp":
+        if which == "torus":  # x and y become angles (as the float64 road)
+            for a in (0, 1):
+                axes[a] = 2.0 * np.pi * np.arange(plan.sizes[a], dtype=np.float64) / plan.sizes[a]
+        full = tuple(len(a) for a in axes[:4])
+        out = np.empty((full[3], full[2], full[1], full[0]), np.float32)
+        grid_kernel(s.kind, mode, ndim, which == "torus", *axes[:4], out, freqs, a32, offs,
+                    pers, *tail)
+        return out.reshape(plan.shape)
+    grids = np.meshgrid(*axes[:ndim][::-1], indexing="ij")[::-1]
+    pts = [np.ascontiguousarray(g.ravel()) for g in grids]
+    while len(pts) < 4:
+        pts.append(np.zeros(n))
+    base = 0 if s.tables.seed is None else s.tables.seed
+    warped = []
+    for a in range(ndim):  # the warp fields: fBm of the kind, with the axis's seed
+        d = np.empty(n, np.float32)
+        ws = setup(base + 7919 * (a + 1))  # the float64 road's seeds
+        wtail, wa32 = _tables(ws, ndim, k.FBM, plan.amps, plan.norm, plan.gain)
+        points_kernel(ws.kind, k.FBM, ndim, *pts, d, freqs, wa32, offs, pers, *wtail)
+        warped.append(pts[a] + float(warp) * d.astype(np.float64))
+    warped += pts[ndim:]
+    out = np.empty(n, np.float32)
+    points_kernel(s.kind, mode, ndim, *warped, out, freqs, a32, offs, pers, *tail)
+    return out.reshape(plan.shape)

@@ -1,0 +1,83 @@
+"""The float32 road of the noise grids beyond ``_gridkernels32`` (``_points32``): 4D grids
+and 3D grids with time, tileable simplex (the 4D torus) and domain warping, against the
+float64 road (bit-exact to the reference values, test_reference_noise): within
+``_points32.TOLERANCE`` on small grids, and the float32 kernel is the one that ran."""
+
+import numpy as np
+import pytest
+
+from sylva import _jit
+from sylva.texture import _points32 as p32
+from sylva.texture import noise_grid
+from sylva.texture._gridplan import grid_plan
+
+TOL = p32.TOLERANCE
+KINDS = ["value", "perlin", "improved", "simplex"]
+
+
+@pytest.fixture(autouse=True)
+def _compiled():
+    # small grids take the float64 road while a kernel is not compiled (a cold cache):
+    # these tests are about the compiled float32 road
+    with _jit.compiled():
+        yield
+
+
+def _spy(monkeypatch, name):
+    calls = []
+    real = getattr(p32, name)
+
+    def spy(*args):
+        calls.append(args[0])
+        return real(*args)
+
+    monkeypatch.setattr(p32, name, spy)
+    return calls
+
+
+def _both(shape, **kw):
+    a = noise_grid(shape, **kw)
+    b = noise_grid(shape, dtype=np.float64, **kw)
+    assert a.dtype == np.float32 and b.dtype == np.float64 and a.shape == b.shape
+    assert b.std() > 0.03  # a real pattern, not a constant
+    # within tolerance, and float32 arithmetic: not merely the float64 values rounded
+    assert np.abs(a.astype(np.float64) - b).max() < TOL
+    assert abs(float(a.mean()) - b.mean()) < TOL
+    assert not np.array_equal(a, b.astype(np.float32))
+    return a, b
+
+
+def _road(shape, warp=0.0, **kw):
+    plan = grid_plan(shape, kw.get("kind", "improved"), kw.get("fractal", "fbm"), 4.0, 2,
+                     0.5, 2.0, 2.0, None, None, kw.get("tileable", False), kw.get("time"),
+                     (0.0,) * 4, warp, True, "f1", "euclidean", 1.0, kw.get("dtype"), None)
+    return p32.road(plan, warp)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize(
+    "shape,extra",
+    [((2, 3, 5, 40), {}), ((3, 4, 40), {"time": 0.7}),
+     ((2, 3, 4, 36), {"tileable": True, "fractal": "ridged"})],
+    ids=["4d", "3d+time", "4d-tileable-ridged"],
+)
+def test_4d_grid_float32_within_tolerance(monkeypatch, kind, shape, extra):
+    if kind == "simplex" and "tileable" in extra:
+        extra = {"fractal": "ridged"}  # simplex tiles 2D images only (its torus)
+    calls = _spy(monkeypatch, "grid_kernel")
+    _both(shape, kind=kind, octaves=4, scale=5.0, seed=3, **extra)
+    assert calls and all(c == p32.KINDS[KINDS.index(kind)] for c in calls)
+
+
+@pytest.mark.parametrize("fractal", ["fbm", "turbulence"])
+def test_4d_grid_six_octaves(fractal):
+    _both((2, 2, 6, 64), kind="simplex", fractal=fractal, octaves=6, scale=12.0, seed=8)
+
+
+def test_roads():
+    assert _road((2, 3, 4, 20)) == "grid"
+    assert _road((3, 4, 20), time=0.5) == "grid"
+    # the float64 road stays; 2D/3D grids are _gridkernels32's; Worley keeps its roads
+    assert _road((2, 3, 4, 20), dtype=np.float64) is None
+    assert _road((3, 4, 20)) is None
+    assert _road((2, 3, 4, 20), kind="worley") is None
