@@ -74,9 +74,23 @@ def test_4d_grid_six_octaves(fractal):
     _both((2, 2, 6, 64), kind="simplex", fractal=fractal, octaves=6, scale=12.0, seed=8)
 
 
+@pytest.mark.parametrize("extra", [{}, {"time": 1.3, "fractal": "ridged"}], ids=["2d", "time"])
+def test_tileable_simplex_float32(monkeypatch, extra):
+    calls = _spy(monkeypatch, "grid_kernel")
+    kw = dict(kind="simplex", octaves=3, scale=5.0, seed=4, tileable=True, **extra)
+    a, _ = _both((32, 48), **kw)
+    assert calls
+    # seamless: across the wrap (last column to first, last row to first) the image steps
+    # no more than between neighbours inside it
+    inside = np.abs(np.diff(a, axis=1)).mean()
+    assert np.abs(a[:, 0] - a[:, -1]).mean() < 2.0 * inside
+    assert np.abs(a[0] - a[-1]).mean() < 2.0 * np.abs(np.diff(a, axis=0)).mean()
+
+
 def test_roads():
     assert _road((2, 3, 4, 20)) == "grid"
     assert _road((3, 4, 20), time=0.5) == "grid"
+    assert _road((8, 20), kind="simplex", tileable=True) == "torus"
     # the float64 road stays; 2D/3D grids are _gridkernels32's; Worley keeps its roads
     assert _road((2, 3, 4, 20), dtype=np.float64) is None
     assert _road((3, 4, 20)) is None

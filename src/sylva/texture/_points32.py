@@ -498,8 +498,10 @@ def road(plan, warp) -> str | None:
     s = plan.setup
     if plan.dt != np.float32 or s.kind not in KINDS or plan.norder:
         return None
-    if warp or plan.torus:
+    if warp:
         return None
+    if plan.torus:
+        return "torus"
     return "grid" if plan.ndim == 4 else None
 
 
