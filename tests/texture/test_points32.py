@@ -87,10 +87,23 @@ def test_tileable_simplex_float32(monkeypatch, extra):
     assert np.abs(a[0] - a[-1]).mean() < 2.0 * np.abs(np.diff(a, axis=0)).mean()
 
 
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize(
+    "shape,fractal", [((16, 40), "fbm"), ((3, 6, 40), "turbulence"), ((2, 2, 3, 32), "ridged")],
+    ids=["2d", "3d", "4d"],
+)
+def test_warp_float32_within_tolerance(monkeypatch, kind, shape, fractal):
+    calls = _spy(monkeypatch, "points_kernel")
+    _both(shape, kind=kind, fractal=fractal, octaves=3, scale=5.0, seed=2, warp=0.8)
+    # the warp field of each axis, then the warped noise
+    assert len(calls) == len(shape) + 1
+
+
 def test_roads():
     assert _road((2, 3, 4, 20)) == "grid"
     assert _road((3, 4, 20), time=0.5) == "grid"
     assert _road((8, 20), kind="simplex", tileable=True) == "torus"
+    assert _road((8, 20), warp=0.5, kind="value") == "warp"
     # the float64 road stays; 2D/3D grids are _gridkernels32's; Worley keeps its roads
     assert _road((2, 3, 4, 20), dtype=np.float64) is None
     assert _road((3, 4, 20)) is None

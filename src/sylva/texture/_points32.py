@@ -499,7 +499,7 @@ def road(plan, warp) -> str | None:
     if plan.dt != np.float32 or s.kind not in KINDS or plan.norder:
         return None
     if warp:
-        return None
+        return "warp"
     if plan.torus:
         return "torus"
     return "grid" if plan.ndim == 4 else None
