@@ -28,7 +28,7 @@ def _spy(monkeypatch, name):
     real = getattr(p32, name)
 
     def spy(*args):
-        calls.append(args[0])
+        calls.append((args[0], args[1]))  # (points, kind)
         return real(*args)
 
     monkeypatch.setattr(p32, name, spy)
@@ -66,7 +66,7 @@ def test_4d_grid_float32_within_tolerance(monkeypatch, kind, shape, extra):
         extra = {"fractal": "ridged"}  # simplex tiles 2D images only (its torus)
     calls = _spy(monkeypatch, "grid_kernel")
     _both(shape, kind=kind, octaves=4, scale=5.0, seed=3, **extra)
-    assert calls and all(c == p32.KINDS[KINDS.index(kind)] for c in calls)
+    assert calls and all(c == (False, p32.KINDS[KINDS.index(kind)]) for c in calls)
 
 
 @pytest.mark.parametrize("fractal", ["fbm", "turbulence"])
@@ -93,10 +93,10 @@ def test_tileable_simplex_float32(monkeypatch, extra):
     ids=["2d", "3d", "4d"],
 )
 def test_warp_float32_within_tolerance(monkeypatch, kind, shape, fractal):
-    calls = _spy(monkeypatch, "points_kernel")
+    calls = _spy(monkeypatch, "grid_kernel")
     _both(shape, kind=kind, fractal=fractal, octaves=3, scale=5.0, seed=2, warp=0.8)
-    # the warp field of each axis, then the warped noise
-    assert len(calls) == len(shape) + 1
+    # the warp field of each axis, then the warped noise, on rows of points
+    assert calls == [(True, p32.KINDS[KINDS.index(kind)])] * (len(shape) + 1)
 
 
 def test_roads():

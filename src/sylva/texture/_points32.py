@@ -17,8 +17,8 @@ octave, in three passes per octave:
    selects, no tables), then the multilinear blend axis by axis (one straight loop per
    pair of corners) or the simplex sum, and the octave's fBm, turbulence or ridged term.
 
-Drivers: :func:`grid32` (the grid's rows in parallel, the torus embedding when asked),
-:func:`points32` (points in parallel: domain warping).  Results differ from the float64
+Driver: :func:`grid_kernel`, rows in parallel: a grid's rows (with the torus embedding
+when asked) or rows of points (domain warping).  Results differ from the float64
 road by float32 rounding: below :data:`TOLERANCE` (absolute, values about [-1, 1]);
 see ``tests/texture/test_points32.py``.
 """
@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit, prange, uint64
 
 from .. import _jit
 from . import _kernels as k
@@ -164,20 +164,26 @@ def _locate_lattice(nd, m, C, o, pers, interp, I0, I1, FR, CU):
 def _hash_lattice(kind, nd, m, I0, I1, perm, H):
     """Corner ``c`` (bit ``a`` set: index 1 along axis ``a``) of every point: the float64
     road's chain, ``perm[w]`` then x, y, z (the extra ``perm[h + 0]`` of 2D improved noise
-    is its z = 0)."""
-    nc = 1 << nd
-    for q in range(m):
-        for c in range(nc):
-            h = I1[0, q] if c & 1 else I0[0, q]
-            if nd == 4:
-                h += perm[I1[3, q] if c & 8 else I0[3, q]]
-            h = perm[h]
-            h = perm[h + (I1[1, q] if c & 2 else I0[1, q])]
-            if nd >= 3:
-                h = perm[h + (I1[2, q] if c & 4 else I0[2, q])]
-            elif kind == k.IMPROVED:
-                h = perm[h]
-            H[c, q] = h
+    is its z = 0); one straight loop per corner."""
+    for c in range(1 << nd):
+        X = I1[0] if c & 1 else I0[0]
+        Y = I1[1] if c & 2 else I0[1]
+        Z = I1[2] if c & 4 else I0[2]
+        W = I1[3] if c & 8 else I0[3]
+        Hc = H[c]
+        if nd == 4:
+            for q in range(m):
+                h = perm[uint64(W[q])] + X[q]
+                Hc[q] = perm[uint64(perm[uint64(perm[uint64(h)] + Y[q])] + Z[q])]
+        elif nd == 3:
+            for q in range(m):
+                Hc[q] = perm[uint64(perm[uint64(perm[uint64(X[q])] + Y[q])] + Z[q])]
+        elif kind == k.IMPROVED:
+            for q in range(m):
+                Hc[q] = perm[uint64(perm[uint64(perm[uint64(X[q])] + Y[q])])]
+        else:
+            for q in range(m):
+                Hc[q] = perm[uint64(perm[uint64(X[q])] + Y[q])]
 
 
 @njit(**_OPTS)
@@ -324,24 +330,38 @@ def _locate_simplex(nd, m, C, I0, R, FR):
 
 
 @njit(**_OPTS)
-def _simplex(nd, m, I0, R, FR, perm, perm12, H, K):
-    """One octave of simplex noise at the located points, into ``K[0, :m]``: corner ``c``
-    (0..nd) is offset by 1 along the axes whose rank is at least ``nd - c``."""
-    nc = nd + 1
-    for q in range(m):  # the hashes (scalar)
-        for c in range(nc):
-            lim = nd - c
-            ii = I0[0, q] + (1 if R[0, q] >= lim else 0)
-            jj = I0[1, q] + (1 if R[1, q] >= lim else 0)
-            if nd == 2:
-                H[c, q] = perm12[ii + perm[jj]]
-            elif nd == 3:
+def _simplex(nd, m, I0, R, FR, perm, perm12, H):
+    """The corner hashes of simplex noise at the located points (scalar), one straight
+    loop per corner: corner ``c`` (0..nd) is offset by 1 along the axes whose rank is at
+    least ``nd - c``."""
+    for c in range(nd + 1):
+        lim = nd - c
+        Hc = H[c]
+        if nd == 2:
+            for q in range(m):
+                ii = I0[0, q] + (1 if R[0, q] >= lim else 0)
+                jj = I0[1, q] + (1 if R[1, q] >= lim else 0)
+                Hc[q] = perm12[uint64(ii + perm[uint64(jj)])]
+        elif nd == 3:
+            for q in range(m):
+                ii = I0[0, q] + (1 if R[0, q] >= lim else 0)
+                jj = I0[1, q] + (1 if R[1, q] >= lim else 0)
                 kk = I0[2, q] + (1 if R[2, q] >= lim else 0)
-                H[c, q] = perm12[ii + perm[jj + perm[kk]]]
-            else:
+                Hc[q] = perm12[uint64(ii + perm[uint64(jj + perm[uint64(kk)])])]
+        else:
+            for q in range(m):
+                ii = I0[0, q] + (1 if R[0, q] >= lim else 0)
+                jj = I0[1, q] + (1 if R[1, q] >= lim else 0)
                 kk = I0[2, q] + (1 if R[2, q] >= lim else 0)
                 ll = I0[3, q] + (1 if R[3, q] >= lim else 0)
-                H[c, q] = perm[ii + perm[jj + perm[kk + perm[ll]]]] & 31
+                h = perm[uint64(kk + perm[uint64(ll)])]
+                Hc[q] = perm[uint64(ii + perm[uint64(jj + h)])] & 31
+
+
+@njit(**_OPTS)
+def _simplex_eval(nd, m, R, FR, H, K):
+    """The corners' contributions (SIMD), summed into ``K[0, :m]``."""
+    nc = nd + 1
     g = _SG[nd]
     r2 = _SR[nd]
     for q in range(m):
@@ -392,7 +412,8 @@ def _block(kind, mode, ndim, torus, P, tz, m, freqs, amps, offs, pers, interp, p
         _coords(torus, ndim, P, tz, m, o, freqs, offs, pers, C)
         if kind == k.SIMPLEX:
             _locate_simplex(nd, m, C, I0, I1, FR)
-            _simplex(nd, m, I0, I1, FR, perm, perm12, H, K)
+            _simplex(nd, m, I0, I1, FR, perm, perm12, H)
+            _simplex_eval(nd, m, I1, FR, H, K)
         else:
             _locate_lattice(nd, m, C, o, pers, interp, I0, I1, FR, CU)
             _lattice(kind, nd, m, I0, I1, FR, CU, perm, vals, grad, H, K, L, G)
@@ -416,11 +437,15 @@ def _block(kind, mode, ndim, torus, P, tz, m, freqs, amps, offs, pers, interp, p
 
 
 @njit(parallel=True, **_OPTS)
-def grid_kernel(kind, mode, ndim, torus, xs, ys, zs, ws, out, freqs, amps, offs, pers,
+def grid_kernel(points, kind, mode, ndim, torus, xs, ys, zs, ws, out, freqs, amps, offs, pers,
                 interp, perm, perm12, vals, grad, norm, gain):
-    """Fill ``out`` (float32, shape (nw, nz, ny, nx)) with the fractal sum on the product
-    grid of ``xs, ys, zs, ws``, rows in parallel; with ``torus`` ``xs`` and ``ys`` are the
-    angles of the 4D torus and ``zs`` the time."""
+    """Fill ``out`` (float32, shape (nw, nz, ny, nx)) with the fractal sum, rows in
+    parallel (one kernel for every road: one compile).
+
+    Grid mode: the product grid of ``xs, ys, zs, ws``; with ``torus`` ``xs`` and ``ys``
+    are the angles of the 4D torus and ``zs`` the time.  Point mode (``points``): ``out``
+    has shape (1, 1, rows, nx) and sample ``i`` of row ``r`` is the point
+    ``(xs, ys, zs, ws)[r * nx + i]``."""
     nw, nz, ny, nx = out.shape
     nb = (nx + BLOCK - 1) // BLOCK
     for r in prange(nw * nz * ny):
@@ -434,7 +459,14 @@ def grid_kernel(kind, mode, ndim, torus, xs, ys, zs, ws, out, freqs, amps, offs,
         for b in range(nb):
             x0 = b * BLOCK
             m = min(BLOCK, nx - x0)
-            if torus:
+            if points:
+                p0 = r * nx + x0
+                for q in range(m):
+                    P[0, q] = xs[p0 + q]
+                    P[1, q] = ys[p0 + q]
+                    P[2, q] = zs[p0 + q]
+                    P[3, q] = ws[p0 + q]
+            elif torus:
                 cy = math.cos(ys[iy])
                 sy = math.sin(ys[iy])
                 for q in range(m):
@@ -454,27 +486,20 @@ def grid_kernel(kind, mode, ndim, torus, xs, ys, zs, ws, out, freqs, amps, offs,
                 row[x0 + q] = acc[q]
 
 
-@njit(parallel=True, **_OPTS)
-def points_kernel(kind, mode, ndim, px, py, pz, pw, out, freqs, amps, offs, pers, interp,
-                  perm, perm12, vals, grad, norm, gain):
-    """The fractal sum at the points ``(px, py, pz, pw)[i]`` into ``out[i]`` (float32),
-    blocks in parallel."""
-    n = out.shape[0]
-    for b in prange((n + BLOCK - 1) // BLOCK):
-        wk = work()
-        P = np.empty((4, BLOCK))
-        acc = np.empty(BLOCK, np.float32)
-        x0 = b * BLOCK
-        m = min(BLOCK, n - x0)
-        for q in range(m):
-            P[0, q] = px[x0 + q]
-            P[1, q] = py[x0 + q]
-            P[2, q] = pz[x0 + q]
-            P[3, q] = pw[x0 + q]
-        _block(kind, mode, ndim, False, P, 0.0, m, freqs, amps, offs, pers, interp, perm,
-               perm12, vals, grad, norm, gain, wk, acc)
-        for q in range(m):
-            out[x0 + q] = acc[q]
+def _points(kind, mode, ndim, pts, freqs, amps, offs, pers, tail):
+    """The fractal sum at the points ``pts`` (four float64 arrays of length n), float32 (n,):
+    rows of :data:`BLOCK` points (the last padded) through :func:`grid_kernel`."""
+    n = pts[0].shape[0]
+    rows = max(1, -(-n // BLOCK))
+    size = rows * BLOCK
+    padded = []
+    for c in pts:
+        if size != n:
+            c = np.concatenate([c, np.zeros(size - n)])
+        padded.append(np.ascontiguousarray(c, np.float64))
+    out = np.empty((1, 1, rows, BLOCK), np.float32)
+    grid_kernel(True, kind, mode, ndim, False, *padded, out, freqs, amps, offs, pers, *tail)
+    return out.reshape(-1)[:n]
 
 
 # ----------------------------------------------------------------------------- roads
@@ -515,8 +540,7 @@ def grid32(plan, warp, setup):
 
     which = road(plan, warp)
     n = math.prod(plan.shape)
-    kernel = points_kernel if which == "warp" else grid_kernel
-    if which is None or _jit.cold(kernel, n, SCALAR_WORK):
+    if which is None or _jit.cold(grid_kernel, n, SCALAR_WORK):
         return None
     s, ndim, mode = plan.setup, plan.ndim, plan.mode
     axes = [np.ascontiguousarray(a, np.float64) for a in plan.axes]
@@ -528,8 +552,8 @@ def grid32(plan, warp, setup):
                 axes[a] = 2.0 * np.pi * np.arange(plan.sizes[a], dtype=np.float64) / plan.sizes[a]
         full = tuple(len(a) for a in axes[:4])
         out = np.empty((full[3], full[2], full[1], full[0]), np.float32)
-        grid_kernel(s.kind, mode, ndim, which == "torus", *axes[:4], out, freqs, a32, offs,
-                    pers, *tail)
+        grid_kernel(False, s.kind, mode, ndim, which == "torus", *axes[:4], out, freqs, a32,
+                    offs, pers, *tail)
         return out.reshape(plan.shape)
     grids = np.meshgrid(*axes[:ndim][::-1], indexing="ij")[::-1]
     pts = [np.ascontiguousarray(g.ravel()) for g in grids]
@@ -538,12 +562,20 @@ def grid32(plan, warp, setup):
     base = 0 if s.tables.seed is None else s.tables.seed
     warped = []
     for a in range(ndim):  # the warp fields: fBm of the kind, with the axis's seed
-        d = np.empty(n, np.float32)
         ws = setup(base + 7919 * (a + 1))  # the float64 road's seeds
         wtail, wa32 = _tables(ws, ndim, k.FBM, plan.amps, plan.norm, plan.gain)
-        points_kernel(ws.kind, k.FBM, ndim, *pts, d, freqs, wa32, offs, pers, *wtail)
+        d = _points(ws.kind, k.FBM, ndim, pts, freqs, wa32, offs, pers, wtail)
         warped.append(pts[a] + float(warp) * d.astype(np.float64))
     warped += pts[ndim:]
-    out = np.empty(n, np.float32)
-    points_kernel(s.kind, mode, ndim, *warped, out, freqs, a32, offs, pers, *tail)
+    out = _points(s.kind, mode, ndim, warped, freqs, a32, offs, pers, tail)
     return out.reshape(plan.shape)
+
+
+def warm() -> None:
+    """Compile this road's kernel (``sylva warmup``) on a tiny 4D grid and a tiny warped
+    grid (the same kernel: loaded from the cache the second time)."""
+    from .noise import noise_grid
+
+    with _jit.compiled():
+        noise_grid((1, 1, 2, 8), kind="simplex", octaves=2, dtype=np.float32)
+        noise_grid((2, 8), kind="improved", octaves=2, warp=0.5, dtype=np.float32)
