@@ -1,5 +1,6 @@
 """The float32 road of the noise grids beyond ``_gridkernels32`` (``_points32``): 4D grids
-and 3D grids with time, tileable simplex (the 4D torus) and domain warping, against the
+and 3D grids with time, tileable simplex (the 4D torus), domain warping and Worley's cell id
+(Worley too in 4D and warped), against the
 float64 road (bit-exact to the reference values, test_reference_noise): within
 ``_points32.TOLERANCE`` on small grids, and the float32 kernel is the one that ran."""
 
@@ -99,12 +100,44 @@ def test_warp_float32_within_tolerance(monkeypatch, kind, shape, fractal):
     assert calls == [(True, p32.KINDS[KINDS.index(kind)])] * (len(shape) + 1)
 
 
+@pytest.mark.parametrize(
+    "shape,extra",
+    [((2, 3, 5, 40), {}),
+     ((3, 4, 40), {"time": 0.7, "output": "f2-f1", "metric": "manhattan"}),
+     ((2, 3, 4, 36), {"tileable": True, "fractal": "ridged", "output": "f2"}),
+     ((16, 40), {"warp": 0.8}),
+     ((4, 8, 40), {"warp": 0.8, "metric": "chebyshev", "output": "f3"}),
+     ((24, 40), {"output": "cell"})],
+    ids=["4d", "3d+time-f2-f1", "4d-tileable-f2", "warp-2d", "warp-3d-f3", "cell-2d"],
+)
+def test_worley_float32_within_tolerance(monkeypatch, shape, extra):
+    calls = _spy(monkeypatch, "grid_kernel")
+    _both(shape, kind="worley", octaves=3, scale=5.0, seed=3, **extra)
+    assert calls and all(c[1] == 4 for c in calls)  # the Worley kind
+
+
+@pytest.mark.parametrize(
+    "shape,extra", [((24, 40), {}), ((4, 8, 40), {}), ((2, 3, 4, 36), {"metric": "euclidean2"}),
+                    ((24, 40), {"tileable": True})],
+    ids=["2d", "3d", "4d", "tileable"],
+)
+def test_worley_cell_id_float32_is_the_float64_cell(shape, extra):
+    # the id is a hash of the nearest cell: float32 distances pick the same cell (ties
+    # apart), so one octave is the float64 road's value exactly
+    kw = dict(kind="worley", output="cell", scale=5.0, seed=3, **extra)
+    a = noise_grid(shape, **kw)
+    b = noise_grid(shape, dtype=np.float64, **kw)
+    assert np.array_equal(a, b.astype(np.float32))
+    assert b.std() > 0.1 and len(np.unique(a)) > 10
+
+
 def test_roads():
     assert _road((2, 3, 4, 20)) == "grid"
     assert _road((3, 4, 20), time=0.5) == "grid"
     assert _road((8, 20), kind="simplex", tileable=True) == "torus"
     assert _road((8, 20), warp=0.5, kind="value") == "warp"
-    # the float64 road stays; 2D/3D grids are _gridkernels32's; Worley keeps its roads
+    assert _road((2, 3, 4, 20), kind="worley") == "grid"
+    # the float64 road stays; 2D/3D grids are _gridkernels32's
     assert _road((2, 3, 4, 20), dtype=np.float64) is None
     assert _road((3, 4, 20)) is None
-    assert _road((2, 3, 4, 20), kind="worley") is None
+    assert _road((3, 4, 20), kind="worley") is None

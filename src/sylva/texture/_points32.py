@@ -1,10 +1,14 @@
 """The float32 road of the noise grids that :mod:`._gridkernels32` does not cover: 4D grids
-(and 3D grids with ``time``), tileable simplex (its flat 4D torus) and domain warping
-(private; see :func:`sylva.texture.noise_grid`).
+(and 3D grids with ``time``), tileable simplex (its flat 4D torus), domain warping and
+Worley's cell id (private; see :func:`sylva.texture.noise_grid`).
 
 One kernel, :func:`_block`, takes the fractal sum of value, classic Perlin, improved
-Perlin or simplex noise, in 2D, 3D or 4D, at a block of :data:`BLOCK` points, octave by
-octave, in three passes per octave:
+Perlin, simplex or Worley noise, in 2D, 3D or 4D, at a block of :data:`BLOCK` points, octave
+by octave.  Worley (:func:`_worley`: its jittered grid, F1..F3, their combinations and the
+cell id) goes by the 3^d cells around each point, every candidate in one straight loop over
+the block (hashes on int64 lanes, float32 distances from the point's cell corner); a point
+whose k-th distance is not provably final gets the float64 road's full search.  The
+gradient and value noises go in three passes per octave:
 
 1. *locate* (float64, SIMD): the octave's coordinates (``x * freq + offset``, or the torus
    embedding), their lattice cells and float32 fractions, or the simplex and its corner
@@ -31,6 +35,7 @@ import numpy as np
 from numba import njit, prange, uint64
 
 from .. import _jit
+from . import _cellkernels as ck
 from . import _kernels as k
 
 #: bound on the absolute difference from the float64 road (values about [-1, 1]): the
@@ -100,6 +105,8 @@ def work():
         np.empty((16, B), np.float32),  # the blend's other buffer
         np.empty((4, 16, B), np.float32),  # classic Perlin gradients
         np.empty(B, np.float32),  # ridged weight
+        np.empty((3, B), np.float32),  # Worley F1..F3
+        np.empty(B, np.int64),  # Worley: the nearest point's cell hash
     )
 
 
@@ -398,19 +405,145 @@ def _simplex_eval(nd, m, R, FR, H, K):
         K[0, q] *= s
 
 
+@njit(inline="always", **_OPTS)
+def _h32(a):
+    """:func:`._cellkernels.hash32` (the same 32-bit finaliser, on int64 lanes)."""
+    a &= 0xFFFFFFFF
+    a = ((a ^ (a >> 16)) * 0x7FEB352D) & 0xFFFFFFFF
+    a = ((a ^ (a >> 15)) * 0x846CA68B) & 0xFFFFFFFF
+    return a ^ (a >> 16)
+
+
+@njit(inline="always", **_OPTS)
+def _jit_off(h, salt, jitter):
+    """A feature point's offset from its cell corner along one axis, as in
+    :func:`._cellkernels.worley` (``0.5 + jitter (u - 0.5)``), in float32."""
+    return _F(0.5 + jitter * (_h32(h ^ salt) * ck.INV32 - 0.5))
+
+
+@njit(**_OPTS)
+def _worley(nd, m, C, o, pers, wpar, I0, FR, FK, BEST, K):
+    """One octave of Worley noise (the jittered grid: one point per cell) at the block's
+    points into ``K[0, :m]``: the 3^nd cells around each point, every candidate of a cell
+    offset for all points in one straight loop (hashes on int64 lanes, distances in float32
+    from the point's own cell corner), F1..F3 and the nearest point's cell kept by selects
+    in the float64 road's order (ties go to the first, as there).  A point whose k-th
+    distance is not provably final after the 3^nd cells (:func:`._cellkernels._ring_gap`)
+    takes the float64 road's full search (:func:`._cellkernels.worley`)."""
+    metric = int(wpar[0])
+    combo = int(wpar[1])
+    jitter = wpar[2]
+    seed = int(wpar[3])
+    needk = ck.NEEDK[combo]
+    sq = metric == ck.EUCLIDEAN or metric == ck.EUCLIDEAN_SQ
+    per = np.zeros(4, np.int64)
+    for a in range(nd):
+        per[a] = int(pers[o, a])
+    periodic = per[0] > 0 or per[1] > 0 or per[2] > 0 or per[3] > 0
+    for a in range(nd):
+        for q in range(m):
+            c = C[a, q]
+            f = np.floor(c)
+            FR[a, q] = _F(c - f)
+            I0[a, q] = np.int32(f)
+    for a in range(nd, 4):
+        for q in range(m):
+            FR[a, q] = ZERO
+            I0[a, q] = 0
+    big = _F(1e30)
+    for q in range(m):
+        FK[0, q] = big
+        FK[1, q] = big
+        FK[2, q] = big
+        BEST[q] = 0
+    hs = ck.hash32(seed)
+    rz = 1 if nd >= 3 else 0
+    rw = 1 if nd >= 4 else 0
+    for dw in range(-rw, rw + 1):
+        for dz in range(-rz, rz + 1):
+            for dy in range(-1, 2):
+                for dx in range(-1, 2):
+                    ox = _F(dx)
+                    oy = _F(dy)
+                    oz = _F(dz)
+                    ow = _F(dw)
+                    for q in range(m):
+                        ix = np.int64(I0[0, q]) + dx
+                        iy = np.int64(I0[1, q]) + dy
+                        iz = np.int64(I0[2, q]) + dz
+                        iw = np.int64(I0[3, q]) + dw
+                        if periodic:
+                            h = ck._cell_hash(hs, nd, ix, iy, iz, iw, per[0], per[1], per[2],
+                                              per[3])
+                        else:
+                            h = _h32(hs ^ (ix & 0xFFFFFFFF))
+                            h = _h32(h ^ (iy & 0xFFFFFFFF))
+                            if nd >= 3:
+                                h = _h32(h ^ (iz & 0xFFFFFFFF))
+                            if nd >= 4:
+                                h = _h32(h ^ (iw & 0xFFFFFFFF))
+                        ddx = ox + _jit_off(h, 0x68E31DA4, jitter) - FR[0, q]
+                        ddy = oy + _jit_off(h, 0xB5297A4D, jitter) - FR[1, q]
+                        ddz = ZERO
+                        ddw = ZERO
+                        if nd >= 3:
+                            ddz = oz + _jit_off(h, 0x1B56C4E9, jitter) - FR[2, q]
+                        if nd >= 4:
+                            ddw = ow + _jit_off(h, 0x7F4A7C15, jitter) - FR[3, q]
+                        if sq:
+                            d = ddx * ddx + ddy * ddy + ddz * ddz + ddw * ddw
+                        elif metric == ck.MANHATTAN:
+                            d = abs(ddx) + abs(ddy) + abs(ddz) + abs(ddw)
+                        else:
+                            d = max(max(abs(ddx), abs(ddy)), max(abs(ddz), abs(ddw)))
+                        o1 = FK[0, q]
+                        o2 = FK[1, q]
+                        BEST[q] = h if d < o1 else BEST[q]
+                        FK[2, q] = o2 if d < o2 else min(d, FK[2, q])
+                        FK[1, q] = o1 if d < o1 else min(d, o2)
+                        FK[0, q] = min(d, o1)
+    for q in range(m):
+        if metric == ck.EUCLIDEAN:
+            f1 = math.sqrt(FK[0, q])
+            f2 = math.sqrt(FK[1, q])
+            f3 = math.sqrt(FK[2, q])
+        else:
+            f1 = FK[0, q]
+            f2 = FK[1, q]
+            f3 = FK[2, q]
+        fk = f1 if needk <= 1 else (f2 if needk == 2 else f3)
+        gap = min(min(FR[0, q] + ONE, TWO - FR[0, q]), min(FR[1, q] + ONE, TWO - FR[1, q]))
+        if nd >= 3:
+            gap = min(gap, min(FR[2, q] + ONE, TWO - FR[2, q]))
+        if nd >= 4:
+            gap = min(gap, min(FR[3, q] + ONE, TWO - FR[3, q]))
+        if metric == ck.EUCLIDEAN_SQ:
+            gap *= gap
+        if fk <= gap:
+            cid = _h32(BEST[q] ^ 0x2545F491) * ck.INV32
+            v = ck.combine(combo, f1, f2, f3, cid, wpar[4], wpar[5], wpar[6])
+        else:  # the float64 road's full search
+            g1, g2, g3, cid = ck.worley(nd, C[0, q], C[1, q], C[2, q], C[3, q], per[0],
+                                        per[1], per[2], per[3], metric, jitter, seed, needk)
+            v = ck.combine(combo, g1, g2, g3, cid, wpar[4], wpar[5], wpar[6])
+        K[0, q] = _F(v)
+
+
 @njit(**_OPTS)
 def _block(kind, mode, ndim, torus, P, tz, m, freqs, amps, offs, pers, interp, perm,
-           perm12, vals, grad, norm, gain, wk, acc):
+           perm12, vals, grad, wpar, norm, gain, wk, acc):
     """The fractal sum at the block's ``m`` points into ``acc[:m]`` (``amps`` already
     carry ``norm`` unless ``mode`` is ridged)."""
-    C, I0, I1, FR, CU, H, K, L, G, wgt = wk
+    C, I0, I1, FR, CU, H, K, L, G, wgt, FK, BEST = wk
     nd = 4 if torus else ndim
     for q in range(m):
         acc[q] = ZERO
         wgt[q] = ONE
     for o in range(freqs.shape[0]):
         _coords(torus, ndim, P, tz, m, o, freqs, offs, pers, C)
-        if kind == k.SIMPLEX:
+        if kind == k.WORLEY:
+            _worley(nd, m, C, o, pers, wpar, I0, FR, FK, BEST, K)
+        elif kind == k.SIMPLEX:
             _locate_simplex(nd, m, C, I0, I1, FR)
             _simplex(nd, m, I0, I1, FR, perm, perm12, H)
             _simplex_eval(nd, m, I1, FR, H, K)
@@ -438,7 +571,7 @@ def _block(kind, mode, ndim, torus, P, tz, m, freqs, amps, offs, pers, interp, p
 
 @njit(parallel=True, **_OPTS)
 def grid_kernel(points, kind, mode, ndim, torus, xs, ys, zs, ws, out, freqs, amps, offs, pers,
-                interp, perm, perm12, vals, grad, norm, gain):
+                interp, perm, perm12, vals, grad, wpar, norm, gain):
     """Fill ``out`` (float32, shape (nw, nz, ny, nx)) with the fractal sum, rows in
     parallel (one kernel for every road: one compile).
 
@@ -481,7 +614,7 @@ def grid_kernel(points, kind, mode, ndim, torus, xs, ys, zs, ws, out, freqs, amp
                     P[2, q] = zs[iz]
                     P[3, q] = ws[iw]
             _block(kind, mode, ndim, torus, P, zs[iz], m, freqs, amps, offs, pers, interp,
-                   perm, perm12, vals, grad, norm, gain, wk, acc)
+                   perm, perm12, vals, grad, wpar, norm, gain, wk, acc)
             for q in range(m):
                 row[x0 + q] = acc[q]
 
@@ -503,8 +636,9 @@ def _points(kind, mode, ndim, pts, freqs, amps, offs, pers, tail):
 
 
 # ----------------------------------------------------------------------------- roads
-#: the noise kinds of this road (Worley keeps its own roads)
-KINDS = (k.VALUE, k.PERLIN, k.IMPROVED, k.SIMPLEX)
+#: the noise kinds of this road (Worley: its jittered grid, F1..F3, their combinations and
+#: the cell id; its Poisson process and orders above F3 keep the float64 road)
+KINDS = (k.VALUE, k.PERLIN, k.IMPROVED, k.SIMPLEX, k.WORLEY)
 
 
 def _tables(setup, ndim, mode, amps, norm, gain):
@@ -513,7 +647,7 @@ def _tables(setup, ndim, mode, amps, norm, gain):
     t = setup.tables
     a32 = (amps if mode == k.RIDGED else amps * norm).astype(np.float32)
     grad = np.ascontiguousarray(t.gradients[ndim - 2], np.float32)
-    return (setup.interp, t.perm, t.perm12, t.values.astype(np.float32), grad,
+    return (setup.interp, t.perm, t.perm12, t.values.astype(np.float32), grad, setup.wpar,
             np.float32(norm), np.float32(gain)), a32
 
 
@@ -523,11 +657,16 @@ def road(plan, warp) -> str | None:
     s = plan.setup
     if plan.dt != np.float32 or s.kind not in KINDS or plan.norder:
         return None
+    if s.kind == k.WORLEY and s.wpar[7] > 0.0:  # Worley's Poisson process
+        return None
     if warp:
         return "warp"
     if plan.torus:
         return "torus"
-    return "grid" if plan.ndim == 4 else None
+    if plan.ndim == 4:
+        return "grid"
+    # Worley's cell id in 2D and 3D (_worley32 has no cell id)
+    return "grid" if s.kind == k.WORLEY and int(s.wpar[1]) == ck.W_CELL else None
 
 
 def grid32(plan, warp, setup):
