@@ -364,8 +364,9 @@ def _graph_rows(args, shape, scale, coords) -> None:
 
 
 def _more_rows(args, fn2, ncores, scale) -> None:
-    """The float32 road of ``_points32`` (4D grids, tileable simplex, domain warping): sylva's
-    two roads, and FastNoise2 where it has the same thing (its 4D simplex and value grids;
+    """The float32 road of ``_points32`` (4D grids, tileable simplex, domain warping, Worley's
+    cell id): sylva's two roads, and FastNoise2 where it has the same thing (its 4D simplex,
+    value and cellular F1 grids;
     for warping its gradient warp, ``DomainWarpGradient`` in independent fBm octaves, about
     as much work as sylva's fBm warp field per axis: the nearest, not the same texture).
     FastNoise Lite has neither 4D noise nor grids of warped noise: not timed here.  As many
@@ -377,7 +378,9 @@ def _more_rows(args, fn2, ncores, scale) -> None:
         ("4D simplex", shape4, "simplex", 1, {}, True),
         ("4D value", shape4, "value", 1, {}, True),
         ("4D fBm 4 oct simplex", shape4, "simplex", 4, {}, True),
+        ("4D Worley F1", shape4, "worley", 1, {}, True),
         ("2D tileable simplex", shape2, "simplex", 1, {"tileable": True}, False),
+        ("2D Worley cell id", shape2, "worley", 1, {"output": "cell"}, False),
         ("2D warp improved", shape2, "improved", 1, {"warp": 1.0}, True),
         ("2D warp fBm 3 oct simplex", shape2, "simplex", 3, {"warp": 1.0}, True),
     ]
@@ -424,7 +427,8 @@ def _more_rows(args, fn2, ncores, scale) -> None:
         line += f"{ratio('f32', 'f64'):>8.2f}x{ratio('all', 'f32'):>7.2f}x"
         line += f"{ratio('probeN', 'probe1'):>8.2f}x"
         print(line)
-    print("(nan: FastNoise2 has no such grid: a torus of simplex noise)")
+    print("(nan: not timed for FastNoise2: it has no torus of simplex noise, and its cell"
+          " value is not sylva's cell id)")
 
 
 def _llvm_cpu() -> str:
