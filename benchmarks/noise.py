@@ -364,13 +364,12 @@ def _graph_rows(args, shape, scale, coords) -> None:
 
 
 def _more_rows(args, fn2, ncores, scale) -> None:
-    """The float32 road of ``_points32`` (4D grids, tileable simplex, domain warping, Worley's
-    cell id): sylva's two roads, and FastNoise2 where it has the same thing (its 4D simplex,
-    value and cellular F1 grids;
-    for warping its gradient warp, ``DomainWarpGradient`` in independent fBm octaves, about
-    as much work as sylva's fBm warp field per axis: the nearest, not the same texture).
-    FastNoise Lite has neither 4D noise nor grids of warped noise: not timed here.  As many
-    samples as the 2D grid (4D: 4 x 4 x side/4 x side/4)."""
+    """The float32 road of ``_points32`` (4D grids, tileable simplex, domain warping): sylva's
+    two roads, and FastNoise2 where it has the same thing (its 4D simplex, value and
+    cellular F1 grids; for warping its gradient warp, ``DomainWarpGradient`` in independent
+    fBm octaves, about as much work as sylva's fBm warp field per axis: the nearest, not the
+    same texture).  FastNoise Lite has neither 4D noise nor grids of warped noise: not timed
+    here.  As many samples as the 2D grid (4D: 4 x 4 x side/4 x side/4)."""
     n2 = args.size
     s4 = max(1, n2 // 4)
     shape2, shape4 = (n2, n2), (4, 4, s4, s4)
@@ -380,7 +379,7 @@ def _more_rows(args, fn2, ncores, scale) -> None:
         ("4D fBm 4 oct simplex", shape4, "simplex", 4, {}, True),
         ("4D Worley F1", shape4, "worley", 1, {}, True),
         ("2D tileable simplex", shape2, "simplex", 1, {"tileable": True}, False),
-        ("2D Worley cell id", shape2, "worley", 1, {"output": "cell"}, False),
+        ("4D Worley cell id", shape4, "worley", 1, {"output": "cell"}, False),
         ("2D warp improved", shape2, "improved", 1, {"warp": 1.0}, True),
         ("2D warp fBm 3 oct simplex", shape2, "simplex", 3, {"warp": 1.0}, True),
     ]

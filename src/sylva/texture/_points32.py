@@ -1,6 +1,6 @@
 """The float32 road of the noise grids that :mod:`._gridkernels32` does not cover: 4D grids
-(and 3D grids with ``time``), tileable simplex (its flat 4D torus), domain warping and
-Worley's cell id (private; see :func:`sylva.texture.noise_grid`).
+(and 3D grids with ``time``), tileable simplex (its flat 4D torus) and domain warping, of
+every kind (private; see :func:`sylva.texture.noise_grid`).
 
 One kernel, :func:`_block`, takes the fractal sum of value, classic Perlin, improved
 Perlin, simplex or Worley noise, in 2D, 3D or 4D, at a block of :data:`BLOCK` points, octave
@@ -107,6 +107,7 @@ def work():
         np.empty(B, np.float32),  # ridged weight
         np.empty((3, B), np.float32),  # Worley F1..F3
         np.empty(B, np.int64),  # Worley: the nearest point's cell hash
+        np.empty((9, B), np.int64),  # Worley: the cell hashes of nine candidates
     )
 
 
@@ -421,8 +422,53 @@ def _jit_off(h, salt, jitter):
     return _F(0.5 + jitter * (_h32(h ^ salt) * ck.INV32 - 0.5))
 
 
+@njit(inline="always", **_OPTS)
+def _dist(sq, metric, ddx, ddy, ddz, ddw):
+    if sq:
+        return ddx * ddx + ddy * ddy + ddz * ddz + ddw * ddw
+    if metric == ck.MANHATTAN:
+        return abs(ddx) + abs(ddy) + abs(ddz) + abs(ddw)
+    return max(max(abs(ddx), abs(ddy)), max(abs(ddz), abs(ddw)))
+
+
 @njit(**_OPTS)
-def _worley(nd, m, C, o, pers, wpar, I0, FR, FK, BEST, K):
+def _offer9(nd, metric, sq, m, oz, ow, jitter, HB9, FR, FK, BEST):
+    """Offer nine candidate cells' feature points (the cells at ``dy, dx`` in -1..1 of the
+    slice ``oz, ow``; their hashes ``HB9``) to the block's points: float32 offsets from each
+    point's cell corner, F1..F3 and the nearest hash kept in registers over the nine (in the
+    float64 road's order), one straight loop over the points."""
+    for q in range(m):
+        o1 = FK[0, q]
+        o2 = FK[1, q]
+        o3 = FK[2, q]
+        b = BEST[q]
+        fx = FR[0, q]
+        fy = FR[1, q]
+        fz = FR[2, q]
+        fw = FR[3, q]
+        for c9 in range(9):
+            h = HB9[c9, q]
+            ddx = _F(c9 % 3 - 1) + _jit_off(h, 0x68E31DA4, jitter) - fx
+            ddy = _F(c9 // 3 - 1) + _jit_off(h, 0xB5297A4D, jitter) - fy
+            ddz = ZERO
+            ddw = ZERO
+            if nd >= 3:
+                ddz = oz + _jit_off(h, 0x1B56C4E9, jitter) - fz
+            if nd >= 4:
+                ddw = ow + _jit_off(h, 0x7F4A7C15, jitter) - fw
+            d = _dist(sq, metric, ddx, ddy, ddz, ddw)
+            b = h if d < o1 else b
+            o3 = o2 if d < o2 else min(d, o3)
+            o2 = o1 if d < o1 else min(d, o2)
+            o1 = min(d, o1)
+        FK[0, q] = o1
+        FK[1, q] = o2
+        FK[2, q] = o3
+        BEST[q] = b
+
+
+@njit(**_OPTS)
+def _worley(nd, m, C, o, pers, wpar, I0, FR, FK, BEST, HB9, K):
     """One octave of Worley noise (the jittered grid: one point per cell) at the block's
     points into ``K[0, :m]``: the 3^nd cells around each point, every candidate of a cell
     offset for all points in one straight loop (hashes on int64 lanes, distances in float32
@@ -459,49 +505,34 @@ def _worley(nd, m, C, o, pers, wpar, I0, FR, FK, BEST, K):
     hs = ck.hash32(seed)
     rz = 1 if nd >= 3 else 0
     rw = 1 if nd >= 4 else 0
+    M = 0xFFFFFFFF
     for dw in range(-rw, rw + 1):
         for dz in range(-rz, rz + 1):
-            for dy in range(-1, 2):
-                for dx in range(-1, 2):
-                    ox = _F(dx)
-                    oy = _F(dy)
-                    oz = _F(dz)
-                    ow = _F(dw)
+            for c9 in range(9):  # the cell hashes of nine candidates (int64 lanes)
+                dy = c9 // 3 - 1
+                dx = c9 % 3 - 1
+                HB = HB9[c9]
+                if periodic:  # the periods need a modulo
                     for q in range(m):
-                        ix = np.int64(I0[0, q]) + dx
-                        iy = np.int64(I0[1, q]) + dy
-                        iz = np.int64(I0[2, q]) + dz
-                        iw = np.int64(I0[3, q]) + dw
-                        if periodic:
-                            h = ck._cell_hash(hs, nd, ix, iy, iz, iw, per[0], per[1], per[2],
-                                              per[3])
-                        else:
-                            h = _h32(hs ^ (ix & 0xFFFFFFFF))
-                            h = _h32(h ^ (iy & 0xFFFFFFFF))
-                            if nd >= 3:
-                                h = _h32(h ^ (iz & 0xFFFFFFFF))
-                            if nd >= 4:
-                                h = _h32(h ^ (iw & 0xFFFFFFFF))
-                        ddx = ox + _jit_off(h, 0x68E31DA4, jitter) - FR[0, q]
-                        ddy = oy + _jit_off(h, 0xB5297A4D, jitter) - FR[1, q]
-                        ddz = ZERO
-                        ddw = ZERO
-                        if nd >= 3:
-                            ddz = oz + _jit_off(h, 0x1B56C4E9, jitter) - FR[2, q]
-                        if nd >= 4:
-                            ddw = ow + _jit_off(h, 0x7F4A7C15, jitter) - FR[3, q]
-                        if sq:
-                            d = ddx * ddx + ddy * ddy + ddz * ddz + ddw * ddw
-                        elif metric == ck.MANHATTAN:
-                            d = abs(ddx) + abs(ddy) + abs(ddz) + abs(ddw)
-                        else:
-                            d = max(max(abs(ddx), abs(ddy)), max(abs(ddz), abs(ddw)))
-                        o1 = FK[0, q]
-                        o2 = FK[1, q]
-                        BEST[q] = h if d < o1 else BEST[q]
-                        FK[2, q] = o2 if d < o2 else min(d, FK[2, q])
-                        FK[1, q] = o1 if d < o1 else min(d, o2)
-                        FK[0, q] = min(d, o1)
+                        HB[q] = ck._cell_hash(hs, nd, I0[0, q] + dx, I0[1, q] + dy,
+                                              I0[2, q] + dz, I0[3, q] + dw, per[0], per[1],
+                                              per[2], per[3])
+                elif nd == 2:
+                    for q in range(m):
+                        h = _h32(hs ^ ((np.int64(I0[0, q]) + dx) & M))
+                        HB[q] = _h32(h ^ ((np.int64(I0[1, q]) + dy) & M))
+                elif nd == 3:
+                    for q in range(m):
+                        h = _h32(hs ^ ((np.int64(I0[0, q]) + dx) & M))
+                        h = _h32(h ^ ((np.int64(I0[1, q]) + dy) & M))
+                        HB[q] = _h32(h ^ ((np.int64(I0[2, q]) + dz) & M))
+                else:
+                    for q in range(m):
+                        h = _h32(hs ^ ((np.int64(I0[0, q]) + dx) & M))
+                        h = _h32(h ^ ((np.int64(I0[1, q]) + dy) & M))
+                        h = _h32(h ^ ((np.int64(I0[2, q]) + dz) & M))
+                        HB[q] = _h32(h ^ ((np.int64(I0[3, q]) + dw) & M))
+            _offer9(nd, metric, sq, m, _F(dz), _F(dw), jitter, HB9, FR, FK, BEST)
     for q in range(m):
         if metric == ck.EUCLIDEAN:
             f1 = math.sqrt(FK[0, q])
@@ -534,7 +565,7 @@ def _block(kind, mode, ndim, torus, P, tz, m, freqs, amps, offs, pers, interp, p
            perm12, vals, grad, wpar, norm, gain, wk, acc):
     """The fractal sum at the block's ``m`` points into ``acc[:m]`` (``amps`` already
     carry ``norm`` unless ``mode`` is ridged)."""
-    C, I0, I1, FR, CU, H, K, L, G, wgt, FK, BEST = wk
+    C, I0, I1, FR, CU, H, K, L, G, wgt, FK, BEST, HB9 = wk
     nd = 4 if torus else ndim
     for q in range(m):
         acc[q] = ZERO
@@ -542,7 +573,7 @@ def _block(kind, mode, ndim, torus, P, tz, m, freqs, amps, offs, pers, interp, p
     for o in range(freqs.shape[0]):
         _coords(torus, ndim, P, tz, m, o, freqs, offs, pers, C)
         if kind == k.WORLEY:
-            _worley(nd, m, C, o, pers, wpar, I0, FR, FK, BEST, K)
+            _worley(nd, m, C, o, pers, wpar, I0, FR, FK, BEST, HB9, K)
         elif kind == k.SIMPLEX:
             _locate_simplex(nd, m, C, I0, I1, FR)
             _simplex(nd, m, I0, I1, FR, perm, perm12, H)
@@ -637,7 +668,8 @@ def _points(kind, mode, ndim, pts, freqs, amps, offs, pers, tail):
 
 # ----------------------------------------------------------------------------- roads
 #: the noise kinds of this road (Worley: its jittered grid, F1..F3, their combinations and
-#: the cell id; its Poisson process and orders above F3 keep the float64 road)
+#: the cell id, in 4D or warped; its Poisson process and orders above F3 keep the float64
+#: road)
 KINDS = (k.VALUE, k.PERLIN, k.IMPROVED, k.SIMPLEX, k.WORLEY)
 
 
@@ -663,10 +695,9 @@ def road(plan, warp) -> str | None:
         return "warp"
     if plan.torus:
         return "torus"
-    if plan.ndim == 4:
-        return "grid"
-    # Worley's cell id in 2D and 3D (_worley32 has no cell id)
-    return "grid" if s.kind == k.WORLEY and int(s.wpar[1]) == ck.W_CELL else None
+    # 2D and 3D Worley cell id stays on the float64 road: its runs of samples that share a
+    # cell (hashed once per column) measured 3-4x this road's per-point candidates there
+    return "grid" if plan.ndim == 4 else None
 
 
 def grid32(plan, warp, setup):

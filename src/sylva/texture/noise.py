@@ -31,11 +31,11 @@ process).  The same seed gives the same texture on every machine.
 Output is float32 unless ``dtype=np.float64``; noise is computed in float64 (bit-exact), but
 float32 :func:`noise_grid` grids in float32 SIMD kernels, within an absolute 2e-4 of the
 float64 road (on values normalised to about [-1, 1]): 2D and 3D grids of every kind
-(``_gridkernels32.TOLERANCE``), and 4D grids (or 3D with ``time``), tileable simplex,
-domain-warped grids and Worley's cell id (``_points32.TOLERANCE``; only a warped 3D or 4D
-simplex sample that rounding moves across a simplex face, where that kernel jumps, can
-differ by more; one octave of cell id is the float64 road's value, ties apart).  Worley's
-Poisson process and its orders above F3 are computed in float64 and rounded.
+(``_gridkernels32.TOLERANCE``), and 4D grids (or 3D with ``time``), tileable simplex and
+domain-warped grids (``_points32.TOLERANCE``; only a warped 3D or 4D simplex sample that
+rounding moves across a simplex face, where that kernel jumps, can differ by more; one
+octave of 4D Worley cell id is the float64 road's value, ties apart).  Worley's 2D and 3D
+cell id, its Poisson process and its orders above F3 are computed in float64 and rounded.
 """
 
 from __future__ import annotations
