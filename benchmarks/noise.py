@@ -138,12 +138,24 @@ class _FastNoise2:
             ctypes.c_float,
             ctypes.c_int,
         ]
+        # sfn2_grid4 and sfn2_new_warp: builds of the wrapper before them lack them
+        self.more = hasattr(lib, "sfn2_grid4") and hasattr(lib, "sfn2_new_warp")
+        if self.more:
+            lib.sfn2_grid4.argtypes = [ctypes.c_void_p, fp] + [ctypes.c_int] * 4 + [
+                ctypes.c_float,
+                ctypes.c_int,
+            ]
+            lib.sfn2_new_warp.restype = ctypes.c_void_p
+            lib.sfn2_new_warp.argtypes = [ctypes.c_int] * 3 + [ctypes.c_float]
         self.lib = lib
 
-    def maker(self, kind: str, octaves: int, shape, step: float, avx2: bool):
+    def maker(self, kind: str, octaves: int, shape, step: float, avx2: bool, warp=None):
         """A callable filling a float32 grid of ``shape`` and the SIMD level it runs."""
         lib = self.lib
-        h = lib.sfn2_new(self.KINDS[kind], octaves, int(avx2))
+        if warp is None:
+            h = lib.sfn2_new(self.KINDS[kind], octaves, int(avx2))
+        else:
+            h = lib.sfn2_new_warp(self.KINDS[kind], octaves, int(avx2), warp)
         if not h:
             return None, "n/a"
         out = np.empty(shape, np.float32)
@@ -152,10 +164,14 @@ class _FastNoise2:
 
             def run():
                 lib.sfn2_grid2(h, ptr, shape[1], shape[0], step, 1337)
-        else:
+        elif len(shape) == 3:
 
             def run():
                 lib.sfn2_grid3(h, ptr, shape[2], shape[1], shape[0], step, 1337)
+        else:
+
+            def run():
+                lib.sfn2_grid4(h, ptr, shape[3], shape[2], shape[1], shape[0], step, 1337)
 
         run.keep = (h, out)
         return run, lib.sfn2_level(h).decode()
@@ -273,6 +289,7 @@ def main(argv=None) -> int:
         line += f"{ratio('f32', 'f64'):>8.2f}x{ratio('all', 'f32'):>7.2f}x"
         line += f"{ratio('probeN', 'probe1'):>8.2f}x  {level}"
         print(line)
+    _more_rows(args, fn2, ncores, scale)
     if not args.only or "graph" in args.only.lower():
         _graph_rows(args, shape2, scale, c2)
     print(f"load average after the run: {os.getloadavg()[0]:.2f}")
@@ -344,6 +361,73 @@ def _graph_rows(args, shape, scale, coords) -> None:
           "target is <= 1.15x); vs FNL = FastNoise Lite time / graph time (the target is >= 2x):"
           " its 6-octave Perlin fBm, and for marble that fBm followed by marble's arithmetic in"
           " NumPy (FastNoise Lite has no marble); rates in M samples/s.")
+
+
+def _more_rows(args, fn2, ncores, scale) -> None:
+    """The float32 road of ``_points32`` (4D grids, tileable simplex, domain warping): sylva's
+    two roads, and FastNoise2 where it has the same thing (its 4D simplex, value and
+    cellular F1 grids; for warping its gradient warp, ``DomainWarpGradient`` in independent
+    fBm octaves, about as much work as sylva's fBm warp field per axis: the nearest, not the
+    same texture).  FastNoise Lite has neither 4D noise nor grids of warped noise: not timed
+    here.  As many samples as the 2D grid (4D: 4 x 4 x side/4 x side/4)."""
+    n2 = args.size
+    s4 = max(1, n2 // 4)
+    shape2, shape4 = (n2, n2), (4, 4, s4, s4)
+    cases = [
+        ("4D simplex", shape4, "simplex", 1, {}, True),
+        ("4D value", shape4, "value", 1, {}, True),
+        ("4D fBm 4 oct simplex", shape4, "simplex", 4, {}, True),
+        ("4D Worley F1", shape4, "worley", 1, {}, True),
+        ("2D tileable simplex", shape2, "simplex", 1, {"tileable": True}, False),
+        ("4D Worley cell id", shape4, "worley", 1, {"output": "cell"}, False),
+        ("2D warp improved", shape2, "improved", 1, {"warp": 1.0}, True),
+        ("2D warp fBm 3 oct simplex", shape2, "simplex", 3, {"warp": 1.0}, True),
+    ]
+    cases = [c for c in cases if args.only.lower() in c[0].lower()]
+    if not cases:
+        return
+    peer = bool(fn2 and fn2.more)
+    cols = ["f32", "f64"] + (["FN2", "FN2avx2"] if peer else [])
+    head = (f"{'case (_points32)':<26}" + "".join(f"{c:>9}" for c in cols)
+            + (f"{'f32/FN2':>9}{'/FN2avx2':>9}" if peer else "")
+            + f"{'f32/f64':>9}{f'{ncores}c x':>8}{'machine':>9}")
+    print()
+    print(head)
+    print("-" * len(head))
+    for name, shape, kind, octaves, extra, has_peer in cases:
+        count = int(np.prod(shape))
+
+        def ours(dt, shape=shape, kind=kind, octaves=octaves, extra=extra):
+            return lambda: noise_grid(shape, kind=kind, octaves=octaves, scale=scale, seed=1,
+                                      dtype=dt, **extra)
+
+        fns = {"f32": (ours(np.float32), 1), "f64": (ours(np.float64), 1),
+               "all": (ours(np.float32), ncores)}
+        if peer and has_peer:
+            step = scale / shape[-1]
+            w = extra.get("warp")
+            fns["FN2"] = (fn2.maker(kind, octaves, shape, step, False, w)[0], 1)
+            fns["FN2avx2"] = (fn2.maker(kind, octaves, shape, step, True, w)[0], 1)
+        rounds = _rounds(fns, args.repeat, args.inner, ncores)
+
+        def rate(w, rounds=rounds, count=count):
+            if w not in rounds[0]:
+                return float("nan")
+            return statistics.median(count / r[w] / 1e6 for r in rounds)
+
+        def ratio(a, b, rounds=rounds):
+            if b not in rounds[0]:
+                return float("nan")
+            return statistics.median(r[b] / r[a] for r in rounds)
+
+        line = f"{name:<26}" + "".join(f"{rate(w):>9.1f}" for w in cols)
+        if peer:
+            line += f"{ratio('f32', 'FN2'):>8.2f}x{ratio('f32', 'FN2avx2'):>8.2f}x"
+        line += f"{ratio('f32', 'f64'):>8.2f}x{ratio('all', 'f32'):>7.2f}x"
+        line += f"{ratio('probeN', 'probe1'):>8.2f}x"
+        print(line)
+    print("(nan: not timed for FastNoise2: it has no torus of simplex noise, and its cell"
+          " value is not sylva's cell id)")
 
 
 def _llvm_cpu() -> str:

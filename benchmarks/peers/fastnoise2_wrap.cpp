@@ -68,4 +68,34 @@ void sfn2_grid3(void* h, float* out, int nx, int ny, int nz, float step, int see
         out, 0.0f, 0.0f, 0.0f, nx, ny, nz, step, step, step, seed);
 }
 
+// The 4D grid of kind 1 (Simplex) or 2 (Value), as sfn2_grid3.
+void sfn2_grid4(void* h, float* out, int nx, int ny, int nz, int nw, float step, int seed) {
+    static_cast<Node*>(h)->node->GenUniformGrid4D(
+        out, 0.0f, 0.0f, 0.0f, 0.0f, nx, ny, nz, nw, step, step, step, step, seed);
+}
+
+// Domain warping, FastNoise2's nearest to sylva's: the noise of sfn2_new(kind, octaves)
+// sampled at positions moved by FastNoise2's gradient warp (DomainWarpGradient, amplitude
+// `amp` cells), in `octaves` independent fBm octaves (DomainWarpFractalIndependent).
+void* sfn2_new_warp(int kind, int octaves, int avx2, float amp) {
+    Node* base = static_cast<Node*>(sfn2_new(kind, octaves, avx2));
+    if (!base) return nullptr;
+    FastSIMD::FeatureSet fs = avx2 ? FastSIMD::FeatureSet::AVX2 : FastSIMD::FeatureSet::Max;
+    auto w = FastNoise::New<FastNoise::DomainWarpGradient>(fs);
+    w->SetSource(base->node);
+    w->SetWarpAmplitude(amp);
+    w->SetScale(1.0f);
+    FastNoise::SmartNode<> out = w;
+    if (octaves > 1) {
+        auto f = FastNoise::New<FastNoise::DomainWarpFractalIndependent>(fs);
+        f->SetSource(w);
+        f->SetOctaveCount(octaves);
+        f->SetGain(0.5f);
+        f->SetLacunarity(2.0f);
+        out = f;
+    }
+    delete base;
+    return new Node{out};
+}
+
 }  // extern "C"

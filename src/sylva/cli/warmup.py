@@ -128,6 +128,14 @@ def _worley32(tmp: Path) -> None:
             noise_grid((2, 24), kind="worley", output=output, scale=scale, dtype=np.float32)
 
 
+def _points32(tmp: Path) -> None:
+    """noise_grid's float32 road of 4D grids, tileable simplex and domain warping (one
+    kernel, about 30 CPU s), beside the texture group."""
+    from ..texture import _points32
+
+    _points32.warm()
+
+
 def _render(tmp: Path) -> None:
     _cli("render", "01-koch-snowflake", "--size", "48x32", "-o", str(tmp / "r.png"))
     _cli("render", "16-abop-1.25-bush", "-n", "2", "--size", "48x32", "-o", str(tmp / "r.png"))
@@ -168,6 +176,7 @@ GROUPS = {
     "studio": ("the studio's traced walk", ("plants",), _studio),
     "worley32": ("float32 Worley grids", (), _worley32),
     "lsystems": ("L-system textures (the turtle's)", ("plants",), _lsystem_textures),
+    "points32": ("float32 4D, tileable-simplex and warped grids", (), _points32),
 }
 
 #: The order groups start in when a process is free: on two cores derivation and the long

@@ -29,7 +29,13 @@ of the cell and the seed (one jittered point per cell, or with ``density=`` Worl
 process).  The same seed gives the same texture on every machine.
 
 Output is float32 unless ``dtype=np.float64``; noise is computed in float64 (bit-exact), but
-float32 :func:`noise_grid` value/improved/simplex grids in float32 SIMD (within 2e-4).
+float32 :func:`noise_grid` grids in float32 SIMD kernels, within an absolute 2e-4 of the
+float64 road (on values normalised to about [-1, 1]): 2D and 3D grids of every kind
+(``_gridkernels32.TOLERANCE``), and 4D grids (or 3D with ``time``), tileable simplex and
+domain-warped grids (``_points32.TOLERANCE``; only a warped 3D or 4D simplex sample that
+rounding moves across a simplex face, where that kernel jumps, can differ by more; one
+octave of 4D Worley cell id is the float64 road's value, ties apart).  Worley's 2D and 3D
+cell id, its Poisson process and its orders above F3 are computed in float64 and rounded.
 """
 
 from __future__ import annotations
@@ -50,6 +56,7 @@ from . import _gridkernels as _gk
 from . import _gridkernels32 as _gk32
 from . import _gridplan as _gp
 from . import _kernels as _k
+from . import _points32 as _p32
 from . import _sampling as _s
 from . import _worleyfn as _wf
 from ._gridplan import grid_plan
@@ -989,6 +996,10 @@ def noise_grid(
         return _wf.grid(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain,
                         norder).astype(dt, copy=False).reshape(shape)
     with _threads(math.prod(shape) * octaves * (1 + ndim * bool(warp))):
+        if dt == np.float32 and (o32 := _p32.grid32(plan, warp, functools.partial(
+                _setup, kind, interpolation=interpolation, output=output, metric=metric,
+                jitter=jitter, density=density))) is not None:
+            return o32  # float32 4D grids, tileable simplex, domain warping
         if warp:
             grids = np.meshgrid(*axes[:ndim][::-1], indexing="ij")[::-1]
             pts = [g.ravel() for g in grids]

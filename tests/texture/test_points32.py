@@ -1,0 +1,142 @@
+"""The float32 road of the noise grids beyond ``_gridkernels32`` (``_points32``): 4D grids
+and 3D grids with time, tileable simplex (the 4D torus) and domain warping, of every kind
+(Worley: its jittered grid, F1..F3, combinations, cell id), against the
+float64 road (bit-exact to the reference values, test_reference_noise): within
+``_points32.TOLERANCE`` on small grids, and the float32 kernel is the one that ran."""
+
+import numpy as np
+import pytest
+
+from sylva import _jit
+from sylva.texture import _points32 as p32
+from sylva.texture import noise_grid
+from sylva.texture._gridplan import grid_plan
+
+TOL = p32.TOLERANCE
+KINDS = ["value", "perlin", "improved", "simplex"]
+
+
+@pytest.fixture(autouse=True)
+def _compiled():
+    # small grids take the float64 road while a kernel is not compiled (a cold cache):
+    # these tests are about the compiled float32 road
+    with _jit.compiled():
+        yield
+
+
+def _spy(monkeypatch, name):
+    calls = []
+    real = getattr(p32, name)
+
+    def spy(*args):
+        calls.append((args[0], args[1]))  # (points, kind)
+        return real(*args)
+
+    monkeypatch.setattr(p32, name, spy)
+    return calls
+
+
+def _both(shape, **kw):
+    a = noise_grid(shape, **kw)
+    b = noise_grid(shape, dtype=np.float64, **kw)
+    assert a.dtype == np.float32 and b.dtype == np.float64 and a.shape == b.shape
+    assert b.std() > 0.03  # a real pattern, not a constant
+    # within tolerance, and float32 arithmetic: not merely the float64 values rounded
+    assert np.abs(a.astype(np.float64) - b).max() < TOL
+    assert abs(float(a.mean()) - b.mean()) < TOL
+    assert not np.array_equal(a, b.astype(np.float32))
+    return a, b
+
+
+def _road(shape, warp=0.0, **kw):
+    plan = grid_plan(shape, kw.get("kind", "improved"), kw.get("fractal", "fbm"), 4.0, 2,
+                     0.5, 2.0, 2.0, None, None, kw.get("tileable", False), kw.get("time"),
+                     (0.0,) * 4, warp, True, kw.get("output", "f1"), "euclidean", 1.0,
+                     kw.get("dtype"), None)
+    return p32.road(plan, warp)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize(
+    "shape,extra",
+    [((2, 3, 5, 40), {}), ((3, 4, 40), {"time": 0.7}),
+     ((2, 3, 4, 36), {"tileable": True, "fractal": "ridged"})],
+    ids=["4d", "3d+time", "4d-tileable-ridged"],
+)
+def test_4d_grid_float32_within_tolerance(monkeypatch, kind, shape, extra):
+    if kind == "simplex" and "tileable" in extra:
+        extra = {"fractal": "ridged"}  # simplex tiles 2D images only (its torus)
+    calls = _spy(monkeypatch, "grid_kernel")
+    _both(shape, kind=kind, octaves=4, scale=5.0, seed=3, **extra)
+    assert calls and all(c == (False, p32.KINDS[KINDS.index(kind)]) for c in calls)
+
+
+@pytest.mark.parametrize("fractal", ["fbm", "turbulence"])
+def test_4d_grid_six_octaves(fractal):
+    _both((2, 2, 6, 64), kind="simplex", fractal=fractal, octaves=6, scale=12.0, seed=8)
+
+
+@pytest.mark.parametrize("extra", [{}, {"time": 1.3, "fractal": "ridged"}], ids=["2d", "time"])
+def test_tileable_simplex_float32(monkeypatch, extra):
+    calls = _spy(monkeypatch, "grid_kernel")
+    kw = dict(kind="simplex", octaves=3, scale=5.0, seed=4, tileable=True, **extra)
+    a, _ = _both((32, 48), **kw)
+    assert calls
+    # seamless: across the wrap (last column to first, last row to first) the image steps
+    # no more than between neighbours inside it
+    inside = np.abs(np.diff(a, axis=1)).mean()
+    assert np.abs(a[:, 0] - a[:, -1]).mean() < 2.0 * inside
+    assert np.abs(a[0] - a[-1]).mean() < 2.0 * np.abs(np.diff(a, axis=0)).mean()
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize(
+    "shape,fractal", [((16, 40), "fbm"), ((3, 6, 40), "turbulence"), ((2, 2, 3, 32), "ridged")],
+    ids=["2d", "3d", "4d"],
+)
+def test_warp_float32_within_tolerance(monkeypatch, kind, shape, fractal):
+    calls = _spy(monkeypatch, "grid_kernel")
+    _both(shape, kind=kind, fractal=fractal, octaves=3, scale=5.0, seed=2, warp=0.8)
+    # the warp field of each axis, then the warped noise, on rows of points
+    assert calls == [(True, p32.KINDS[KINDS.index(kind)])] * (len(shape) + 1)
+
+
+@pytest.mark.parametrize(
+    "shape,extra",
+    [((2, 3, 5, 40), {}),
+     ((3, 4, 40), {"time": 0.7, "output": "f2-f1", "metric": "manhattan"}),
+     ((2, 3, 4, 36), {"tileable": True, "fractal": "ridged", "output": "f2"}),
+     ((16, 40), {"warp": 0.8}),
+     ((4, 8, 40), {"warp": 0.8, "metric": "chebyshev", "output": "f3"}),
+     ((2, 2, 3, 32), {"output": "cell"})],
+    ids=["4d", "3d+time-f2-f1", "4d-tileable-f2", "warp-2d", "warp-3d-f3", "cell-4d"],
+)
+def test_worley_float32_within_tolerance(monkeypatch, shape, extra):
+    calls = _spy(monkeypatch, "grid_kernel")
+    _both(shape, kind="worley", octaves=3, scale=5.0, seed=3, **extra)
+    assert calls and all(c[1] == 4 for c in calls)  # the Worley kind
+
+
+@pytest.mark.parametrize("extra", [{}, {"metric": "euclidean2"}, {"tileable": True}],
+                         ids=["euclidean", "euclidean2", "tileable"])
+def test_worley_cell_id_float32_is_the_float64_cell(extra):
+    # the id is a hash of the nearest cell: float32 distances pick the same cell (ties
+    # apart), so one octave of 4D cell id is the float64 road's value exactly
+    kw = dict(kind="worley", output="cell", scale=5.0, seed=3, **extra)
+    a = noise_grid((2, 3, 4, 36), **kw)
+    b = noise_grid((2, 3, 4, 36), dtype=np.float64, **kw)
+    assert np.array_equal(a, b.astype(np.float32))
+    assert b.std() > 0.1 and len(np.unique(a)) > 4  # many cells (tileable: periods of 1-5)
+
+
+def test_roads():
+    assert _road((2, 3, 4, 20)) == "grid"
+    assert _road((3, 4, 20), time=0.5) == "grid"
+    assert _road((8, 20), kind="simplex", tileable=True) == "torus"
+    assert _road((8, 20), warp=0.5, kind="value") == "warp"
+    assert _road((2, 3, 4, 20), kind="worley") == "grid"
+    # the float64 road stays; 2D/3D grids are _gridkernels32's
+    assert _road((2, 3, 4, 20), dtype=np.float64) is None
+    assert _road((3, 4, 20)) is None
+    assert _road((3, 4, 20), kind="worley") is None
+    assert _road((3, 4, 20), kind="worley", output="cell") is None  # float64's runs: faster
