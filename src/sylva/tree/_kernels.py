@@ -433,3 +433,72 @@ def blade_wind(blade, level, phase, reach, flutter):
             blade[k, v, 1] = ph
             blade[k, v, 2] = rc
             blade[k, v, 3] = min(max(r, np.float32(0.0)), np.float32(1.0))
+
+
+@njit(cache=True)
+def turn_frames(m, f, start):
+    """``np.einsum("ij,njk->nik", m[:3, :3], f)[start:]`` (the turtle's frames into the plant
+    frame), einsum's numbers: each entry the sum over ``j`` of ``m[i, j] · f[n, j, k]``
+    added in order, ``j = 0, 1, 2`` (``tests/tree/test_clip_speed.py`` holds the two equal)."""
+    n = f.shape[0] - start
+    out = np.empty((max(n, 0), 3, 3))
+    for q in range(n):
+        for i in range(3):
+            m0, m1, m2 = m[i, 0], m[i, 1], m[i, 2]
+            for k in range(3):
+                out[q, i, k] = m0 * f[q + start, 0, k] + m1 * f[q + start, 1, k] \
+                    + m2 * f[q + start, 2, k]
+    return out
+
+
+@njit(cache=True)
+def _uniform(d, low, high):
+    """NumPy's ``Generator.uniform(low, high)`` of the doubles ``d`` its stream gave:
+    ``low + (high − low) · d`` (``random_uniform`` of its distributions)."""
+    rng = high - low
+    out = np.empty(d.shape[0])
+    for k in range(d.shape[0]):
+        out[k] = low + rng * d[k]
+    return out
+
+
+@njit(cache=True)
+def crown_leaf_spiral(d, a0, a1, rot, rot_dev, down, down_dev, size, size_dev, seg, last):
+    """:func:`crown_leaf_turns` and the blade lengths of a run's ``n`` spiral leaves from the
+    ``5n + 1`` doubles ``d`` its stream gives in a row (``Generator.random(5n + 1)``): the
+    draws :func:`sylva.tree.leaves._crown_leaves` made one ``uniform`` call at a time —
+    ``u_arc`` in (0.2, 0.8), ``u_rot`` in (−1, 1), ``phi0`` in (0, 360), ``u_down`` in
+    (−1, 1), the twist in (−30, 30) and the size deviation in (−1, 1), ``n`` of each
+    (``phi0`` one) — the same doubles, so the same numbers.  Returns ``(arcs, segments, ry,
+    rx, rt, sizes)``; ``sizes = size + u · size_dev`` as NumPy adds them."""
+    n = (d.shape[0] - 1) // 5
+    u_arc = _uniform(d[:n], 0.2, 0.8)
+    u_rot = _uniform(d[n:2 * n], -1.0, 1.0)
+    phi0 = 0.0 + (360.0 - 0.0) * d[2 * n]
+    u_down = _uniform(d[2 * n + 1:3 * n + 1], -1.0, 1.0)
+    u_twist = _uniform(d[3 * n + 1:4 * n + 1], -30.0, 30.0)
+    u_size = _uniform(d[4 * n + 1:5 * n + 1], -1.0, 1.0)
+    arcs, idx, ry, rx, rt = crown_leaf_turns(a0, a1, u_arc, rot, rot_dev, u_rot, phi0, down,
+                                             down_dev, u_down, u_twist, seg, last)
+    sizes = np.empty(n)
+    for k in range(n):
+        sizes[k] = size + u_size[k] * size_dev
+    return arcs, idx, ry, rx, rt, sizes
+
+
+@njit(cache=True)
+def world_up(w, out):
+    """``w[:3, :3].T @ (0, 1, 0)`` into ``out`` when it is exactly ``w[1, :3]``: every entry
+    of ``w[:3, :3]`` finite and none of row 1 zero (then the sum ``w[0, i]·0 + w[1, i]·1 +
+    w[2, i]·0`` is ``w[1, i]`` in any order and whatever BLAS's ``gemv`` does); ``False``
+    (``out`` untouched) where the signs of zeros or a NaN leave it to NumPy."""
+    for i in range(3):
+        for j in range(3):
+            if not math.isfinite(w[i, j]):
+                return False
+    for i in range(3):
+        if w[1, i] == 0.0:
+            return False
+    for i in range(3):
+        out[i] = w[1, i]
+    return True

@@ -84,7 +84,7 @@ import math
 
 import numpy as np
 
-from ._kernels import axis_rotations, bend_stem, cone_profile, envelope_exit, where_points
+from ._kernels import axis_rotations, bend_stem, cone_profile, envelope_exit, where_points, world_up
 from ._streams import stream, uniform
 from .components import Component
 from .leaves import LEAF_FALL, Leaves, plan_leaves
@@ -454,7 +454,9 @@ def _run_curve(plan: StemPlan, k0: int, frame: np.ndarray, split_error: float,
     F[0] = frame
     up_local = None
     if attraction and parent_world is not None:
-        up_local = parent_world[:3, :3].T @ _UP
+        up_local = np.empty(3)  # the world's up in the run's frame: parent_world[1, :3]
+        if not world_up(parent_world, up_local):  # ... unless a zero's sign is at stake
+            up_local = parent_world[:3, :3].T @ _UP
     if up_local is not None:  # the segment loop fills F[1:] and P[1:] from F[0], P[0]
         bend(F, P, plan.curve[k0:k1], seg, up_local, attraction / (2.0 * res), parent_world)
         return k1, n_split, err, F, P
