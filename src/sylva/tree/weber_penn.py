@@ -433,7 +433,10 @@ def _run_curve(plan: StemPlan, k0: int, frame: np.ndarray, split_error: float,
     seg_splits, base_splits, attraction, clearance = numbers
     # -- splits: error-diffused nSegSplits (0BaseSplits at the trunk's first segment) ----
     k1, n_split, err = res, 0, split_error
-    for k in range(k0, res - 1):
+    stop = res - 1
+    if seg_splits <= 0:  # only the trunk's first segment may split (BaseSplits): the rest
+        stop = min(stop, 1) if lv == 0 and base_splits > 0 else k0  # would all be skipped
+    for k in range(k0, stop):
         want = seg_splits
         if lv == 0 and k == 0:
             want = base_splits
@@ -530,7 +533,7 @@ class Branch(Component):
         self.foliage: Leaves | None = plan_leaves(self, rng)
         self._joints: np.ndarray | None = None
         self._seg_joints: np.ndarray | None = None
-        self._mature_rows = np.zeros(0, np.int64)
+        self._mature_rows: np.ndarray | None = None  # None: every grown row is a mature one
         self._skip_first = False
         # lazy-update state
         self.current_length = 0.0
@@ -701,8 +704,15 @@ class Branch(Component):
     def schedule_own(self, sim) -> None:
         """Schedule this run's buds and its split (called when it joins a simulation)."""
         plan = self.plan
-        for i, (s, _phi, _theta) in enumerate(self.buds):
-            sim.schedule(self, max(plan.time_at_length(s) + plan.bud_delay, sim.time), "bud", i)
+        arcs = [b[0] for b in self.buds]
+        if len(arcs) > 1 and plan.growth.kind in ("cubic", "linear"):
+            # the times of all the buds in one array call: the same elementwise operations
+            # as the float road of time_at_length (whose clamp only differs at NaN and -0)
+            times = plan.time_at_length(np.array(arcs)).tolist()
+        else:
+            times = [plan.time_at_length(s) for s in arcs]
+        for i, t in enumerate(times):
+            sim.schedule(self, max(t + plan.bud_delay, sim.time), "bud", i)
         if self.n_split > 0 or self.k1 < plan.curve_res:
             sim.schedule(self, max(plan.time_at_length(self.arc1), sim.time), "split")
 
@@ -860,12 +870,12 @@ class Branch(Component):
         seg = plan.seg_length
         vis = self.visible_length()
         m = self.k1 - self.k0
-        arcs = self.arc0 + np.arange(m + 1) * seg
         full = int(min(m, math.floor(vis / seg + 1e-9)))
         idx = np.arange(full + 1)
-        P = self.points[:full + 1].copy()
-        F = self.frames[:full + 1].copy()
-        A = arcs[:full + 1]
+        A = self.arc0 + idx * seg
+        # the mature rows as they are (read only: the turtle and the animation only read)
+        P = self.points[:full + 1]
+        F = self.frames[:full + 1]
         if vis - full * seg > 1e-6 * seg and full < m:
             i = full
             tip = self.points[i] + self.frames[i + 1][:, 1] * (vis - i * seg)
@@ -873,7 +883,7 @@ class Branch(Component):
             F = np.concatenate([F, self.frames[i + 1][None]])
             A = np.append(A, self.arc0 + vis)
             idx = np.append(idx, i + 1)
-        self._mature_rows = np.arange(len(A))
+        self._mature_rows = None  # every row a mature one, in order
         extra = plan.ring_arcs(self.arc0, self.arc0 + vis, max(self.current_length, 1e-9))
         if len(extra):  # not where a mature point already is
             near = np.abs(extra[:, None] - A[None, :]).min(1) <= 1e-6 * seg
@@ -888,7 +898,7 @@ class Branch(Component):
             idx = np.concatenate([idx, i + 1])[order]
             rows = np.empty(len(order), np.int64)
             rows[order] = np.arange(len(order))
-            self._mature_rows = rows[:len(self._mature_rows)]
+            self._mature_rows = rows[:len(order) - len(extra)]
         r = plan.radius * self.current_thickness * plan.profile(A, max(self.current_length,
                                                                       1e-9))
         return P, F, r, A, idx
@@ -919,7 +929,8 @@ class Branch(Component):
         self._skip_first = continues and parent_joint >= 0
         self._joints = turtle.stem_points(P, F, R, parent_joint=parent_joint,
                                           skip_first=self._skip_first)
-        self._seg_joints = self._joints[self._mature_rows]
+        rows = self._mature_rows
+        self._seg_joints = self._joints if rows is None else self._joints[rows]
         # its leaves are drawn by its Leaves component, visited next (the base slot)
 
 
