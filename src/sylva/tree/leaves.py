@@ -153,7 +153,7 @@ class Leaves(Component):
         if (t - last_birth) / unfold >= 1.0 and first_death - t >= 1.0:
             # every leaf unfolded and none fading: the factors below are all exactly 1
             # (1 ** 0.7 == 1, x * 1 == x), so the same numbers without the arithmetic
-            size = self.size.copy()
+            size = self.size  # (read only here: what is returned is a new array)
         else:
             age = (t - self.birth) / unfold
             # np.minimum(np.maximum(0, x), 1) is np.clip(x, 0, 1) bit for bit, without its
@@ -165,7 +165,7 @@ class Leaves(Component):
             size = size * min(max(1.0 - (t - plan.shed) / LEAF_FALL, 0.0), 1.0)
         scale, _turn, fall = tree.leaf_season(self.leaf_level)
         if fall > 0.0:
-            size[self.rank() < fall] = 0.0
+            size = np.where(self.rank() < fall, 0.0, size)
         return size * scale
 
     def materials(self, shown: np.ndarray) -> str | list[str]:

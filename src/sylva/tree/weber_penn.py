@@ -251,6 +251,26 @@ def stem_profile(s, length: float, radius: float, taper: float,
     return np.where(z2 < tz, tip, node) / R
 
 
+def _level_numbers(tree, lv: int) -> tuple:
+    """What :class:`StemPlan` reads of level ``lv``'s parameters: ``(grow_time,
+    thicken_time, bud_delay, taper, curve_res, sides, Curve, base curve)`` (the base curve
+    float[curve_res]: read only)."""
+    grow_time = max(tree.pf("GrowTime", level=lv, default=_GROW[min(lv, 4)]).value, 1e-3)
+    thicken_time = max(tree.pf("ThickenTime", level=lv, default=2.5 * grow_time).value, 1e-3)
+    bud_delay = max(tree.pf("BudDelay", level=lv, default=0.3).value, 0.0)
+    taper = _clip03(float(tree.pf("Taper", level=lv, default=1.0).value))
+    res = max(1, tree.pi("CurveRes", level=lv, default=3))
+    sides = max(3, tree.pi("Sides", level=lv, default=_SIDES[min(lv, 4)]))
+    curve = tree.pf("Curve", level=lv, default=0.0)
+    back = tree.pf("CurveBack", level=lv, default=0.0).value
+    base = np.full(res, curve.value / res)
+    if back:
+        half = max(res / 2.0, 1.0)
+        base = np.where(np.arange(res) < res / 2.0, curve.value / half, back / half)
+    base.flags.writeable = False
+    return grow_time, thicken_time, bud_delay, taper, res, sides, curve, base
+
+
 class StemPlan:
     """The mature dimensions and the growth clock of one stem (shared by its components).
 
@@ -290,28 +310,20 @@ class StemPlan:
         self.n_children = n_children
         self.n_leaves = n_leaves
         lv = level
-        default_grow = _GROW[min(lv, 4)]
-        self.grow_time = max(tree.pf("GrowTime", level=lv, default=default_grow).value, 1e-3)
-        self.thicken_time = max(
-            tree.pf("ThickenTime", level=lv, default=2.5 * self.grow_time).value, 1e-3
-        )
-        self.bud_delay = max(tree.pf("BudDelay", level=lv, default=0.3).value, 0.0)
-        self.taper = _clip03(float(tree.pf("Taper", level=lv, default=1.0).value))
+        # the level's numbers, worked out once per tree (a tree plans a few thousand stems)
+        ck = ("plan", lv)
+        numbers = tree._pcache.get(ck)
+        if numbers is None:
+            numbers = tree._pcache[ck] = _level_numbers(tree, lv)
+        (self.grow_time, self.thicken_time, self.bud_delay, self.taper, self.curve_res,
+         self.sides, curve, base) = numbers
         # the periodic taper is drawn where its nodes (one per stem diameter) can be seen
         self.taper_drawn = self.taper
         if self.taper > 2.0 and self.length / (2.0 * self.radius) > _MAX_NODES:
             self.taper_drawn = 2.0
-        self.curve_res = max(1, tree.pi("CurveRes", level=lv, default=3))
-        self.sides = max(3, tree.pi("Sides", level=lv, default=_SIDES[min(lv, 4)]))
         self.growth = tree.growth
         self.thickening = tree.thickening
-        curve = tree.pf("Curve", level=lv, default=0.0)
-        back = tree.pf("CurveBack", level=lv, default=0.0).value
         res = self.curve_res
-        base = np.full(res, curve.value / res)
-        if back:
-            half = max(res / 2.0, 1.0)
-            base = np.where(np.arange(res) < res / 2.0, curve.value / half, back / half)
         jitter = rng.uniform(-1.0, 1.0, res) * abs(curve.deviation) / res
         self.curve = np.radians(base + jitter)
         self.flare = tree.pf("Flare", default=0.0).value if level == 0 else 0.0
@@ -524,7 +536,9 @@ class Branch(Component):
         self.frames = F
         self.arc0 = k0 * seg
         self.arc1 = k1 * seg
-        self.primary.set_transform(self._matrix(P[m], F[m]), self._inverse(P[m], F[m]))
+        p_end, f_end = P[m], F[m]
+        self.primary.set_transform(self._matrix(p_end, f_end),
+                                   lambda: Branch._inverse(p_end, f_end))
         # -- children (buds) and leaves along this run -----------------------------------------
         self.buds = self._plan_children(rng)
         self.n_lasting = len(self.buds)  # buds past this index grow juvenile branches
@@ -732,7 +746,8 @@ class Branch(Component):
         s, phi, theta = self.buds[i]
         _, p, f = self._where(s)
         child_frame = f @ _ry(phi) @ _rx(theta)
-        slot = self.add_slot(self._matrix(p, child_frame), self._inverse(p, child_frame))
+        slot = self.add_slot(self._matrix(p, child_frame),
+                             lambda: Branch._inverse(p, child_frame))
         slot.space(tree.seed).set_float("ParentLength", plan.length)
         slot.space(tree.seed).set_float("Offset", s)
         r_here = plan.radius * float(plan.profile(np.array([s]), plan.length)[0])
@@ -1092,15 +1107,15 @@ def _split_frames(plan: StemPlan, n: int, rng: np.random.Generator) -> list[np.n
     draws of :meth:`Branch._continuations`, from the splitting run's stream)."""
     angle = plan.tree.params.float("SplitAngle", level=plan.level, default=20.0)
     base_phi = uniform(rng, 0, 2 * math.pi)
-    out = []
+    if n == 0:
+        return [_EYE3.copy()]
+    phi, a = np.empty(n + 1), np.empty(n + 1)
     for c in range(n + 1):
-        if n == 0:
-            out.append(np.eye(3))
-        else:
-            a = math.radians(abs(angle.sample(rng))) * (0.5 if c == 0 else 1.0)
-            phi = base_phi + 2 * math.pi * c / (n + 1)
-            out.append(_ry(phi) @ _rx(a) @ _ry(-phi))
-    return out
+        a[c] = math.radians(abs(angle.sample(rng))) * (0.5 if c == 0 else 1.0)
+        phi[c] = base_phi + 2 * math.pi * c / (n + 1)
+    # Ry(phi) @ Rx(a) @ Ry(-phi) of every clone in one product of rotation stacks (the
+    # matrices of _ry and _rx; a stack is multiplied matrix by matrix: the same bits)
+    return list(_ry_many(phi) @ _rx_many(a) @ _ry_many(-phi))
 
 
 def _pruned_length(plan_of, length: float, key: tuple, world: np.ndarray) -> float:
