@@ -41,6 +41,7 @@ __all__ = [
     "Slot",
     "TraversalStats",
     "traverse",
+    "rigid_frame_inverse",
     "rotation",
     "translation",
 ]
@@ -73,6 +74,15 @@ def rotation(axis, angle: float) -> np.ndarray:
 
 _IDENTITY = np.eye(4)
 _IDENTITY.flags.writeable = False
+
+
+def rigid_frame_inverse(p: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """``float64[4, 4]``: the inverse of the rigid transform with rotation ``f``
+    (float[3, 3]) and translation ``p`` (float[3]): ``fᵀ`` and ``−fᵀp``."""
+    m = _IDENTITY.copy()
+    m[:3, :3] = f.T
+    m[:3, 3] = -(f.T @ p)
+    return m
 
 
 def _rigid_inverse(m: np.ndarray) -> np.ndarray:
@@ -120,8 +130,8 @@ class Slot:
         """``float64[4, 4]``: owner frame → child frame (worked out when first asked for:
         a tree sets thousands of slot transforms and reads no inverse while it grows)."""
         inv = self._inverse
-        if callable(inv):
-            inv = self._inverse = inv()
+        if isinstance(inv, tuple):
+            inv = self._inverse = rigid_frame_inverse(*inv)
         elif inv is None:
             inv = self._inverse = _rigid_inverse(self.matrix)
         return inv
@@ -137,7 +147,8 @@ class Slot:
     def set_transform(self, matrix: np.ndarray, inverse: np.ndarray | None = None) -> None:
         """Set the shared transform and its cached inverse (the base slot stays identity);
         ``inverse``, when the caller knows it (a rigid frame: ``Rᵀ``, ``−Rᵀp``), is taken as
-        it is, or as a callable's result when first asked for (:attr:`inverse`)."""
+        it is; a ``(position, frame)`` pair stands for the inverse of that rigid frame
+        (:func:`rigid_frame_inverse`), worked out when first asked for (:attr:`inverse`)."""
         if self.is_base:
             raise ValueError("the base slot keeps the identity transform")
         self.matrix = np.asarray(matrix, np.float64).reshape(4, 4).copy()

@@ -86,7 +86,7 @@ import numpy as np
 
 from ._kernels import axis_rotations, bend_stem, cone_profile, envelope_exit, where_points, world_up
 from ._streams import stream, uniform
-from .components import Component
+from .components import Component, rigid_frame_inverse
 from .leaves import LEAF_FALL, Leaves, plan_leaves
 
 __all__ = ["Branch", "StemPlan", "envelope", "make_trunk", "shape_ratio", "stem_profile"]
@@ -536,15 +536,16 @@ class Branch(Component):
         self.frames = F
         self.arc0 = k0 * seg
         self.arc1 = k1 * seg
-        p_end, f_end = P[m], F[m]
-        self.primary.set_transform(self._matrix(p_end, f_end),
-                                   lambda: Branch._inverse(p_end, f_end))
+        # the inverse as (position, frame): worked out by the slot when first asked for
+        self.primary.set_transform(self._matrix(P[m], F[m]), (P[m], F[m]))
         # -- children (buds) and leaves along this run -----------------------------------------
         self.buds = self._plan_children(rng)
         self.n_lasting = len(self.buds)  # buds past this index grow juvenile branches
         self.buds += self._plan_juvenile()
         # the leaves: a component of level + 1 on the base slot (sylva.tree.leaves)
         self.foliage: Leaves | None = plan_leaves(self, rng)
+        if k1 >= plan.curve_res:  # no split to draw for: the stream is done with
+            self.rng = None
         self._joints: np.ndarray | None = None
         self._seg_joints: np.ndarray | None = None
         self._mature_rows: np.ndarray | None = None  # None: every grown row is a mature one
@@ -599,10 +600,7 @@ class Branch(Component):
     @staticmethod
     def _inverse(p: np.ndarray, f: np.ndarray) -> np.ndarray:
         """The inverse of :meth:`_matrix` (``f`` is a rotation: its transpose inverts it)."""
-        m = _EYE4.copy()
-        m[:3, :3] = f.T
-        m[:3, 3] = -(f.T @ p)
-        return m
+        return rigid_frame_inverse(p, f)
 
     def _where(self, s: float) -> tuple[int, np.ndarray, np.ndarray]:
         """Segment index (local), position and frame at arc length ``s`` of this run."""
@@ -746,8 +744,7 @@ class Branch(Component):
         s, phi, theta = self.buds[i]
         _, p, f = self._where(s)
         child_frame = f @ _ry(phi) @ _rx(theta)
-        slot = self.add_slot(self._matrix(p, child_frame),
-                             lambda: Branch._inverse(p, child_frame))
+        slot = self.add_slot(self._matrix(p, child_frame), (p, child_frame))
         slot.space(tree.seed).set_float("ParentLength", plan.length)
         slot.space(tree.seed).set_float("Offset", s)
         r_here = plan.radius * float(plan.profile(np.array([s]), plan.length)[0])
