@@ -502,3 +502,57 @@ def world_up(w, out):
     for i in range(3):
         out[i] = w[1, i]
     return True
+
+
+@njit(cache=True)
+def _envelope_at(c, width, peak, low, high):
+    """The envelope at ``c`` in [0, 1] as :func:`envelope_exit` works it out."""
+    c = c if c != 0.0 else 0.0
+    if c < 1.0 - peak:
+        return width * (c / (1.0 - peak)) ** high
+    return width * ((1.0 - c) / peak) ** low
+
+
+@njit(cache=True)
+def envelope_exit_local(P, w, st, denom, width, peak, low, high):
+    """:func:`envelope_exit` of the run points ``P`` (float64[n, 3], the run's frame) moved
+    by ``w`` (float64[4, 4]) into the plant frame, without those points: NumPy multiplies
+    ``P @ w[:3, :3].T`` by BLAS, whose last bits this loop cannot promise, so each point is
+    worked out here with a bound on how far BLAS's could lie (``1e-15`` of the sum of the
+    terms' sizes, several times the error of either sum) and decided only where every point
+    within the bound gets the same answer, with the margin ``envelope_exit`` itself leaves
+    to NumPy's powers (1e-12) four times over; the height's test is exact by the
+    monotonicity of rounding.  Returns ``envelope_exit``'s answer on NumPy's points (the first
+    point outside, -1 all inside) or -3: undecided here, ask ``envelope_exit`` with NumPy's
+    points (``tests/tree/test_pruning_speed.py`` holds the two to the same answers)."""
+    corner = 1.0 - peak
+    for i in range(P.shape[0]):
+        x0, x1, x2 = P[i, 0], P[i, 1], P[i, 2]
+        v = np.empty(3)
+        dv = np.empty(3)
+        for k in range(3):
+            a, b, c = x0 * w[k, 0], x1 * w[k, 1], x2 * w[k, 2]
+            v[k] = a + b + c + w[k, 3]
+            dv[k] = 1e-15 * (abs(a) + abs(b) + abs(c) + abs(w[k, 3])) + 1e-300
+            if not (math.isfinite(v[k]) and math.isfinite(dv[k])):
+                return -3
+        r_lo = (st - (v[1] + dv[1])) / denom  # NumPy's r is in [r_lo, r_hi] (monotone)
+        r_hi = (st - (v[1] - dv[1])) / denom
+        if r_hi < 0.0 or r_lo > 1.0:
+            return i  # above the envelope's top or below its base: outside
+        if r_lo < 0.0 or r_hi > 1.0 or (r_lo < corner and r_hi >= corner):
+            return -3  # astride an end or the widest point
+        e_a = _envelope_at(r_lo, width, peak, low, high)
+        e_b = _envelope_at(r_hi, width, peak, low, high)
+        if not (math.isfinite(e_a) and math.isfinite(e_b)):
+            return -3
+        e_min, e_max = min(e_a, e_b), max(e_a, e_b)
+        ax, az = abs(v[0]), abs(v[2])
+        d_hi = math.hypot(ax + dv[0], az + dv[2]) / st
+        d_lo = math.hypot(max(ax - dv[0], 0.0), max(az - dv[2], 0.0)) / st
+        if d_hi < e_min - 4e-12 * abs(e_min) - 1e-300:
+            continue  # inside, however NumPy's point lies
+        if d_lo > e_max + 4e-12 * abs(e_max) + 1e-300:
+            return i  # outside, however NumPy's point lies
+        return -3
+    return -1

@@ -84,7 +84,15 @@ import math
 
 import numpy as np
 
-from ._kernels import axis_rotations, bend_stem, cone_profile, envelope_exit, where_points, world_up
+from ._kernels import (
+    axis_rotations,
+    bend_stem,
+    cone_profile,
+    envelope_exit,
+    envelope_exit_local,
+    where_points,
+    world_up,
+)
 from ._streams import stream, uniform
 from .components import Component, rigid_frame_inverse
 from .leaves import LEAF_FALL, Leaves, plan_leaves
@@ -1076,11 +1084,14 @@ def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray,
     while stack:
         k0, frame, bkey, err0, w, share = stack.pop()
         k1, n_split, err, F, P = _run_curve(plan, k0, frame, err0, w, bend, memo)
-        pts = P @ w[:3, :3].T + w[:3, 3]
-        k = envelope_exit(pts, st, denom, width, peak, low, high)
-        if k == -2:  # a point on the envelope, to the last bits: NumPy's own numbers decide
-            out = ~tree.inside_envelope(pts)
-            k = int(np.argmax(out)) if np.any(out) else -1
+        # decided on the run's points where BLAS's last bits cannot matter, else on NumPy's
+        k = envelope_exit_local(P, w, st, denom, width, peak, low, high)
+        if k == -3:
+            pts = P @ w[:3, :3].T + w[:3, 3]
+            k = envelope_exit(pts, st, denom, width, peak, low, high)
+            if k == -2:  # a point on the envelope, to the last bits: NumPy's numbers decide
+                out = ~tree.inside_envelope(pts)
+                k = int(np.argmax(out)) if np.any(out) else -1
         arc0 = k0 * seg
         if k >= 0:
             arc = arc0 + max(k - 1, 0) * seg
