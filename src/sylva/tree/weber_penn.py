@@ -552,8 +552,6 @@ class Branch(Component):
         self.buds += self._plan_juvenile()
         # the leaves: a component of level + 1 on the base slot (sylva.tree.leaves)
         self.foliage: Leaves | None = plan_leaves(self, rng)
-        if k1 >= plan.curve_res:  # no split to draw for: the stream is done with
-            self.rng = None
         self._joints: np.ndarray | None = None
         self._seg_joints: np.ndarray | None = None
         self._mature_rows: np.ndarray | None = None  # None: every grown row is a mature one
