@@ -439,14 +439,16 @@ def blade_wind(blade, level, phase, reach, flutter):
 def turn_frames(m, f, start):
     """``np.einsum("ij,njk->nik", m[:3, :3], f)[start:]`` (the turtle's frames into the plant
     frame), einsum's numbers: each entry the sum over ``j`` of ``m[i, j] · f[n, j, k]``
-    added in order, ``j = 0, 1, 2`` (``tests/tree/test_clip_speed.py`` holds the two equal)."""
+    added in order to 0.0, ``j = 0, 1, 2`` (``tests/tree/test_clip_speed.py`` holds the two
+    equal, ``-0.0`` included)."""
     n = f.shape[0] - start
     out = np.empty((max(n, 0), 3, 3))
     for q in range(n):
         for i in range(3):
             m0, m1, m2 = m[i, 0], m[i, 1], m[i, 2]
             for k in range(3):
-                out[q, i, k] = m0 * f[q + start, 0, k] + m1 * f[q + start, 1, k] \
+                # einsum's sum starts from 0.0 (which only changes an all -0.0 sum)
+                out[q, i, k] = 0.0 + m0 * f[q + start, 0, k] + m1 * f[q + start, 1, k] \
                     + m2 * f[q + start, 2, k]
     return out
 
