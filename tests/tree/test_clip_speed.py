@@ -163,3 +163,71 @@ def test_the_compiled_cone_profile_is_numpys_bit_for_bit():
         z = np.minimum(np.maximum(s / current, 0.0), 1.0)
         want = np.maximum(1.0 - taper * z, 0.02 * (1 - z) + 0.004)
         assert cone_profile(s, current, taper).tobytes() == want.tobytes()
+
+
+def test_the_compiled_frame_turn_is_einsums_bit_for_bit():
+    """``TreeTurtle`` turns frames into the plant frame by a kernel (``turn_frames``):
+    ``np.einsum("ij,njk->nik", m[:3, :3], f)[start:]``'s numbers, on rotations and on the
+    identity (the ZScale turtle's), ``-0.0`` included."""
+    from sylva.tree._kernels import turn_frames
+
+    rng = np.random.default_rng(11)
+    for _ in range(300):
+        n = int(rng.integers(1, 30))
+        m = np.eye(4)
+        if rng.uniform() < 0.8:
+            q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+            m[:3, :3] = q * rng.uniform(0.5, 2.0)
+        f = rng.normal(size=(n, 3, 3)) * 10.0 ** rng.uniform(-5, 5)
+        f[rng.uniform(size=f.shape) < 0.1] = -0.0
+        start = int(rng.integers(0, 2))
+        want = np.einsum("ij,njk->nik", m[:3, :3], f)[start:]
+        assert turn_frames(m, f, start).tobytes() == want.tobytes()
+
+
+def test_the_crown_spiral_from_one_draw_is_the_uniform_calls():
+    """``_crown_leaves`` draws a run's 5n + 1 doubles in one ``random`` call and works out
+    the spiral in ``crown_leaf_spiral``: the numbers of the five ``uniform`` calls it made
+    one after another (and of ``crown_leaf_turns`` on them), from the same stream."""
+    from sylva.tree._kernels import crown_leaf_spiral, crown_leaf_turns
+
+    rng = np.random.default_rng(12)
+    for k in range(200):
+        n, m = int(rng.integers(1, 40)), int(rng.integers(1, 12))
+        seg = float(rng.uniform(0.01, 2.0))
+        a0 = float(rng.integers(0, 4)) * seg
+        rot, rdev, down, ddev, size, sdev = (float(x) for x in rng.uniform(
+            [0, 0, -90, 0, 0.01, 0], [360, 40, 90, 30, 0.5, 0.1]))
+        old = np.random.default_rng([k, 3])
+        u_arc, u_rot = old.uniform(0.2, 0.8, n), old.uniform(-1, 1, n)
+        phi0 = float(old.uniform(0, 360))
+        u_down, u_twist = old.uniform(-1, 1, n), old.uniform(-30, 30, n)
+        sizes = size + old.uniform(-1, 1, n) * sdev
+        want = (*crown_leaf_turns(a0, a0 + m * seg, u_arc, rot, rdev, u_rot, phi0, down, ddev,
+                                  u_down, u_twist, seg, m - 1), sizes)
+        got = crown_leaf_spiral(np.random.default_rng([k, 3]).random(5 * n + 1), a0,
+                                a0 + m * seg, rot, rdev, down, ddev, size, sdev, seg, m - 1)
+        for g, w in zip(got, want):
+            assert g.tobytes() == w.tobytes()
+
+
+def test_the_world_up_is_the_gemv_where_it_answers():
+    """``world_up`` gives ``w[:3, :3].T @ (0, 1, 0)`` as row 1 of ``w`` only where that is
+    NumPy's product to the bit; rows with a zero (whose sign BLAS decides) and non-finite
+    matrices it leaves to NumPy."""
+    from sylva.tree._kernels import world_up
+
+    rng = np.random.default_rng(13)
+    up = np.array([0.0, 1.0, 0.0])
+    answered = 0
+    for _ in range(2000):
+        w = rng.normal(size=(4, 4)) * 10.0 ** rng.uniform(-200, 200, (4, 4))
+        if rng.uniform() < 0.3:
+            w[int(rng.integers(3)), int(rng.integers(3))] = rng.choice([0.0, -0.0, np.nan])
+        out = np.empty(3)
+        if world_up(w, out):
+            answered += 1
+            assert out.tobytes() == (w[:3, :3].T @ up).tobytes()
+        else:
+            assert not (np.isfinite(w[:3, :3]).all() and w[1, :3].all())
+    assert answered > 1000

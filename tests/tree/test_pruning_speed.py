@@ -156,3 +156,56 @@ def test_the_compiled_envelope_test_decides_as_tree_inside_envelope():
             asked += got == -2
             assert got in (want, -2)
     assert asked < 300  # the kernel decides most by itself (NaN points it leaves to NumPy)
+
+
+def test_the_trials_decide_on_the_run_points_as_on_numpys():
+    """``_kernels.envelope_exit_local`` decides a run from its own points and the run's
+    world matrix, without NumPy's BLAS product; where it decides (not -3) its answer is
+    ``envelope_exit``'s on NumPy's points, also for points put on the envelope to the last
+    bits, and a willow's trials need NumPy's points for none of their runs."""
+    from sylva.tree._kernels import envelope_exit, envelope_exit_local
+
+    t = Tree("weeping_willow", seed=1)
+    rng = np.random.default_rng(5)
+    st = max(t.scale_tree, 1e-9)
+    denom = st * max(1.0 - t.base_size, 1e-9)
+    decided = 0
+    for prune in ((0.5, 0.5, 0.5, 0.5), (0.9, 0.2, 1.3, 0.7), (0.7, 0.3, 0.0, 2.0), t.prune):
+        width, peak, low, high = prune
+        peak = min(max(peak, 1e-6), 1 - 1e-6)
+        for _ in range(400):
+            n = int(rng.integers(1, 12))
+            q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+            w = np.eye(4)
+            w[:3, :3] = q
+            w[:3, 3] = rng.uniform([-0.3 * st, 0, -0.3 * st], [0.3 * st, 0.8 * st, 0.3 * st])
+            P = np.cumsum(rng.normal(size=(n, 3)) * st * 0.1, 0)
+            if rng.uniform() < 0.4:  # a point on the envelope, or a hair's breadth off it
+                r = rng.choice([rng.uniform(-0.05, 1.05), 0.0, 1.0, 1.0 - peak])
+                e = float(wp.envelope(r, prune)) * st
+                e *= 1.0 + rng.choice([0.0, 1e-15, -1e-15, 1e-13, -1e-13, 1e-9])
+                a = rng.uniform(0, 2 * np.pi)
+                target = np.array([e * np.cos(a), st - r * denom, e * np.sin(a)])
+                P[int(rng.integers(n))] = w[:3, :3].T @ (target - w[:3, 3])
+            if rng.uniform() < 0.05:
+                P[int(rng.integers(n)), int(rng.integers(3))] = np.nan
+            want = envelope_exit(P @ w[:3, :3].T + w[:3, 3], st, denom, width, peak, low, high)
+            got = envelope_exit_local(P, w, st, denom, width, peak, low, high)
+            if got != -3:
+                decided += 1
+                assert got == want
+    assert decided > 1000
+    asked = []
+    local = wp.envelope_exit_local
+
+    def spy(*args):
+        k = local(*args)
+        asked.append(k == -3)
+        return k
+
+    try:
+        wp.envelope_exit_local = spy
+        Tree("weeping_willow", seed=3).grow(20.0)
+    finally:
+        wp.envelope_exit_local = local
+    assert len(asked) > 100 and not any(asked)

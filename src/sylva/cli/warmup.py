@@ -150,6 +150,12 @@ def _trees(tmp: Path) -> None:
         _cli("tree", name, "--age", "2", "-o", str(tmp / "t.glb"))
     # the pruning trials' envelope test (no species prunes by age 2)
     _cli("tree", "weeping_willow", "--age", "3", "-o", str(tmp / "t.glb"))
+    # and its road on NumPy's points, for a run too near the envelope for its own points
+    import numpy as np
+
+    from ..tree._kernels import envelope_exit
+
+    envelope_exit(np.zeros((1, 3)), 1.0, 1.0, 0.5, 0.5, 0.5, 0.5)
     _cli("tree", species_names()[0], "--age", "2", "--animate", "wind", "--seconds", "0.2",
          "-o", str(tmp / "w.glb"))  # fmt: skip
 

@@ -433,3 +433,128 @@ def blade_wind(blade, level, phase, reach, flutter):
             blade[k, v, 1] = ph
             blade[k, v, 2] = rc
             blade[k, v, 3] = min(max(r, np.float32(0.0)), np.float32(1.0))
+
+
+@njit(cache=True)
+def turn_frames(m, f, start):
+    """``np.einsum("ij,njk->nik", m[:3, :3], f)[start:]`` (the turtle's frames into the plant
+    frame), einsum's numbers: each entry the sum over ``j`` of ``m[i, j] · f[n, j, k]``
+    added in order to 0.0, ``j = 0, 1, 2`` (``tests/tree/test_clip_speed.py`` holds the two
+    equal, ``-0.0`` included)."""
+    n = f.shape[0] - start
+    out = np.empty((max(n, 0), 3, 3))
+    for q in range(n):
+        for i in range(3):
+            m0, m1, m2 = m[i, 0], m[i, 1], m[i, 2]
+            for k in range(3):
+                # einsum's sum starts from 0.0 (which only changes an all -0.0 sum)
+                out[q, i, k] = 0.0 + m0 * f[q + start, 0, k] + m1 * f[q + start, 1, k] \
+                    + m2 * f[q + start, 2, k]
+    return out
+
+
+@njit(cache=True)
+def _uniform(d, low, high):
+    """NumPy's ``Generator.uniform(low, high)`` of the doubles ``d`` its stream gave:
+    ``low + (high − low) · d`` (``random_uniform`` of its distributions)."""
+    rng = high - low
+    out = np.empty(d.shape[0])
+    for k in range(d.shape[0]):
+        out[k] = low + rng * d[k]
+    return out
+
+
+@njit(cache=True)
+def crown_leaf_spiral(d, a0, a1, rot, rot_dev, down, down_dev, size, size_dev, seg, last):
+    """:func:`crown_leaf_turns` and the blade lengths of a run's ``n`` spiral leaves from the
+    ``5n + 1`` doubles ``d`` its stream gives in a row (``Generator.random(5n + 1)``): the
+    draws :func:`sylva.tree.leaves._crown_leaves` made one ``uniform`` call at a time —
+    ``u_arc`` in (0.2, 0.8), ``u_rot`` in (−1, 1), ``phi0`` in (0, 360), ``u_down`` in
+    (−1, 1), the twist in (−30, 30) and the size deviation in (−1, 1), ``n`` of each
+    (``phi0`` one) — the same doubles, so the same numbers.  Returns ``(arcs, segments, ry,
+    rx, rt, sizes)``; ``sizes = size + u · size_dev`` as NumPy adds them."""
+    n = (d.shape[0] - 1) // 5
+    u_arc = _uniform(d[:n], 0.2, 0.8)
+    u_rot = _uniform(d[n:2 * n], -1.0, 1.0)
+    phi0 = 0.0 + (360.0 - 0.0) * d[2 * n]
+    u_down = _uniform(d[2 * n + 1:3 * n + 1], -1.0, 1.0)
+    u_twist = _uniform(d[3 * n + 1:4 * n + 1], -30.0, 30.0)
+    u_size = _uniform(d[4 * n + 1:5 * n + 1], -1.0, 1.0)
+    arcs, idx, ry, rx, rt = crown_leaf_turns(a0, a1, u_arc, rot, rot_dev, u_rot, phi0, down,
+                                             down_dev, u_down, u_twist, seg, last)
+    sizes = np.empty(n)
+    for k in range(n):
+        sizes[k] = size + u_size[k] * size_dev
+    return arcs, idx, ry, rx, rt, sizes
+
+
+@njit(cache=True)
+def world_up(w, out):
+    """``w[:3, :3].T @ (0, 1, 0)`` into ``out`` when it is exactly ``w[1, :3]``: every entry
+    of ``w[:3, :3]`` finite and none of row 1 zero (then the sum ``w[0, i]·0 + w[1, i]·1 +
+    w[2, i]·0`` is ``w[1, i]`` in any order and whatever BLAS's ``gemv`` does); ``False``
+    (``out`` untouched) where the signs of zeros or a NaN leave it to NumPy."""
+    for i in range(3):
+        for j in range(3):
+            if not math.isfinite(w[i, j]):
+                return False
+    for i in range(3):
+        if w[1, i] == 0.0:
+            return False
+    for i in range(3):
+        out[i] = w[1, i]
+    return True
+
+
+@njit(cache=True)
+def _envelope_at(c, width, peak, low, high):
+    """The envelope at ``c`` in [0, 1] as :func:`envelope_exit` works it out."""
+    c = c if c != 0.0 else 0.0
+    if c < 1.0 - peak:
+        return width * (c / (1.0 - peak)) ** high
+    return width * ((1.0 - c) / peak) ** low
+
+
+@njit(cache=True)
+def envelope_exit_local(P, w, st, denom, width, peak, low, high):
+    """:func:`envelope_exit` of the run points ``P`` (float64[n, 3], the run's frame) moved
+    by ``w`` (float64[4, 4]) into the plant frame, without those points: NumPy multiplies
+    ``P @ w[:3, :3].T`` by BLAS, whose last bits this loop cannot promise, so each point is
+    worked out here with a bound on how far BLAS's could lie (``1e-15`` of the sum of the
+    terms' sizes, several times the error of either sum) and decided only where every point
+    within the bound gets the same answer, with the margin ``envelope_exit`` itself leaves
+    to NumPy's powers (1e-12) four times over; the height's test is exact by the
+    monotonicity of rounding.  Returns ``envelope_exit``'s answer on NumPy's points (the first
+    point outside, -1 all inside) or -3: undecided here, ask ``envelope_exit`` with NumPy's
+    points (``tests/tree/test_pruning_speed.py`` holds the two to the same answers)."""
+    corner = 1.0 - peak
+    for i in range(P.shape[0]):
+        x0, x1, x2 = P[i, 0], P[i, 1], P[i, 2]
+        v = np.empty(3)
+        dv = np.empty(3)
+        for k in range(3):
+            a, b, c = x0 * w[k, 0], x1 * w[k, 1], x2 * w[k, 2]
+            v[k] = a + b + c + w[k, 3]
+            dv[k] = 1e-15 * (abs(a) + abs(b) + abs(c) + abs(w[k, 3])) + 1e-300
+            if not (math.isfinite(v[k]) and math.isfinite(dv[k])):
+                return -3
+        r_lo = (st - (v[1] + dv[1])) / denom  # NumPy's r is in [r_lo, r_hi] (monotone)
+        r_hi = (st - (v[1] - dv[1])) / denom
+        if r_hi < 0.0 or r_lo > 1.0:
+            return i  # above the envelope's top or below its base: outside
+        if r_lo < 0.0 or r_hi > 1.0 or (r_lo < corner and r_hi >= corner):
+            return -3  # astride an end or the widest point
+        e_a = _envelope_at(r_lo, width, peak, low, high)
+        e_b = _envelope_at(r_hi, width, peak, low, high)
+        if not (math.isfinite(e_a) and math.isfinite(e_b)):
+            return -3
+        e_min, e_max = min(e_a, e_b), max(e_a, e_b)
+        ax, az = abs(v[0]), abs(v[2])
+        d_hi = math.hypot(ax + dv[0], az + dv[2]) / st
+        d_lo = math.hypot(max(ax - dv[0], 0.0), max(az - dv[2], 0.0)) / st
+        if d_hi < e_min - 4e-12 * abs(e_min) - 1e-300:
+            continue  # inside, however NumPy's point lies
+        if d_lo > e_max + 4e-12 * abs(e_max) + 1e-300:
+            return i  # outside, however NumPy's point lies
+        return -3
+    return -1

@@ -17,6 +17,8 @@ few mature trees); ``sylva warmup`` (inside :func:`sylva._jit.compiled`) and
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import os
 
 import numpy as np
@@ -24,11 +26,14 @@ from numpy.random.bit_generator import ISeedSequence
 
 from ._kernels import seed_state
 
-__all__ = ["stream", "uniform"]
+__all__ = ["decided", "stream", "uniform"]
 
 _WORD = 1 << 32
 _PAYS = 20_000  # streams made without the kernel, after which compiling it pays (~5 trees)
 _state = {"fast": None, "slow": 0}  # fast None: not decided yet in this process
+# True inside :func:`decided` once the compiled hash is taken (no look-ups per stream)
+_taken: contextvars.ContextVar[bool] = contextvars.ContextVar("sylva_tree_streams",
+                                                              default=False)
 
 
 class _Hashed(ISeedSequence):
@@ -64,12 +69,25 @@ def _fast() -> bool:
     return _state["fast"]
 
 
+@contextlib.contextmanager
+def decided():
+    """Inside: :func:`stream` takes the compiled hash without asking :func:`_fast` each
+    time, when it is taken at the start (a tree's growth makes thousands of streams; the
+    environment look-up was a fifth of each).  Either road gives the same streams."""
+    token = _taken.set(True) if _fast() else None
+    try:
+        yield
+    finally:
+        if token is not None:
+            _taken.reset(token)
+
+
 def stream(*words: int) -> np.random.Generator:
     """``np.random.default_rng(list(words))``: the same generator, from the compiled hash.
 
     ``words`` are non-negative integers (a seed masked to 32 bits and a component's key).
     """
-    if _fast() and min(words) >= 0 and max(words) < _WORD:
+    if (_taken.get() or _fast()) and min(words) >= 0 and max(words) < _WORD:
         state = seed_state(np.array(words, np.int64))
         return np.random.Generator(np.random.PCG64(_Hashed(state)))
     return np.random.default_rng(list(words))

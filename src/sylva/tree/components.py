@@ -41,6 +41,7 @@ __all__ = [
     "Slot",
     "TraversalStats",
     "traverse",
+    "rigid_frame_inverse",
     "rotation",
     "translation",
 ]
@@ -75,6 +76,15 @@ _IDENTITY = np.eye(4)
 _IDENTITY.flags.writeable = False
 
 
+def rigid_frame_inverse(p: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """``float64[4, 4]``: the inverse of the rigid transform with rotation ``f``
+    (float[3, 3]) and translation ``p`` (float[3]): ``fᵀ`` and ``−fᵀp``."""
+    m = _IDENTITY.copy()
+    m[:3, :3] = f.T
+    m[:3, 3] = -(f.T @ p)
+    return m
+
+
 def _rigid_inverse(m: np.ndarray) -> np.ndarray:
     r = m[:3, :3]
     # a rigid or uniformly scaled transform inverts cheaply; anything else goes to LAPACK
@@ -105,15 +115,26 @@ class Slot:
         The per-slot space (parent → child information), created on demand.
     """
 
-    __slots__ = ("owner", "index", "matrix", "inverse", "children", "params")
+    __slots__ = ("owner", "index", "matrix", "_inverse", "children", "params")
 
     def __init__(self, owner: Component, index: int) -> None:
         self.owner = owner
         self.index = index
         self.matrix = _IDENTITY  # shared and read-only until set_transform replaces it
-        self.inverse = _IDENTITY
+        self._inverse = _IDENTITY
         self.children: list[Component] = []
         self.params: ParameterSpace | None = None
+
+    @property
+    def inverse(self) -> np.ndarray:
+        """``float64[4, 4]``: owner frame → child frame (worked out when first asked for:
+        a tree sets thousands of slot transforms and reads no inverse while it grows)."""
+        inv = self._inverse
+        if isinstance(inv, tuple):
+            inv = self._inverse = rigid_frame_inverse(*inv)
+        elif inv is None:
+            inv = self._inverse = _rigid_inverse(self.matrix)
+        return inv
 
     @property
     def is_primary(self) -> bool:
@@ -126,11 +147,12 @@ class Slot:
     def set_transform(self, matrix: np.ndarray, inverse: np.ndarray | None = None) -> None:
         """Set the shared transform and its cached inverse (the base slot stays identity);
         ``inverse``, when the caller knows it (a rigid frame: ``Rᵀ``, ``−Rᵀp``), is taken as
-        it is."""
+        it is; a ``(position, frame)`` pair stands for the inverse of that rigid frame
+        (:func:`rigid_frame_inverse`), worked out when first asked for (:attr:`inverse`)."""
         if self.is_base:
             raise ValueError("the base slot keeps the identity transform")
         self.matrix = np.asarray(matrix, np.float64).reshape(4, 4).copy()
-        self.inverse = _rigid_inverse(self.matrix) if inverse is None else inverse
+        self._inverse = inverse  # None: _rigid_inverse(matrix); a callable: its result
 
     def space(self, seed: int = 0) -> ParameterSpace:
         """The slot's parameter space (created on first use, keyed by owner id and index)."""

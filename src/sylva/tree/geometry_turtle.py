@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._kernels import turn_frames
 from .components import Context
 from .stem import Stem
 
@@ -125,8 +126,8 @@ class TreeTurtle:
         f = np.asarray(frames, np.float64)
         r = np.asarray(radii, np.float64)
         wp = p @ m[:3, :3].T + m[:3, 3]
-        wf = np.einsum("ij,njk->nik", m[:3, :3], f)
         start = 1 if skip_first else 0
+        wf = turn_frames(m, f, start)  # einsum("ij,njk->nik", m[:3, :3], f)[start:]'s numbers
         n = len(p) - start
         ids = np.empty(len(p), np.int64)
         if skip_first:
@@ -139,14 +140,14 @@ class TreeTurtle:
         else:  # what np.concatenate([[parent_joint], new[:-1]]) gave
             parents = np.array([parent_joint], np.int64)
         # the joint matrices, levels and components are assembled once, in finish()
-        self._jm.append((wf[start:], wp[start:]))
+        self._jm.append((wf, wp[start:]))
         self._jp.append(parents)
         self._jl.append(stem.level)
         self._jr.append(r[start:])
         self._jc.append(getattr(self.component, "id", -1))
         self._jn.append(n)
         self._nj += n
-        stem.add_points(wp[start:], wf[start:], r[start:], new)
+        stem.add_points(wp[start:], wf, r[start:], new)
         return ids
 
     def leaves(self, positions, frames, sizes, width: float, material, joints) -> int:
@@ -157,7 +158,7 @@ class TreeTurtle:
         m = self.matrix
         p = np.asarray(positions, np.float64).reshape(-1, 3)
         wp = p @ m[:3, :3].T + m[:3, 3]
-        wf = np.einsum("ij,njk->nik", m[:3, :3], np.asarray(frames, np.float64).reshape(-1, 3, 3))
+        wf = turn_frames(m, np.asarray(frames, np.float64).reshape(-1, 3, 3), 0)  # einsum's numbers
         g = self._leaf_groups
         self._leaf_groups += 1
         self._leaves.append((wp, wf, np.asarray(sizes, np.float64), width, material,

@@ -62,7 +62,7 @@ import math
 import numpy as np
 
 from ..errors import SylvaError
-from ._kernels import crown_leaf_turns
+from ._kernels import crown_leaf_spiral
 from ._streams import stream, uniform
 from .components import Component
 
@@ -100,7 +100,13 @@ class Leaves(Component):
         self.tree = plan.tree
         self.leaf_level = plan.level + 1
         self.arc = arc
-        self.frame = frame
+        self._frame: np.ndarray | None = None
+        self._turns: _Turns | None = None
+        if isinstance(frame, _Turns):  # worked out with the tree's others when first asked
+            self._turns = frame
+            _pending(self.tree).append(self)
+        else:
+            self._frame = frame
         self.size = size
         self.birth = birth
         self.death = death
@@ -111,6 +117,16 @@ class Leaves(Component):
 
     def __len__(self) -> int:
         return len(self.arc)
+
+    @property
+    def frame(self) -> np.ndarray:
+        """``float64[n, 3, 3]``: each leaf's frame in the stem's frame (columns: across,
+        along the blade, normal).  A crown's spiral leaves are planned with their turns
+        only; the frames of all the tree's leaves planned so far are worked out together
+        the first time one is asked for (:func:`_settle_frames`)."""
+        if self._frame is None:
+            _settle_frames(self)
+        return self._frame
 
     def rank(self) -> np.ndarray:
         """The autumn rank of every leaf: a fixed random value in [0, 1) drawn once, from the
@@ -137,7 +153,7 @@ class Leaves(Component):
         if (t - last_birth) / unfold >= 1.0 and first_death - t >= 1.0:
             # every leaf unfolded and none fading: the factors below are all exactly 1
             # (1 ** 0.7 == 1, x * 1 == x), so the same numbers without the arithmetic
-            size = self.size.copy()
+            size = self.size  # (read only here: what is returned is a new array)
         else:
             age = (t - self.birth) / unfold
             # np.minimum(np.maximum(0, x), 1) is np.clip(x, 0, 1) bit for bit, without its
@@ -149,7 +165,7 @@ class Leaves(Component):
             size = size * min(max(1.0 - (t - plan.shed) / LEAF_FALL, 0.0), 1.0)
         scale, _turn, fall = tree.leaf_season(self.leaf_level)
         if fall > 0.0:
-            size[self.rank() < fall] = 0.0
+            size = np.where(self.rank() < fall, 0.0, size)
         return size * scale
 
     def materials(self, shown: np.ndarray) -> str | list[str]:
@@ -177,13 +193,16 @@ class Leaves(Component):
             return  # the stem is not out yet
         sizes = self.sizes_at(self._t)
         out = sizes > 0.0
-        if not out.any():
+        if out.all():  # every leaf out (a grown tree): the rows as they are, no copies
+            size, arc, frame = sizes, self.arc, self.frame
+        elif not out.any():
             return
-        size = sizes[out]
-        i, pos = b._where_points(self.arc[out])
+        else:
+            size, arc, frame = sizes[out], self.arc[out], self.frame[out]
+        i, pos = b._where_points(arc)
         jn = b._seg_joints[np.minimum(i, len(b._seg_joints) - 1)]
         width = self.tree.leaf_width_of(self.leaf_level)
-        turtle.leaves(pos, self.frame[out], size, width, self.materials(out), jn)
+        turtle.leaves(pos, frame, size, width, self.materials(out), jn)
 
 
 def _young(tree, level: int, size: np.ndarray, birth: np.ndarray) -> np.ndarray:
@@ -209,7 +228,8 @@ def plan_leaves(branch, rng) -> Leaves | None:
         j_arc, j_frame, j_size, j_birth, j_death = juvenile
         n_juvenile = len(j_arc)
         arc = np.concatenate([arc, j_arc])
-        frame = np.concatenate([frame, j_frame])
+        frame = np.concatenate([frame.frames() if isinstance(frame, _Turns) else frame,
+                                j_frame])
         size = np.concatenate([size, _young(tree, plan.level + 1, j_size, j_birth)])
         birth = np.concatenate([birth, j_birth])
         death = np.concatenate([death, j_death])
@@ -252,28 +272,79 @@ def _crown_leaves(branch, rng):
     rot = tree.pf("Rotate", level=lv, default=137.5)
     down = tree.pf("DownAngle", level=lv, default=45.0)
     a0, a1 = branch.arc0, branch.arc1
+    if rot.value >= 0:
+        # the spiral: its 5n + 1 draws (u_arc, u_rot, phi0, u_down, the petiole twist and
+        # the size deviation, each one uniform call in turn before) in one call, their
+        # arithmetic in one compiled call; the frames (segment frame @ Ry @ Rx @ Rtwist)
+        # are worked out for all the tree's leaves at once when first asked for
+        arcs, seg_i, ry, rx, rt, sizes = crown_leaf_spiral(
+            rng.random(5 * n + 1), float(a0), float(a1), float(rot.value),
+            float(abs(rot.deviation)), float(down.value), float(abs(down.deviation)),
+            float(scale.value), float(abs(scale.deviation)), float(plan.seg_length),
+            branch.k1 - branch.k0 - 1)
+        return arcs, _Turns(branch, seg_i, ry, rx, rt), sizes
     u_arc = rng.uniform(0.2, 0.8, n)
-    if rot.value >= 0:  # the spiral: the draws, then their arithmetic in one compiled call
-        u_rot = rng.uniform(-1, 1, n)
-        phi0 = uniform(rng, 0, 360)
-        u_down = rng.uniform(-1, 1, n)
-        u_twist = rng.uniform(-30, 30, n)  # a petiole twist
-        arcs, seg_i, ry, rx, rt = crown_leaf_turns(
-            float(a0), float(a1), u_arc, float(rot.value), abs(rot.deviation), u_rot, phi0,
-            float(down.value), abs(down.deviation), u_down, u_twist,
-            float(plan.seg_length), branch.k1 - branch.k0 - 1)
-        frames = branch.frames[seg_i + 1] @ ry @ rx @ rt
-    else:  # two ranks: alternately ±(180 + nRotate) (a pinnate frond, a fern)
-        arcs = a0 + (np.arange(n) + u_arc) / n * (a1 - a0)
-        sides = np.where(np.arange(n) % 2 == 0, 1.0, -1.0)
-        a = 180.0 + rot.value + rng.uniform(-1, 1, n) * abs(rot.deviation)
-        phi = np.radians(rng.uniform(0, 360) + sides * a)
-        theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
-        twist = np.radians(rng.uniform(-30, 30, n))  # a petiole twist
-        f = branch.frames[branch._segments_at(arcs) + 1]
-        frames = f @ _ry_many(phi) @ _rx_many(theta) @ _ry_many(twist)
+    # two ranks: alternately ±(180 + nRotate) (a pinnate frond, a fern)
+    arcs = a0 + (np.arange(n) + u_arc) / n * (a1 - a0)
+    sides = np.where(np.arange(n) % 2 == 0, 1.0, -1.0)
+    a = 180.0 + rot.value + rng.uniform(-1, 1, n) * abs(rot.deviation)
+    phi = np.radians(rng.uniform(0, 360) + sides * a)
+    theta = np.radians(np.abs(down.value + rng.uniform(-1, 1, n) * abs(down.deviation)))
+    twist = np.radians(rng.uniform(-30, 30, n))  # a petiole twist
+    f = branch.frames[branch._segments_at(arcs) + 1]
+    frames = f @ _ry_many(phi) @ _rx_many(theta) @ _ry_many(twist)
     sizes = scale.value + rng.uniform(-1, 1, n) * abs(scale.deviation)
     return arcs, frames, sizes
+
+
+class _Turns:
+    """The frames of a run's spiral leaves before they are worked out: ``frames[seg + 1]
+    @ ry @ rx @ rt`` of its :class:`~sylva.tree.weber_penn.Branch` (its segments' frames
+    are fixed once it is planned).  Matrix products of 3 x 3 stacks are computed matrix by
+    matrix, so one product over every leaf of a tree gives each run's numbers bit for
+    bit; it saves some thirty thousand small NumPy calls on a mature tree."""
+
+    __slots__ = ("branch", "seg", "ry", "rx", "rt")
+
+    def __init__(self, branch, seg, ry, rx, rt) -> None:
+        self.branch, self.seg, self.ry, self.rx, self.rt = branch, seg, ry, rx, rt
+
+    def __len__(self) -> int:
+        return len(self.seg)
+
+    def frames(self) -> np.ndarray:
+        return self.branch.frames[self.seg + 1] @ self.ry @ self.rx @ self.rt
+
+
+def _pending(tree) -> list:
+    """The tree's :class:`Leaves` whose frames are not worked out yet."""
+    pending = tree.__dict__.get("_leaf_turns")
+    if pending is None:
+        pending = tree._leaf_turns = []
+    return pending
+
+
+def _settle_frames(leaves: Leaves) -> None:
+    """Work out the frames of every pending :class:`Leaves` of ``leaves``' tree in one
+    product (:class:`_Turns`), ``leaves``' own included (alone when it is not among them:
+    a copy)."""
+    pending = _pending(leaves.tree)
+    batch = [x for x in pending if x._frame is None and x._turns is not None]
+    pending.clear()
+    if leaves._turns is not None and all(x is not leaves for x in batch):
+        batch.append(leaves)
+    if batch:
+        turns = [x._turns for x in batch]
+        f = np.concatenate([t.branch.frames[t.seg + 1] for t in turns])
+        f = f @ np.concatenate([t.ry for t in turns]) @ np.concatenate(
+            [t.rx for t in turns]) @ np.concatenate([t.rt for t in turns])
+        at = 0
+        for x, t in zip(batch, turns):
+            x._frame = f[at:at + len(t)]
+            x._turns = None
+            at += len(t)
+    if leaves._frame is None:
+        leaves._frame = np.zeros((len(leaves.arc), 3, 3))
 
 
 def _juvenile_leaves(branch):

@@ -18,6 +18,7 @@ import os
 
 import numpy as np
 
+from ._streams import decided
 from .components import TraversalStats, traverse
 from .events import Simulation, TimeFunction
 from .geometry_turtle import TreeGeometry, TreeTurtle
@@ -245,7 +246,7 @@ class Tree:
             raise ValueError(f"age must be >= 0, got {age}")
         if age < self.simulation.time - 1e-12:
             self.reset()
-        with _no_cycle_collection():
+        with _no_cycle_collection(), decided():
             self.simulation.advance_to(age)
         return self
 

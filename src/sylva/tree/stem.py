@@ -141,16 +141,19 @@ def stems_to_arrays(stems: list[Stem]):
     out_v, out_n, out_uv, out_t, out_j, out_s = [], [], [], [], [], []
     base = 0
     by_sides: dict[int, list[int]] = {}
+    n_points = [s.n_points for s in stems]
     for i, s in enumerate(stems):
-        if s.n_points >= 2:
+        if n_points[i] >= 2:
             by_sides.setdefault(s.sides, []).append(i)
     for sides, members in sorted(by_sides.items()):
         group = [stems[i] for i in members]
-        pos = np.concatenate([s.positions for s in group])
-        rad = np.concatenate([s.radii for s in group])
-        jnt = np.concatenate([s.joints for s in group])
-        frm = np.concatenate([s.frames() for s in group])
-        counts = np.array([s.n_points for s in group])
+        # the stems' pieces concatenated at once (the same rows as each stem's own arrays)
+        pos = np.concatenate([p for s in group for p in s._pos])
+        rad = np.concatenate([r for s in group for r in s._rad])
+        jnt = np.concatenate([j for s in group for j in s._joint])
+        frm = np.concatenate([f for s in group for f in (
+            s._frame if all(x is not None for x in s._frame) else [s.frames()])])
+        counts = np.array([n_points[i] for i in members])
         starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
         n = pos.shape[0]
         # arc length along each stem, restarted at each stem's start

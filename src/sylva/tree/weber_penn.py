@@ -84,9 +84,17 @@ import math
 
 import numpy as np
 
-from ._kernels import axis_rotations, bend_stem, cone_profile, envelope_exit, where_points
+from ._kernels import (
+    axis_rotations,
+    bend_stem,
+    cone_profile,
+    envelope_exit,
+    envelope_exit_local,
+    where_points,
+    world_up,
+)
 from ._streams import stream, uniform
-from .components import Component
+from .components import Component, rigid_frame_inverse
 from .leaves import LEAF_FALL, Leaves, plan_leaves
 
 __all__ = ["Branch", "StemPlan", "envelope", "make_trunk", "shape_ratio", "stem_profile"]
@@ -251,6 +259,26 @@ def stem_profile(s, length: float, radius: float, taper: float,
     return np.where(z2 < tz, tip, node) / R
 
 
+def _level_numbers(tree, lv: int) -> tuple:
+    """What :class:`StemPlan` reads of level ``lv``'s parameters: ``(grow_time,
+    thicken_time, bud_delay, taper, curve_res, sides, Curve, base curve)`` (the base curve
+    float[curve_res]: read only)."""
+    grow_time = max(tree.pf("GrowTime", level=lv, default=_GROW[min(lv, 4)]).value, 1e-3)
+    thicken_time = max(tree.pf("ThickenTime", level=lv, default=2.5 * grow_time).value, 1e-3)
+    bud_delay = max(tree.pf("BudDelay", level=lv, default=0.3).value, 0.0)
+    taper = _clip03(float(tree.pf("Taper", level=lv, default=1.0).value))
+    res = max(1, tree.pi("CurveRes", level=lv, default=3))
+    sides = max(3, tree.pi("Sides", level=lv, default=_SIDES[min(lv, 4)]))
+    curve = tree.pf("Curve", level=lv, default=0.0)
+    back = tree.pf("CurveBack", level=lv, default=0.0).value
+    base = np.full(res, curve.value / res)
+    if back:
+        half = max(res / 2.0, 1.0)
+        base = np.where(np.arange(res) < res / 2.0, curve.value / half, back / half)
+    base.flags.writeable = False
+    return grow_time, thicken_time, bud_delay, taper, res, sides, curve, base
+
+
 class StemPlan:
     """The mature dimensions and the growth clock of one stem (shared by its components).
 
@@ -290,28 +318,20 @@ class StemPlan:
         self.n_children = n_children
         self.n_leaves = n_leaves
         lv = level
-        default_grow = _GROW[min(lv, 4)]
-        self.grow_time = max(tree.pf("GrowTime", level=lv, default=default_grow).value, 1e-3)
-        self.thicken_time = max(
-            tree.pf("ThickenTime", level=lv, default=2.5 * self.grow_time).value, 1e-3
-        )
-        self.bud_delay = max(tree.pf("BudDelay", level=lv, default=0.3).value, 0.0)
-        self.taper = _clip03(float(tree.pf("Taper", level=lv, default=1.0).value))
+        # the level's numbers, worked out once per tree (a tree plans a few thousand stems)
+        ck = ("plan", lv)
+        numbers = tree._pcache.get(ck)
+        if numbers is None:
+            numbers = tree._pcache[ck] = _level_numbers(tree, lv)
+        (self.grow_time, self.thicken_time, self.bud_delay, self.taper, self.curve_res,
+         self.sides, curve, base) = numbers
         # the periodic taper is drawn where its nodes (one per stem diameter) can be seen
         self.taper_drawn = self.taper
         if self.taper > 2.0 and self.length / (2.0 * self.radius) > _MAX_NODES:
             self.taper_drawn = 2.0
-        self.curve_res = max(1, tree.pi("CurveRes", level=lv, default=3))
-        self.sides = max(3, tree.pi("Sides", level=lv, default=_SIDES[min(lv, 4)]))
         self.growth = tree.growth
         self.thickening = tree.thickening
-        curve = tree.pf("Curve", level=lv, default=0.0)
-        back = tree.pf("CurveBack", level=lv, default=0.0).value
         res = self.curve_res
-        base = np.full(res, curve.value / res)
-        if back:
-            half = max(res / 2.0, 1.0)
-            base = np.where(np.arange(res) < res / 2.0, curve.value / half, back / half)
         jitter = rng.uniform(-1.0, 1.0, res) * abs(curve.deviation) / res
         self.curve = np.radians(base + jitter)
         self.flare = tree.pf("Flare", default=0.0).value if level == 0 else 0.0
@@ -433,7 +453,10 @@ def _run_curve(plan: StemPlan, k0: int, frame: np.ndarray, split_error: float,
     seg_splits, base_splits, attraction, clearance = numbers
     # -- splits: error-diffused nSegSplits (0BaseSplits at the trunk's first segment) ----
     k1, n_split, err = res, 0, split_error
-    for k in range(k0, res - 1):
+    stop = res - 1
+    if seg_splits <= 0:  # only the trunk's first segment may split (BaseSplits): the rest
+        stop = min(stop, 1) if lv == 0 and base_splits > 0 else k0  # would all be skipped
+    for k in range(k0, stop):
         want = seg_splits
         if lv == 0 and k == 0:
             want = base_splits
@@ -454,7 +477,9 @@ def _run_curve(plan: StemPlan, k0: int, frame: np.ndarray, split_error: float,
     F[0] = frame
     up_local = None
     if attraction and parent_world is not None:
-        up_local = parent_world[:3, :3].T @ _UP
+        up_local = np.empty(3)  # the world's up in the run's frame: parent_world[1, :3]
+        if not world_up(parent_world, up_local):  # ... unless a zero's sign is at stake
+            up_local = parent_world[:3, :3].T @ _UP
     if up_local is not None:  # the segment loop fills F[1:] and P[1:] from F[0], P[0]
         bend(F, P, plan.curve[k0:k1], seg, up_local, attraction / (2.0 * res), parent_world)
         return k1, n_split, err, F, P
@@ -519,7 +544,8 @@ class Branch(Component):
         self.frames = F
         self.arc0 = k0 * seg
         self.arc1 = k1 * seg
-        self.primary.set_transform(self._matrix(P[m], F[m]), self._inverse(P[m], F[m]))
+        # the inverse as (position, frame): worked out by the slot when first asked for
+        self.primary.set_transform(self._matrix(P[m], F[m]), (P[m], F[m]))
         # -- children (buds) and leaves along this run -----------------------------------------
         self.buds = self._plan_children(rng)
         self.n_lasting = len(self.buds)  # buds past this index grow juvenile branches
@@ -528,7 +554,7 @@ class Branch(Component):
         self.foliage: Leaves | None = plan_leaves(self, rng)
         self._joints: np.ndarray | None = None
         self._seg_joints: np.ndarray | None = None
-        self._mature_rows = np.zeros(0, np.int64)
+        self._mature_rows: np.ndarray | None = None  # None: every grown row is a mature one
         self._skip_first = False
         # lazy-update state
         self.current_length = 0.0
@@ -580,10 +606,7 @@ class Branch(Component):
     @staticmethod
     def _inverse(p: np.ndarray, f: np.ndarray) -> np.ndarray:
         """The inverse of :meth:`_matrix` (``f`` is a rotation: its transpose inverts it)."""
-        m = _EYE4.copy()
-        m[:3, :3] = f.T
-        m[:3, 3] = -(f.T @ p)
-        return m
+        return rigid_frame_inverse(p, f)
 
     def _where(self, s: float) -> tuple[int, np.ndarray, np.ndarray]:
         """Segment index (local), position and frame at arc length ``s`` of this run."""
@@ -699,8 +722,15 @@ class Branch(Component):
     def schedule_own(self, sim) -> None:
         """Schedule this run's buds and its split (called when it joins a simulation)."""
         plan = self.plan
-        for i, (s, _phi, _theta) in enumerate(self.buds):
-            sim.schedule(self, max(plan.time_at_length(s) + plan.bud_delay, sim.time), "bud", i)
+        arcs = [b[0] for b in self.buds]
+        if len(arcs) > 1 and plan.growth.kind in ("cubic", "linear"):
+            # the times of all the buds in one array call: the same elementwise operations
+            # as the float road of time_at_length (whose clamp only differs at NaN and -0)
+            times = plan.time_at_length(np.array(arcs)).tolist()
+        else:
+            times = [plan.time_at_length(s) for s in arcs]
+        for i, t in enumerate(times):
+            sim.schedule(self, max(t + plan.bud_delay, sim.time), "bud", i)
         if self.n_split > 0 or self.k1 < plan.curve_res:
             sim.schedule(self, max(plan.time_at_length(self.arc1), sim.time), "split")
 
@@ -720,7 +750,7 @@ class Branch(Component):
         s, phi, theta = self.buds[i]
         _, p, f = self._where(s)
         child_frame = f @ _ry(phi) @ _rx(theta)
-        slot = self.add_slot(self._matrix(p, child_frame), self._inverse(p, child_frame))
+        slot = self.add_slot(self._matrix(p, child_frame), (p, child_frame))
         slot.space(tree.seed).set_float("ParentLength", plan.length)
         slot.space(tree.seed).set_float("Offset", s)
         r_here = plan.radius * float(plan.profile(np.array([s]), plan.length)[0])
@@ -858,12 +888,12 @@ class Branch(Component):
         seg = plan.seg_length
         vis = self.visible_length()
         m = self.k1 - self.k0
-        arcs = self.arc0 + np.arange(m + 1) * seg
         full = int(min(m, math.floor(vis / seg + 1e-9)))
         idx = np.arange(full + 1)
-        P = self.points[:full + 1].copy()
-        F = self.frames[:full + 1].copy()
-        A = arcs[:full + 1]
+        A = self.arc0 + idx * seg
+        # the mature rows as they are (read only: the turtle and the animation only read)
+        P = self.points[:full + 1]
+        F = self.frames[:full + 1]
         if vis - full * seg > 1e-6 * seg and full < m:
             i = full
             tip = self.points[i] + self.frames[i + 1][:, 1] * (vis - i * seg)
@@ -871,7 +901,7 @@ class Branch(Component):
             F = np.concatenate([F, self.frames[i + 1][None]])
             A = np.append(A, self.arc0 + vis)
             idx = np.append(idx, i + 1)
-        self._mature_rows = np.arange(len(A))
+        self._mature_rows = None  # every row a mature one, in order
         extra = plan.ring_arcs(self.arc0, self.arc0 + vis, max(self.current_length, 1e-9))
         if len(extra):  # not where a mature point already is
             near = np.abs(extra[:, None] - A[None, :]).min(1) <= 1e-6 * seg
@@ -886,7 +916,7 @@ class Branch(Component):
             idx = np.concatenate([idx, i + 1])[order]
             rows = np.empty(len(order), np.int64)
             rows[order] = np.arange(len(order))
-            self._mature_rows = rows[:len(self._mature_rows)]
+            self._mature_rows = rows[:len(order) - len(extra)]
         r = plan.radius * self.current_thickness * plan.profile(A, max(self.current_length,
                                                                       1e-9))
         return P, F, r, A, idx
@@ -917,7 +947,8 @@ class Branch(Component):
         self._skip_first = continues and parent_joint >= 0
         self._joints = turtle.stem_points(P, F, R, parent_joint=parent_joint,
                                           skip_first=self._skip_first)
-        self._seg_joints = self._joints[self._mature_rows]
+        rows = self._mature_rows
+        self._seg_joints = self._joints if rows is None else self._joints[rows]
         # its leaves are drawn by its Leaves component, visited next (the base slot)
 
 
@@ -1051,11 +1082,14 @@ def _envelope_exit(plan: StemPlan, key: tuple, world: np.ndarray,
     while stack:
         k0, frame, bkey, err0, w, share = stack.pop()
         k1, n_split, err, F, P = _run_curve(plan, k0, frame, err0, w, bend, memo)
-        pts = P @ w[:3, :3].T + w[:3, 3]
-        k = envelope_exit(pts, st, denom, width, peak, low, high)
-        if k == -2:  # a point on the envelope, to the last bits: NumPy's own numbers decide
-            out = ~tree.inside_envelope(pts)
-            k = int(np.argmax(out)) if np.any(out) else -1
+        # decided on the run's points where BLAS's last bits cannot matter, else on NumPy's
+        k = envelope_exit_local(P, w, st, denom, width, peak, low, high)
+        if k == -3:
+            pts = P @ w[:3, :3].T + w[:3, 3]
+            k = envelope_exit(pts, st, denom, width, peak, low, high)
+            if k == -2:  # a point on the envelope, to the last bits: NumPy's numbers decide
+                out = ~tree.inside_envelope(pts)
+                k = int(np.argmax(out)) if np.any(out) else -1
         arc0 = k0 * seg
         if k >= 0:
             arc = arc0 + max(k - 1, 0) * seg
@@ -1079,15 +1113,15 @@ def _split_frames(plan: StemPlan, n: int, rng: np.random.Generator) -> list[np.n
     draws of :meth:`Branch._continuations`, from the splitting run's stream)."""
     angle = plan.tree.params.float("SplitAngle", level=plan.level, default=20.0)
     base_phi = uniform(rng, 0, 2 * math.pi)
-    out = []
+    if n == 0:
+        return [_EYE3.copy()]
+    phi, a = np.empty(n + 1), np.empty(n + 1)
     for c in range(n + 1):
-        if n == 0:
-            out.append(np.eye(3))
-        else:
-            a = math.radians(abs(angle.sample(rng))) * (0.5 if c == 0 else 1.0)
-            phi = base_phi + 2 * math.pi * c / (n + 1)
-            out.append(_ry(phi) @ _rx(a) @ _ry(-phi))
-    return out
+        a[c] = math.radians(abs(angle.sample(rng))) * (0.5 if c == 0 else 1.0)
+        phi[c] = base_phi + 2 * math.pi * c / (n + 1)
+    # Ry(phi) @ Rx(a) @ Ry(-phi) of every clone in one product of rotation stacks (the
+    # matrices of _ry and _rx; a stack is multiplied matrix by matrix: the same bits)
+    return list(_ry_many(phi) @ _rx_many(a) @ _ry_many(-phi))
 
 
 def _pruned_length(plan_of, length: float, key: tuple, world: np.ndarray) -> float:
