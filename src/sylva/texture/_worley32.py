@@ -51,7 +51,10 @@ MIN_SPC = 0.5  # samples per cell from which a row goes by blocks (else run by r
 WROWS = 32  # grid rows per parallel work item (rows of one row of cells share its cache)
 
 
-@njit(inline="always", **_OPTS)
+# The small helpers of the lane loops are plain kernels, not inline="always": LLVM inlines
+# them (and folds the literal metric flags) all the same, while numba's own inlining of
+# their 140-odd call sites cost 15 CPU s of compiling.
+@njit(**_OPTS)
 def _d(sq, manhattan, dx, cyz):
     """Distance from the x offset and the candidate's y/z part (squared sum, sum of
     absolutes or maximum, as the metric)."""
@@ -61,7 +64,7 @@ def _d(sq, manhattan, dx, cyz):
     return a + cyz if manhattan else max(a, cyz)
 
 
-@njit(inline="always", **_OPTS)
+@njit(**_OPTS)
 def _yz(sq, manhattan, ddy, ddz):
     """The y/z part of a candidate's distance (``_d`` adds the x part)."""
     if sq:
@@ -69,7 +72,7 @@ def _yz(sq, manhattan, ddy, ddz):
     return ddy + ddz if manhattan else max(ddy, ddz)
 
 
-@njit(inline="always", **_OPTS)
+@njit(**_OPTS)
 def _keep(d, o1, o2, o3):
     """F1 <= F2 <= F3 after offering ``d`` (selects, as :func:`._cellkernels._keep`)."""
     return min(d, o1), o1 if d < o1 else min(d, o2), o2 if d < o2 else min(d, o3)
