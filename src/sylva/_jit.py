@@ -527,8 +527,10 @@ def serialise_cache_saves() -> None:
     an exclusive ``flock`` of the cache folder, so that the second process reads the
     index the first wrote.  Loads take no lock (both files are replaced whole).
     """
-    import fcntl
-
+    try:
+        import fcntl
+    except ImportError:  # not POSIX: numba's own saves
+        return
     from numba.core import caching
 
     real = caching.IndexDataCacheFile.save
@@ -536,7 +538,10 @@ def serialise_cache_saves() -> None:
         return
 
     def save(self, key, data):
-        fd = os.open(self._cache_path, os.O_RDONLY)
+        try:
+            fd = os.open(self._cache_path, os.O_RDONLY)
+        except OSError:  # a folder that cannot be opened: numba's own (unlocked) save
+            return real(self, key, data)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX)
             real(self, key, data)
