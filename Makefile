@@ -19,11 +19,14 @@ demo: $(STAMP)
 	$(BIN)/sylva warmup
 	$(BIN)/sylva demo
 
-## The whole test suite (lint first; the kernels compiled ahead on all cores).
+## The whole test suite (lint first; the kernels compiled ahead on all cores), the tests on
+## all cores (pytest-xdist: whole modules per worker, the slowest first, tests/conftest.py).
+## Serially: make test PYTEST_ARGS=
+PYTEST_ARGS ?= -n auto --maxprocesses 8 --dist loadfile --no-loadscope-reorder
 test: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks
 	$(BIN)/sylva warmup
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q $(PYTEST_ARGS)
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks

@@ -2,7 +2,9 @@
 the kernels numba compiles while the tests run, written as JSON to ``$SYLVA_TEST_TIMES``.
 
 CPU seconds are this process's (all its threads) plus those of the children it waited
-for (``RUSAGE_CHILDREN``: POV-Ray, node, Blender ...).
+for (``RUSAGE_CHILDREN``: POV-Ray, node, Blender ...).  Under pytest-xdist each worker
+writes its own file, ``$SYLVA_TEST_TIMES.<worker id>`` (``gw0``, ``gw1`` ...), with its
+process's CPU seconds at the end (``proc_cpu``); the controller writes the plain path.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ import pytest
 
 _tests: list[dict] = []
 _compiles: list[dict] = []
-_state = {"test": "(collection)", "collect": 0.0}
+_state = {"test": "(collection)", "collect": 0.0, "t0": 0.0}
 
 
 def _cpu() -> float:
@@ -45,11 +47,12 @@ def pytest_configure(config):
                               "test": _state["test"]})  # fmt: skip
 
     ev.register("numba:compile", _Listener())
-    _state["collect"] = time.perf_counter()
+    _state["t0"] = time.perf_counter()
 
 
 def pytest_collection_finish(session):
-    _state["collect"] = time.perf_counter() - _state["collect"]
+    # (not called in xdist's controller, which collects nothing: 0 there)
+    _state["collect"] = time.perf_counter() - _state["t0"]
 
 
 @pytest.hookimpl(hookwrapper=True)
@@ -96,7 +99,9 @@ def pytest_sessionfinish(session, exitstatus):
         t["setup"] = _setup.get(t["id"], 0.0)
     loaded = _loaded()
     path = os.environ.get("SYLVA_TEST_TIMES")
+    worker = os.environ.get("PYTEST_XDIST_WORKER")
     if path:
-        with open(path, "w") as fh:
+        with open(f"{path}.{worker}" if worker else path, "w") as fh:
             json.dump({"tests": _tests, "compiles": _compiles, "loaded": loaded,
-                       "collect_wall": _state["collect"]}, fh)  # fmt: skip
+                       "collect_wall": _state["collect"], "worker": worker,
+                       "proc_cpu": _cpu()}, fh)  # fmt: skip

@@ -21,7 +21,9 @@ processes both compiled (work done twice).
 first on the same folder) with a plugin that records each test's wall and CPU seconds
 (its process's and its waited-for children's: POV-Ray, node, Blender, Chromium) and any
 kernel compiled while the tests run (there should be none after the warm-up), then prints
-the slowest modules and tests.
+the slowest modules and tests.  PYTEST ARGS such as ``-n 2 --dist loadfile`` run it on
+pytest-xdist's workers (``make test``'s way): each worker's tests, time in tests and CPU
+seconds are printed too.
 
 The machine may be shared: ``uptime`` is printed before and after; CPU seconds are what
 a loaded machine stretches least.
@@ -214,11 +216,25 @@ def pytest(cache: Path, top: int, as_json: str | None, extra: list[str]) -> None
         r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
         wall = time.perf_counter() - t
         data = json.loads(rec.read_text()) if rec.exists() else {"tests": [], "compiles": []}
+        # under pytest -n (xdist) each worker wrote its own file: tests.json.gw0 ...
+        workers = [json.loads(f.read_text()) for f in sorted(rec.parent.glob(rec.name + ".*"))]
+        for w in workers:
+            for t in w["tests"]:
+                t["worker"] = w["worker"]
+            data["tests"] += w["tests"]
+            data["compiles"] += w["compiles"]
+        data["workers"] = [{k: w.get(k) for k in ("worker", "proc_cpu", "collect_wall")}
+                           for w in workers]  # fmt: skip
     print(f"# {uptime()}")
     cpu = r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime
     tests = data["tests"]
     print(f"\npytest: {wall:.1f} s wall, {cpu:.1f} CPU s (with children), {len(tests)} tests, "
           f"exit {proc.returncode}; collection {data.get('collect_wall', 0):.1f} s")
+    for w in workers:
+        mine = [t for t in tests if t.get("worker") == w["worker"]]
+        print(f"  worker {w['worker']}: {len(mine)} tests, {sum(t['wall'] for t in mine):.1f} s "
+              f"in tests, {w['proc_cpu']:.1f} CPU s (with children), collection "
+              f"{w['collect_wall']:.1f} s")
     mods: dict[str, list] = {}
     for t in tests:
         mod = t["id"].split("::")[0]

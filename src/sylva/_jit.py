@@ -1,6 +1,6 @@
 """Numba's cold start, seen from sylva (private).
 
-Four things, none of which imports numba until it is needed:
+Five things, none of which imports numba until it is needed:
 
 * :func:`lazy` — a stand-in for a kernel module that imports it on first use, so that
   ``import sylva`` does not import numba (half a second) or any kernel module;
@@ -13,7 +13,9 @@ Four things, none of which imports numba until it is needed:
   the kernels' own Python source (numba's ``DISABLE_JIT``, in a copy of the module) instead
   of waiting for them to compile.  The first image of a small plant then comes in a second
   or two; the kernels compile (with the message above) the first time work is large enough
-  for compiling to pay, or ahead in ``sylva warmup``.
+  for compiling to pay, or ahead in ``sylva warmup``;
+* :func:`serialise_cache_saves` — numba's cache writes made safe for several processes
+  compiling into one cache.
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ __all__ = [
     "interpreting",
     "lazy",
     "road",
+    "serialise_cache_saves",
     "small",
 ]
 
@@ -509,3 +512,42 @@ def _quiet():
     import numpy as np
 
     return np.errstate(over="ignore", divide="ignore", invalid="ignore")
+
+
+# ----------------------------------------------------------- numba's cache, many processes
+def serialise_cache_saves() -> None:
+    """Make numba's disk-cache writes safe when several processes compile into one cache
+    (``sylva warmup``'s workers, the test suite on ``pytest -n``); idempotent.
+
+    numba writes each cache file whole (a temporary file, then a rename), but it saves a
+    new signature as read index, add an entry, write index, write data, unlocked: two
+    processes that save two signatures of one kernel at once both take data file 1, and
+    the index can end up naming the other signature's code for a signature (numba
+    0.68, ``numba/core/caching.py``, ``IndexDataCacheFile.save``).  Here each save holds
+    an exclusive ``flock`` of the cache folder, so that the second process reads the
+    index the first wrote.  Loads take no lock (both files are replaced whole).
+    """
+    try:
+        import fcntl
+    except ImportError:  # not POSIX: numba's own saves
+        return
+    from numba.core import caching
+
+    real = caching.IndexDataCacheFile.save
+    if getattr(real, "_sylva_serialised", False):
+        return
+
+    def save(self, key, data):
+        try:
+            fd = os.open(self._cache_path, os.O_RDONLY)
+        except OSError:  # a folder that cannot be opened: numba's own (unlocked) save
+            return real(self, key, data)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+            real(self, key, data)
+        finally:
+            os.close(fd)  # closing the folder releases the lock
+
+    save._sylva_serialised = True
+    save.__wrapped__ = real
+    caching.IndexDataCacheFile.save = save

@@ -238,8 +238,9 @@ _profile = _Profile()
 def _run_group(name: str, profile: bool = False) -> tuple[str, int, float, str, list]:
     """In a worker process: run one group, silently; (name, kernels compiled, s, error,
     and with ``profile`` a record of each kernel compiled)."""
-    from .._jit import announce, compiled
+    from .._jit import announce, compiled, serialise_cache_saves
 
+    serialise_cache_saves()  # the other workers compile into the same cache
     prog = announce(io.StringIO())
     if profile:
         _profile.install(name)
