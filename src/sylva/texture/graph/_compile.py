@@ -32,10 +32,8 @@ import math
 import os
 import sys
 import threading
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-import numba
 import numpy as np
 
 from ... import _jit
@@ -646,28 +644,8 @@ def _vec(node, key, n):
 
 def _run(kernel, nrows, args):
     """Blocks of :data:`ROWS` rows on numba's thread count of Python threads (the kernel
-    releases the GIL), handed out a few at a time so a thread on a busier core takes fewer.
-    A serial kernel compiles in a third of the time a ``parallel=True`` one takes."""
-    nblocks = -(-nrows // _gk.ROWS)
-    nt = min(numba.get_num_threads(), nblocks)
-    if nt <= 1:
-        kernel(0, nblocks, *args)
-        return
-    step = max(1, nblocks // (8 * nt))
-    starts = iter(range(0, nblocks, step))
-    lock = threading.Lock()
-
-    def work():
-        while True:
-            with lock:
-                c0 = next(starts, None)
-            if c0 is None:
-                return
-            kernel(c0, min(nblocks, c0 + step), *args)
-
-    with ThreadPoolExecutor(nt) as pool:
-        for f in [pool.submit(work) for _ in range(nt)]:
-            f.result()
+    releases the GIL): :func:`.._gridplan.run_blocks`."""
+    _gp.run_blocks(kernel, -(-nrows // _gk.ROWS), args)
 
 
 def _python(src, nrows, args) -> bool:
