@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, uint64
+from numba import njit, prange, uint64
 
 from . import _cellkernels as ck
 from . import _kernels as k
@@ -173,20 +173,19 @@ def _row_lattice3(kind, mode, xt, yt, zt, j, m, acc, weight, amps, perm, vals, g
             _combine(mode, acc, weight, i, amp, n, gain)
 
 
-@njit(cache=True, nogil=True)
-def lattice_grid(c0, c1, kind, mode, ndim, xt, yt, zt, out32, out64, amps, perm, vals, g2, g3,
-                 norm, gain):
-    """Fill blocks ``c0 .. c1`` of :data:`ROWS` rows of ``out32`` or ``out64`` (see
-    :func:`_shape`; shape (nz, ny, nx)) with 2D (``nz == 1``) or 3D lattice noise from the
-    axis tables ``xt, yt, zt`` (:func:`._gridplan.run_blocks` runs the blocks on threads)."""
+@njit(cache=True, parallel=True)
+def lattice_grid(kind, mode, ndim, xt, yt, zt, out32, out64, amps, perm, vals, g2, g3, norm, gain):
+    """Fill ``out32`` or ``out64`` (see :func:`_shape`; shape (nz, ny, nx)) with 2D
+    (``nz == 1``) or 3D lattice noise from the axis tables ``xt, yt, zt``; blocks of
+    :data:`ROWS` rows in parallel."""
     nz, ny, nx = _shape(out32, out64)
     nrows = ny * nz
-    # local buffers: stores into them cannot alias the input tables
-    acc = np.empty(nx)
-    weight = np.empty(nx)
-    hb = np.empty((8, BLOCK), np.int64)
-    nb = np.empty(BLOCK)
-    for c in range(c0, c1):
+    for c in prange((nrows + ROWS - 1) // ROWS):
+        # local buffers: stores into them cannot alias the input tables
+        acc = np.empty(nx)
+        weight = np.empty(nx)
+        hb = np.empty((8, BLOCK), np.int64)
+        nb = np.empty(BLOCK)
         for r in range(c * ROWS, min(nrows, (c + 1) * ROWS)):
             j = r % ny
             m = r // ny
@@ -526,21 +525,21 @@ def simplex_grid(c0, c1, ndim, mode, xs, ys, zs, out32, out64, freqs, amps, offs
     :func:`._sampling.fractal_at`."""
     nz, ny, nx = _shape(out32, out64)
     nrows = ny * nz
-    acc = np.empty(nx)
-    weight = np.empty(nx)
-    bx = np.empty(BLOCK)
-    by = np.empty(BLOCK)
-    bz = np.empty(BLOCK)
-    nb = np.empty(BLOCK)
-    bi = np.empty(BLOCK, np.int64)
-    bj = np.empty(BLOCK, np.int64)
-    bk = np.empty(BLOCK, np.int64)
-    bc = np.empty(BLOCK, np.int64)
-    g0 = np.empty(BLOCK, np.int64)
-    g1 = np.empty(BLOCK, np.int64)
-    g2 = np.empty(BLOCK, np.int64)
-    g3 = np.empty(BLOCK, np.int64)
     for c in range(c0, c1):
+        acc = np.empty(nx)
+        weight = np.empty(nx)
+        bx = np.empty(BLOCK)
+        by = np.empty(BLOCK)
+        bz = np.empty(BLOCK)
+        nb = np.empty(BLOCK)
+        bi = np.empty(BLOCK, np.int64)
+        bj = np.empty(BLOCK, np.int64)
+        bk = np.empty(BLOCK, np.int64)
+        bc = np.empty(BLOCK, np.int64)
+        g0 = np.empty(BLOCK, np.int64)
+        g1 = np.empty(BLOCK, np.int64)
+        g2 = np.empty(BLOCK, np.int64)
+        g3 = np.empty(BLOCK, np.int64)
         for r in range(c * ROWS, min(nrows, (c + 1) * ROWS)):
             j = r % ny
             m = r // ny
@@ -582,18 +581,18 @@ def worley_grid(c0, c1, ndim, mode, xs, ys, zs, out32, out64, freqs, amps, offs,
     jitter = wpar[2]
     seed = int(wpar[3])
     density = wpar[7]
-    acc = np.empty(nx)
-    weight = np.empty(nx)
-    xb = np.empty(nx)
-    f1 = np.empty(nx)
-    f2 = np.empty(nx)
-    f3 = np.empty(nx)
-    best = np.empty(nx, np.int64)
-    nb = np.empty(nx)
-    win = np.empty((5, 3, 9))
-    winh = np.empty((3, 9), np.int64)
-    slot = np.empty(3, np.int64)
     for c in range(c0, c1):
+        acc = np.empty(nx)
+        weight = np.empty(nx)
+        xb = np.empty(nx)
+        f1 = np.empty(nx)
+        f2 = np.empty(nx)
+        f3 = np.empty(nx)
+        best = np.empty(nx, np.int64)
+        nb = np.empty(nx)
+        win = np.empty((5, 3, 9))
+        winh = np.empty((3, 9), np.int64)
+        slot = np.empty(3, np.int64)
         for r in range(c * ROWS, min(nrows, (c + 1) * ROWS)):
             j = r % ny
             m = r // ny

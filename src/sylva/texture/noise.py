@@ -1074,7 +1074,7 @@ def noise_grid(
             ]
             zt = tabs[2] if ndim == 3 else tabs[1]
             out, outs = _grid_out((full[2], full[1], full[0]), dt)
-            _gp.run_blocks(_gk.lattice_grid, -(-full[2] * full[1] // _gk.ROWS), (
+            _gk.lattice_grid(
                 setup.kind,
                 mode,
                 ndim,
@@ -1089,7 +1089,7 @@ def noise_grid(
                 t.gradients[1],
                 norm,
                 gain,
-            ))
+            )
             return out.reshape(shape)
         if setup.kind == _k.SIMPLEX and ndim in (2, 3) and not torus:
             out, outs = _grid_out((full[2], full[1], full[0]), dt)
