@@ -22,8 +22,9 @@ def test_graph_kernels_call_the_noise_kernels_without_literal_copies():
     # samples fractal_at per pixel), each equal to what noise_grid / fbm give
     flat = tg.Graph(tg.fbm(kind="perlin", scale=3.0, octaves=2, seed=4))
     warped = tg.Graph(tg.fbm(kind="value", scale=3.0, octaves=2, seed=4, warp=0.5))
-    a = flat.evaluate((4, 16), dtype=np.float32)
-    b = warped.evaluate((4, 16), dtype=np.float64)
+    # the compiled road (a small image on a cold kernel would run it as Python)
+    a = _compile.evaluate(flat, (4, 16), np.float32, road="compiled")
+    b = _compile.evaluate(warped, (4, 16), np.float64, road="compiled")
     assert a.shape == b.shape == (4, 16) and np.isfinite(a).all() and np.isfinite(b).all()
     # the fused kernels may come from numba's disk cache (an earlier run, sylva warmup), and
     # then their callees are never typed in this process: type each once more, uncached

@@ -108,6 +108,14 @@ def _graphs() -> None:
         bake_surface(name, 8)
     for dtype in (np.float32, np.float64):
         marble_graph(seed=1).evaluate((4, 24), dtype=dtype)
+    # a small graph of the tests or the studio runs its kernel as Python while that is not
+    # compiled: the float64 lattice rows it then calls from Python (inlined in the kernels)
+    from ..texture import graph as tg
+    from ..texture.graph._compile import evaluate
+
+    g = tg.Graph(tg.perlin(scale=2.0))
+    for shape in ((2, 8), (2, 2, 8)):
+        evaluate(g, shape, np.float64, road="python")
     worley_features([0.2, 3.7], [0.4, 1.1], order=6)
     noise_grid((4, 24), kind="worley", output="f4", dtype=np.float64)
 

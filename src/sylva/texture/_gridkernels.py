@@ -516,14 +516,16 @@ def _combine_block(mode, acc, weight, base, cnt, nb, amp, gain):
             acc[i] += amp * s
 
 
-@njit(cache=True, parallel=True)
-def simplex_grid(ndim, mode, xs, ys, zs, out32, out64, freqs, amps, offs, perm, perm12, norm, gain):
-    """Fill ``out32`` or ``out64`` (see :func:`_shape`; shape (nz, ny, nx)) with 2D or 3D
-    simplex noise (a 2D image with time is 3D with ``nz == 1``); octave ``o`` samples
-    ``noise(freqs[o] * p + offs[o])`` like :func:`._sampling.fractal_at`."""
+@njit(cache=True, nogil=True)
+def simplex_grid(c0, c1, ndim, mode, xs, ys, zs, out32, out64, freqs, amps, offs, perm, perm12,
+                 norm, gain):
+    """Fill blocks ``c0 .. c1`` of :data:`ROWS` rows of ``out32`` or ``out64`` (see
+    :func:`_shape`; shape (nz, ny, nx)) with 2D or 3D simplex noise (a 2D image with time is
+    3D with ``nz == 1``); octave ``o`` samples ``noise(freqs[o] * p + offs[o])`` like
+    :func:`._sampling.fractal_at`."""
     nz, ny, nx = _shape(out32, out64)
     nrows = ny * nz
-    for c in prange((nrows + ROWS - 1) // ROWS):
+    for c in range(c0, c1):
         acc = np.empty(nx)
         weight = np.empty(nx)
         bx = np.empty(BLOCK)
@@ -563,9 +565,11 @@ def simplex_grid(ndim, mode, xs, ys, zs, out32, out64, freqs, amps, offs, perm, 
 
 
 # ----------------------------------------------------------------------------- Worley
-@njit(cache=True, parallel=True)
-def worley_grid(ndim, mode, xs, ys, zs, out32, out64, freqs, amps, offs, pers, wpar, norm, gain):
-    """Fill ``out32`` or ``out64`` (see :func:`_shape`; shape (nz, ny, nx)) with 2D or 3D
+@njit(cache=True, nogil=True)
+def worley_grid(c0, c1, ndim, mode, xs, ys, zs, out32, out64, freqs, amps, offs, pers, wpar,
+                norm, gain):
+    """Fill blocks ``c0 .. c1`` of :data:`ROWS` rows of ``out32`` or ``out64`` (see
+    :func:`_shape`; shape (nz, ny, nx)) with 2D or 3D
     Worley noise, row by row with :func:`._cellkernels.worley_row` (or
     :func:`._cellkernels.worley_poisson_row` when the density ``wpar[7]`` is positive);
     ``wpar`` = (metric, output, jitter, seed, c1, c2, c3, density) as for
@@ -577,7 +581,7 @@ def worley_grid(ndim, mode, xs, ys, zs, out32, out64, freqs, amps, offs, pers, w
     jitter = wpar[2]
     seed = int(wpar[3])
     density = wpar[7]
-    for c in prange((nrows + ROWS - 1) // ROWS):
+    for c in range(c0, c1):
         acc = np.empty(nx)
         weight = np.empty(nx)
         xb = np.empty(nx)

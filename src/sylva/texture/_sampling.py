@@ -6,10 +6,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from . import _kernels as k
 from ._cellkernels import NEEDK, combine, worley, worley_poisson
+from ._gridplan import run_blocks
 
 # a direction for time in the 4D torus embedding of tileable simplex (unit length)
 _TD = (0.3872983346207417, -0.5477225575051661, 0.4472135954999579, 0.5916079783099616)
@@ -132,8 +133,10 @@ def fractal_at(
     return total * norm
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, nogil=True)
 def generic_kernel(
+    r0,
+    r1,
     points,
     kind,
     mode,
@@ -157,14 +160,15 @@ def generic_kernel(
     norm,
     gain,
 ):
-    """Fill ``out[nw, nz, ny, nx]`` with the fractal sum, rows in parallel.
+    """Fill rows ``r0 .. r1`` of ``out[nw, nz, ny, nx]`` (a row: ``(iw, iz, iy)``) with the
+    fractal sum (:func:`._gridplan.run_blocks` runs the rows on threads).
 
     Grid mode: the product grid of the axes ``xs[nx], ys[ny], zs[nz], ws[nw]``.
     Point mode (``points``): ``out`` has shape (1, 1, rows, chunk) and sample ``q`` of
     row ``r`` (``q = r * chunk + i``) is the point ``(xs[q], ys[q], zs[q], ws[q])``.
     """
     nw, nz, ny, nx = out.shape
-    for r in prange(nw * nz * ny):
+    for r in range(r0, r1):
         iy = r % ny
         iz = (r // ny) % nz
         iw = r // (ny * nz)
@@ -252,7 +256,7 @@ def run_points(
             c = padded
         coords.append(c)
     out = np.empty((1, 1, rows, chunk))
-    generic_kernel(
+    run_blocks(generic_kernel, rows, (
         True,
         kind,
         mode,
@@ -275,5 +279,5 @@ def run_points(
         wpar,
         norm,
         gain,
-    )
+    ))
     return out.reshape(-1)[:n]

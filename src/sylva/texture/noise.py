@@ -1104,7 +1104,7 @@ def noise_grid(
             return out.reshape(shape)
         if setup.kind == _k.SIMPLEX and ndim in (2, 3) and not torus:
             out, outs = _grid_out((full[2], full[1], full[0]), dt)
-            _gp.GRID.simplex_grid(
+            _gp.run_blocks(_gp.GRID.simplex_grid, -(-full[2] * full[1] // _gk.ROWS), (
                 ndim,
                 mode,
                 axes[0],
@@ -1118,11 +1118,11 @@ def noise_grid(
                 t.perm12,
                 norm,
                 gain,
-            )
+            ))
             return out.reshape(shape)
         if setup.kind == _k.WORLEY and ndim in (2, 3):
             out, outs = _grid_out((full[2], full[1], full[0]), dt)
-            _gp.GRID.worley_grid(
+            _gp.run_blocks(_gp.GRID.worley_grid, -(-full[2] * full[1] // _gk.ROWS), (
                 ndim,
                 mode,
                 axes[0],
@@ -1136,14 +1136,14 @@ def noise_grid(
                 setup.wpar,
                 norm,
                 gain,
-            )
+            ))
             return out.reshape(shape)
         if torus:
             # x and y become angles; the circumferences (pers) are the octave's cell counts
             axes[0] = 2.0 * np.pi * np.arange(sizes[0], dtype=np.float64) / sizes[0]
             axes[1] = 2.0 * np.pi * np.arange(sizes[1], dtype=np.float64) / sizes[1]
         out = np.empty((full[3], full[2], full[1], full[0]), dtype=np.float64)
-        _gp.SAMPLING.generic_kernel(
+        _gp.run_blocks(_gp.SAMPLING.generic_kernel, full[3] * full[2] * full[1], (
             False,
             setup.kind,
             mode,
@@ -1166,5 +1166,5 @@ def noise_grid(
             setup.wpar,
             norm,
             gain,
-        )
+        ))
         return out.astype(dt, copy=False).reshape(shape)

@@ -14,6 +14,14 @@ read by it (they cannot sit under a transformer).
 The source is written to a cache directory (``$SYLVA_CACHE_DIR`` or ``~/.cache/sylva``)
 under the hash of its text and imported, so numba's own cache keeps the machine code between
 runs; within a process the kernel is kept per graph structure.
+
+While that kernel is neither compiled nor in numba's cache, small work takes the
+interpreted road instead (:func:`sylva._jit.cold`): the same generated source run as Python
+(numba's ``DISABLE_JIT``), calling the compiled row and point kernels that ``noise_grid``
+uses and ``sylva warmup`` caches, with the per-sample arithmetic in NumPy float64 scalars
+(IEEE, so the same values as the compiled kernel's).  A test builds a graph of its own
+(about 1.3 CPU s of compiling each) and evaluates it on a few thousand samples (tens of
+milliseconds in Python); a large image compiles the kernel once, as before.
 """
 
 from __future__ import annotations
@@ -24,12 +32,11 @@ import math
 import os
 import sys
 import threading
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-import numba
 import numpy as np
 
+from ... import _jit
 from ..._atomic import atomic_write
 from .. import _gridkernels as _gk
 from .. import _gridkernels32 as _gk32
@@ -58,7 +65,13 @@ from sylva.texture.graph import _ops
 """
 
 _KERNELS: dict[str, object] = {}
+_PYTHON: dict[str, object] = {}
 _LOCK = threading.Lock()
+
+#: Samples × statements per sample up to which a graph whose kernel is neither compiled
+#: nor cached runs as Python: at most about 0.3 s (0.5-2 µs a statement), where compiling
+#: the kernel costs 1-3 CPU s.
+PYTHON_WORK = 1 << 19
 
 
 def cache_dir() -> Path:
@@ -68,24 +81,59 @@ def cache_dir() -> Path:
     return root / "texgraph"
 
 
+def _key(src: str) -> str:
+    return hashlib.sha256(src.encode()).hexdigest()[:24]
+
+
+def _source_file(src: str, key: str) -> Path:
+    d = cache_dir()
+    d.mkdir(parents=True, exist_ok=True)
+    path = d / f"graph_{key}.py"
+    if not path.exists() or path.read_text(encoding="utf-8") != src:
+        with atomic_write(path, "w") as fh:
+            fh.write(src)
+    return path
+
+
 def _load(src: str):
-    key = hashlib.sha256(src.encode()).hexdigest()[:24]
+    key = _key(src)
     with _LOCK:
         fn = _KERNELS.get(key)
         if fn is not None:
             return fn
-        d = cache_dir()
-        d.mkdir(parents=True, exist_ok=True)
-        path = d / f"graph_{key}.py"
-        if not path.exists() or path.read_text(encoding="utf-8") != src:
-            with atomic_write(path, "w") as fh:
-                fh.write(src)
+        path = _source_file(src, key)
         name = f"_sylva_texgraph_{key}"
         spec = importlib.util.spec_from_file_location(name, path)
         mod = importlib.util.module_from_spec(spec)
         sys.modules[name] = mod
         spec.loader.exec_module(mod)
         _KERNELS[key] = mod.kernel
+        return mod.kernel
+
+
+def _load_python(src: str):
+    """The kernel of ``src`` as a plain Python function: the module executed with numba's
+    ``DISABLE_JIT`` (its formula functions are Python too), its ``_ops`` helpers the
+    interpreted copy (no compile, no dispatcher call per sample); the row and point kernels
+    it calls stay the compiled ones."""
+    key = _key(src)
+    with _LOCK:
+        fn = _PYTHON.get(key)
+        if fn is not None:
+            return fn
+        from numba.core import config
+
+        name = f"_sylva_texgraph_py_{key}"
+        spec = importlib.util.spec_from_file_location(name, _source_file(src, key))
+        mod = importlib.util.module_from_spec(spec)
+        old = config.DISABLE_JIT
+        config.DISABLE_JIT = True
+        try:
+            spec.loader.exec_module(mod)
+        finally:
+            config.DISABLE_JIT = old
+        mod._ops = _jit.interpreted("sylva.texture.graph._ops")
+        _PYTHON[key] = mod.kernel
         return mod.kernel
 
 
@@ -596,34 +644,30 @@ def _vec(node, key, n):
 
 def _run(kernel, nrows, args):
     """Blocks of :data:`ROWS` rows on numba's thread count of Python threads (the kernel
-    releases the GIL), handed out a few at a time so a thread on a busier core takes fewer.
-    A serial kernel compiles in a third of the time a ``parallel=True`` one takes."""
-    nblocks = -(-nrows // _gk.ROWS)
-    nt = min(numba.get_num_threads(), nblocks)
-    if nt <= 1:
-        kernel(0, nblocks, *args)
-        return
-    step = max(1, nblocks // (8 * nt))
-    starts = iter(range(0, nblocks, step))
-    lock = threading.Lock()
-
-    def work():
-        while True:
-            with lock:
-                c0 = next(starts, None)
-            if c0 is None:
-                return
-            kernel(c0, min(nblocks, c0 + step), *args)
-
-    with ThreadPoolExecutor(nt) as pool:
-        for f in [pool.submit(work) for _ in range(nt)]:
-            f.result()
+    releases the GIL): :func:`.._gridplan.run_blocks`."""
+    _gp.run_blocks(kernel, -(-nrows // _gk.ROWS), args)
 
 
-def evaluate(graph, shape, dtype=np.float32, outputs=None):
+def _python(src, nrows, args) -> bool:
+    """Run the kernel of ``src`` as Python (one thread: it holds the GIL); ``False`` where
+    Python's arithmetic parts from numba's (a float ``ValueError`` or ``ZeroDivisionError``
+    that numba's NumPy error model turns into NaN or infinity): the compiled road then."""
+    try:
+        fn = _load_python(src)
+        with _jit._quiet():
+            fn(0, -(-nrows // _gk.ROWS), *args)
+    except (ArithmeticError, ValueError):
+        return False
+    return True
+
+
+def evaluate(graph, shape, dtype=np.float32, outputs=None, road=None):
     """Evaluate ``graph`` on a grid of ``shape`` ((H, W) or (D, H, W)); returns the array
     (colour graphs: a trailing axis of 4, RGBA).  ``outputs``: several nodes (all scalar or
-    all colour) evaluated by one kernel, stacked on a leading axis."""
+    all colour) evaluated by one kernel, stacked on a leading axis.  ``road``: ``None``
+    chooses (see the module's notes), ``"python"`` or ``"compiled"`` takes that one (the
+    tests compare them; ``"python"`` still takes the compiled one where Python's arithmetic
+    would part from numba's)."""
     shape = tuple(int(s) for s in shape)
     if len(shape) not in (2, 3) or min(shape) < 1:
         raise GraphError(f"a graph renders a 2D image (H, W) or a volume (D, H, W), got {shape}")
@@ -633,7 +677,8 @@ def evaluate(graph, shape, dtype=np.float32, outputs=None):
     colour = nodes[0].spec.output == COLOUR
     if any((n.spec.output == COLOUR) != colour for n in nodes):
         raise GraphError("outputs must be all scalar or all colour")
-    kernel = _load(em.source(results, colour))
+    src = em.source(results, colour)
+    kernel = _load(src)
     nz, ny, nx = em.nz, em.ny, em.nx
     k = len(nodes)
     out = np.empty((k, nz, ny, nx, 4) if colour else (k, nz, ny, nx), dtype=dtype)
@@ -641,7 +686,12 @@ def evaluate(graph, shape, dtype=np.float32, outputs=None):
     Y = np.arange(ny, dtype=np.float64) / nx
     Z = np.arange(nz, dtype=np.float64) / nx
     P = np.array(em.P, dtype=np.float64)
-    with _nz._threads(out.size * em.work):
-        _run(kernel, ny * nz, (out, X, Y, Z, P, *em.args))
+    args = (out, X, Y, Z, P, *em.args)
+    per_sample = 4 + len(em.body) + 2 * k * (4 if colour else 1) + 2 * len(em.row)
+    python = (_jit.cold(kernel, nz * ny * nx * per_sample, PYTHON_WORK) if road is None
+              else road == "python")
+    if not (python and _python(src, ny * nz, args)):
+        with _nz._threads(out.size * em.work):
+            _run(kernel, ny * nz, args)
     out = out.reshape((k,) + shape + ((4,) if colour else ()))
     return out[0] if outputs is None else out
