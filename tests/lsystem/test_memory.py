@@ -72,10 +72,20 @@ def test_the_estimate_is_within_1_3x_of_the_measured_peak(text, steps):
     # SYLVA_JIT=always: on a cold cache the kernels compile in the first step, not in the
     # measured one (small words would otherwise run interpreted until then)
     env = dict(os.environ, PYTHONPATH=str(Path(sylva.__file__).parents[1]), SYLVA_JIT="always")
-    out = subprocess.run([sys.executable, "-c", CHILD, text, str(steps)], env=env,
-                         capture_output=True, text=True, timeout=300, check=True)  # fmt: skip
-    got = json.loads(out.stdout)
+
+    def measure():
+        out = subprocess.run([sys.executable, "-c", CHILD, text, str(steps)], env=env,
+                             capture_output=True, text=True, timeout=300, check=True)  # fmt: skip
+        return json.loads(out.stdout)
+
+    got = measure()
     assert got["need"] is not None  # the guard looked at this step
+    if got["need"] / got["peak"] < 1 / 1.3:
+        # a peak's noise is one-sided (something else in the process allocating during the
+        # step: seen once with the suite on two workers, 94 MB against 76-82 in every other
+        # run), so a second measurement's smaller peak is the step's own
+        again = measure()
+        got["peak"] = min(got["peak"], again["peak"])
     ratio = got["need"] / got["peak"]
     assert 1 / 1.3 <= ratio <= 1.3, got
 
