@@ -53,7 +53,8 @@ def block_step_bytes(n_out: int, last_blocks: int, previous_blocks: int) -> int:
 
 
 def general_step_bytes(
-    word: ModuleString, rs: _RuleSet, counts: np.ndarray, n_out: int, v_out: int
+    word: ModuleString, rs: _RuleSet, counts: np.ndarray, n_out: int, v_out: int,
+    made: tuple[bool, bool] | None = None,
 ) -> int:
     """The general road, from the rules and the count of each symbol in the word.
 
@@ -62,16 +63,19 @@ def general_step_bytes(
     candidate indices, masks, context positions, the bound parameters, the condition and
     weight evaluated (with one temporary each), the weights table of a tier of several
     rules; then the assembly (output starts, value starts, the new word) and the
-    successor's parameters evaluated one expression at a time.
+    successor's parameters evaluated one expression at a time.  ``made``: whether the
+    word's bracket match and parameter offsets were still to be made when the step began
+    (the guard runs after the matching, which made them; default: whether they are now).
     """
     n = len(word)
     held = n * _I64  # the choice per module, kept to the end
     if word.has_params:
         held += n * _I64  # nparams
+    no_match, no_offsets = made or (word._match is None, word._offsets is None)
     if any(cr.rule.has_context for cr in rs.rules):
-        if word._match is None:
+        if no_match:
             held += n * _I64  # the bracket match, made for context matching and kept
-        if word._offsets is None:
+        if no_offsets:
             held += n * _I64  # the (zero) parameter offsets the matcher reads, kept
     pending = 0  # bound parameters kept for the successors, to the assembly
     matching = 0  # the largest transient of one symbol's rules

@@ -561,6 +561,7 @@ def _step_general(
     ``scope`` (``int64[n]``) is each module's sub-L-system, which a rule's must match."""
     n = len(word)
     ids = word.ids
+    made = (word._match is None, word._offsets is None)  # what matching will make, and keep
     choice = np.full(n, -1, np.int64)
     if choices is not None:
         choices.append(choice)
@@ -659,7 +660,7 @@ def _step_general(
         n_out, n_vals = n, int(word.values.shape[0])
     if n_out > 1_000_000 or n_out > limit:
         counts = np.bincount(ids, minlength=len(word.alphabet))
-        need = general_step_bytes(word, rs, counts, n_out, n_vals)
+        need = general_step_bytes(word, rs, counts, n_out, n_vals, made=made)
         _check_limit(n_out, need, limit, word, step)
     if not word.has_params and not pending and not rs.rule_nvals.any():
         new_ids = _kernels.assemble_ids(ids, choice, rs.rule_len, rs.rule_ids_start, rs.rule_ids)
