@@ -95,7 +95,7 @@ def _ring_gap(ndim, metric, r, fx, fy, fz, fw):
     return gap * gap if metric == EUCLIDEAN_SQ else gap
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def worley(ndim, x, y, z, w, px, py, pz, pw, metric, jitter, seed, needk):
     """Distances to the 1st, 2nd and 3rd nearest feature points and the nearest cell's id.
 
@@ -167,7 +167,7 @@ def _point_hash(h, i):
     return hash32(h ^ (((i + 1) * _POINT_SALT) & MASK))
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def worley_poisson(ndim, x, y, z, w, px, py, pz, pw, metric, density, seed, needk):
     """:func:`worley` for a Poisson process of ``density`` points per unit cell.
 
@@ -235,7 +235,7 @@ def worley_poisson(ndim, x, y, z, w, px, py, pz, pw, metric, density, seed, need
     return f1, f2, f3, hash32(best ^ 0x2545F491) * INV32
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def poisson_cell_points(ndim, ix, iy, iz, iw, px, py, pz, pw, density, seed):
     """The feature points of one cell of :func:`worley_poisson` (for tests and debugging):
     ``(points, hashes)``, ``points`` of shape (n, ndim) and the points' hashes."""
@@ -346,7 +346,7 @@ def _dist_sel(metric, ddx, cy2, cz2, cy, cz):
     return l1 if metric == MANHATTAN else (li if metric == CHEBYSHEV else sq)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def worley_row(
     ndim,
     xs,
@@ -527,7 +527,7 @@ def worley_row(
             nb[i] = combine(combo, f1[i], f2[i], f3[i], f1[i], c1, c2, c3)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def worley_poisson_row(
     ndim, xs, fx, ox, y, z, px, py, pz, metric, density, seed, combo, c1, c2, c3, nb
 ):

@@ -11,7 +11,7 @@ MANDELBROT, JULIA, BURNING_SHIP, BARNSLEY_J1, BARNSLEY_J1Z = 0, 1, 2, 3, 4
 LOG2 = math.log(2.0)
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, fastmath=False, parallel=True)
 def escape_kernel(kind, re, im, cre, cim, maxiter, bailout, smooth, out):
     """Smooth escape-time counts on the grid ``re[nx] x im[ny]`` into ``out[ny, nx]``.
 
@@ -69,7 +69,7 @@ def escape_kernel(kind, re, im, cre, cim, maxiter, bailout, smooth, out):
                 out[j, i] = n + 1.0 - frac
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def chaos_game(mats, offs, choices, x0, y0, xmin, ymin, sx, sy, hist, skip):
     """Iterate p <- A_k p + b_k for k = choices[n]; count visits in ``hist[ny, nx]``.
 
@@ -91,7 +91,7 @@ def chaos_game(mats, offs, choices, x0, y0, xmin, ymin, sx, sy, hist, skip):
             hist[ny - 1 - j, i] += 1
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def mandelbrot_members(cre, cim, maxiter, out):
     """``out[i]``: whether c stays within |z| <= 2 for ``maxiter`` iterations of z^2 + c."""
     for i in range(cre.shape[0]):

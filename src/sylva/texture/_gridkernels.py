@@ -28,7 +28,7 @@ ROWS = 8  # rows per parallel work item (enough items to balance the threads)
 BLOCK = 256  # samples per block of the split passes (the block buffers stay in L1)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def _shape(out32, out64):
     """The grid shape: the grid kernels fill ``out32`` (float32) or ``out64`` (float64),
     whichever is not empty, so that one compiled kernel serves both output types."""
@@ -60,7 +60,7 @@ def _combine(mode, acc, weight, i, amp, n, gain):
         acc[i] += amp * s
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def axis_tables(coords, freqs, offs, pers, interp):
     """Lattice tables of one axis: ``(i0, i1, frac, curve)``, each of shape (octaves, n).
 
@@ -173,7 +173,7 @@ def _row_lattice3(kind, mode, xt, yt, zt, j, m, acc, weight, amps, perm, vals, g
             _combine(mode, acc, weight, i, amp, n, gain)
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, fastmath=False, parallel=True)
 def lattice_grid(kind, mode, ndim, xt, yt, zt, out32, out64, amps, perm, vals, g2, g3, norm, gain):
     """Fill ``out32`` or ``out64`` (see :func:`_shape`; shape (nz, ny, nx)) with 2D
     (``nz == 1``) or 3D lattice noise from the axis tables ``xt, yt, zt``; blocks of
@@ -230,7 +230,7 @@ def _gm3(h, x, y, z):
     return gx * x + gy * y + gz * z
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def _imp_hash(ndim, base, cnt, xi0, xi1, o, p, y0, y1, z0, z1, hb):
     """Gradient indices (``hash & 15``) of the 4 or 8 cell corners of samples base.. into
     ``hb[:, :cnt]`` (x tables of octave ``o``; the row's y and z lattice indices)."""
@@ -258,7 +258,7 @@ def _imp_hash(ndim, base, cnt, xi0, xi1, o, p, y0, y1, z0, z1, hb):
             hb[7, q] = p[bb + z1] & 15
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def _imp_eval2(base, cnt, xf, xu, o, y, v, hb, nb):
     b0 = uint64(base)
     for q in range(cnt):
@@ -272,7 +272,7 @@ def _imp_eval2(base, cnt, xf, xu, o, y, v, hb, nb):
         )
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def _imp_eval3(base, cnt, xf, xu, o, y, z, v, w, hb, nb):
     b0 = uint64(base)
     for q in range(cnt):
@@ -295,7 +295,7 @@ def _imp_eval3(base, cnt, xf, xu, o, y, z, v, w, hb, nb):
         )
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def _row_improved(mode, ndim, xt, yt, zt, j, m, acc, weight, amps, perm, gain, hb, nb):
     """Row ``(m, j)`` of 2D or 3D improved noise summed into ``acc`` (``hb``, ``nb``: block
     buffers)."""
@@ -348,7 +348,7 @@ def _gz(g):
     return (-1.0 if g & 2 else 1.0) if g >= 4 else 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bi, bj, bc):
     for q in range(cnt):
         xin = xs[uint64(base) + uint64(q)] * fx + ox
@@ -365,7 +365,7 @@ def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bi, bj, bc):
         bc[q] = 1 if x0 > y0 else 0
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def _s2_hash(cnt, bi, bj, bc, perm, perm12, g0, g1, g2):
     one = uint64(1)
     for q in range(cnt):
@@ -377,7 +377,7 @@ def _s2_hash(cnt, bi, bj, bc, perm, perm12, g0, g1, g2):
         g2[q] = perm12[ii + one + uint64(perm[jj + one])]
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def _s2_eval(cnt, bx, by, bc, g0, g1, g2, nb):
     for q in range(cnt):
         x0 = bx[q]
@@ -423,7 +423,7 @@ def _corners3(c):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc):
     for q in range(cnt):
         xin = xs[uint64(base) + uint64(q)] * fx + ox
@@ -444,7 +444,7 @@ def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bi, bj, bk, bc):
         bc[q] = (1 if x0 >= y0 else 0) | (2 if y0 >= z0 else 0) | (4 if x0 >= z0 else 0)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def _s3_hash(cnt, bi, bj, bk, bc, perm, perm12, g0, g1, g2, g3):
     one = uint64(1)
     for q in range(cnt):
@@ -460,7 +460,7 @@ def _s3_hash(cnt, bi, bj, bk, bc, perm, perm12, g0, g1, g2, g3):
         g3[q] = perm12[ii + one + uint64(perm[jj + one + uint64(perm[kk + one])])]
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb):
     for q in range(cnt):
         i1, j1, k1, i2, j2, k2 = _corners3(bc[q])
@@ -495,7 +495,7 @@ def _s3_eval(cnt, bx, by, bz, bc, g0, g1, g2, g3, nb):
         nb[q] = 32.0 * n
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def _combine_block(mode, acc, weight, base, cnt, nb, amp, gain):
     """Add octave values ``nb[:cnt]`` into ``acc[base:base + cnt]`` (see :func:`_combine`)."""
     # unsigned indices: numba's negative-index wrap-around would keep the loops scalar
@@ -516,7 +516,7 @@ def _combine_block(mode, acc, weight, base, cnt, nb, amp, gain):
             acc[i] += amp * s
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, fastmath=False, nogil=True)
 def simplex_grid(c0, c1, ndim, mode, xs, ys, zs, out32, out64, freqs, amps, offs, perm, perm12,
                  norm, gain):
     """Fill blocks ``c0 .. c1`` of :data:`ROWS` rows of ``out32`` or ``out64`` (see
@@ -565,7 +565,7 @@ def simplex_grid(c0, c1, ndim, mode, xs, ys, zs, out32, out64, freqs, amps, offs
 
 
 # ----------------------------------------------------------------------------- Worley
-@njit(cache=True, nogil=True)
+@njit(cache=True, fastmath=False, nogil=True)
 def worley_grid(c0, c1, ndim, mode, xs, ys, zs, out32, out64, freqs, amps, offs, pers, wpar,
                 norm, gain):
     """Fill blocks ``c0 .. c1`` of :data:`ROWS` rows of ``out32`` or ``out64`` (see

@@ -111,7 +111,7 @@ def _grad_improved2(h, x, y):
 
 
 # ----------------------------------------------------------------------------- value noise
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def value2(x, y, px, py, interp, perm, vals):
     fx = _floor(x)
     fy = _floor(y)
@@ -144,7 +144,7 @@ def _vcube(perm, vals, h0, h1, y0, y1, z0, z1, u, v, w):
                        _lerp(u, vals[perm[b01 + z1]], vals[perm[b11 + z1]])))
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def value3(x, y, z, px, py, pz, interp, perm, vals):
     fx = _floor(x)
     fy = _floor(y)
@@ -157,7 +157,7 @@ def value3(x, y, z, px, py, pz, interp, perm, vals):
                   _curve(x, interp), _curve(y, interp), _curve(z, interp))
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def value4(x, y, z, w, px, py, pz, pw, interp, perm, vals):
     fx = _floor(x)
     fy = _floor(y)
@@ -185,7 +185,7 @@ def value4(x, y, z, w, px, py, pz, pw, interp, perm, vals):
 
 
 # ----------------------------------------------------------------------------- classic Perlin
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def perlin2(x, y, px, py, interp, perm, g2):
     fx = _floor(x)
     fy = _floor(y)
@@ -236,7 +236,7 @@ def _gcube(perm, g, h0, h1, y0, y1, z0, z1, x, y, z, u, v, w):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def perlin3(x, y, z, px, py, pz, interp, perm, g3):
     fx = _floor(x)
     fy = _floor(y)
@@ -254,7 +254,7 @@ def _g4(g, h, x, y, z, w):
     return g[h, 0] * x + g[h, 1] * y + g[h, 2] * z + g[h, 3] * w
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def _gcube4(perm, g, mask, wh, y0, y1, z0, z1, x0, x1, x, y, z, w, u, v, t):
     """One w-slice (a cube) of 4D gradient noise; ``wh = perm[w index]``."""
     a0 = perm[wh + x0]
@@ -276,7 +276,7 @@ def _gcube4(perm, g, mask, wh, y0, y1, z0, z1, x0, x1, x, y, z, w, u, v, t):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def _grad4d(x, y, z, w, px, py, pz, pw, interp, perm, g, mask):
     fx = _floor(x)
     fy = _floor(y)
@@ -301,13 +301,13 @@ def _grad4d(x, y, z, w, px, py, pz, pw, interp, perm, g, mask):
     return _lerp(_curve(w, interp), c0, c1)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def perlin4(x, y, z, w, px, py, pz, pw, interp, perm, g4):
     return _grad4d(x, y, z, w, px, py, pz, pw, interp, perm, g4, 255)
 
 
 # ----------------------------------------------------------------------------- improved Perlin
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def improved3(x, y, z, px, py, pz, interp, p):
     """Perlin's 2002 reference ``ImprovedNoise.noise`` (bit-exact with the default tables)."""
     fx = _floor(x)
@@ -344,7 +344,7 @@ def improved3(x, y, z, px, py, pz, interp, p):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def improved2(x, y, px, py, interp, p):
     """``improved3(x, y, 0)`` with the four z=1 corners skipped (their weight is exactly 0)."""
     fx = _floor(x)
@@ -370,7 +370,7 @@ def improved2(x, y, px, py, interp, p):
                        _grad_improved2(p[bb + z0], x - 1, y - 1)))
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def improved4(x, y, z, w, px, py, pz, pw, interp, p, g4):
     """4D extension of improved noise: the 32 hypercube-edge gradients of Gustavson's table
     (``hash & 31``), the hash taken over w first."""
@@ -378,7 +378,7 @@ def improved4(x, y, z, w, px, py, pz, pw, interp, p, g4):
 
 
 # ----------------------------------------------------------------------------- simplex
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def simplex2(xin, yin, perm, perm12):
     """Gustavson's SimplexNoise.java (2012) ``noise(x, y)``.
 
@@ -415,7 +415,7 @@ def simplex2(xin, yin, perm, perm12):
     return 70.0 * n
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def simplex3(xin, yin, zin, perm, perm12):
     """Gustavson's SimplexNoise.java (2012) ``noise(x, y, z)``."""
     s = (xin + yin + zin) * F3
@@ -479,7 +479,7 @@ def _s4corner(x, y, z, w, g):
     t = max(0.6 - x * x - y * y - z * z - w * w, 0.0)
     t *= t
     return t * t * (G4X[g] * x + G4Y[g] * y + G4Z[g] * z + G4W[g] * w)
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def simplex4(x, y, z, w, perm):
     """Gustavson's SimplexNoise.java (2012, rank ordering) ``noise(x, y, z, w)``."""
     s = (x + y + z + w) * F4

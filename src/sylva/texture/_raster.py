@@ -8,7 +8,7 @@ import math
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def draw_segments(rgb, alpha, x0, y0, x1, y1, half, colors, wrap):
     """Composite segments, in order, over ``rgb[H, W, 3]`` / ``alpha[H, W]``.
 

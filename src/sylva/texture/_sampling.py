@@ -16,7 +16,7 @@ from ._gridplan import run_blocks
 _TD = (0.3872983346207417, -0.5477225575051661, 0.4472135954999579, 0.5916079783099616)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def noise_at(kind, ndim, x, y, z, w, px, py, pz, pw, interp, perm, perm12, vals, cg, wpar):
     """One sample of the base noise ``kind`` in ``ndim`` dimensions."""
     if kind == k.IMPROVED:
@@ -55,7 +55,7 @@ def noise_at(kind, ndim, x, y, z, w, px, py, pz, pw, interp, perm, perm12, vals,
     return combine(combo, f1, f2, f3, cid, wpar[4], wpar[5], wpar[6])
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def fractal_at(
     kind,
     mode,
@@ -133,7 +133,7 @@ def fractal_at(
     return total * norm
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, fastmath=False, nogil=True)
 def generic_kernel(
     r0,
     r1,

@@ -28,7 +28,7 @@ from ._cellkernels import (
 MAX_RING = POISSON_MAX_RING
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def worley_n(ndim, x, y, z, w, px, py, pz, pw, metric, jitter, density, seed, d, ids):
     """The ``len(d)`` nearest feature-point distances at ``(x, y[, z[, w]])``, ascending,
     into ``d`` (and the points' hashes into ``ids``).  ``density > 0``: the Poisson process
@@ -109,7 +109,7 @@ def worley_n(ndim, x, y, z, w, px, py, pz, pw, metric, jitter, density, seed, d,
         r += 1
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, fastmath=False, parallel=True)
 def worley_n_points(ndim, xs, ys, zs, ws, px, py, pz, pw, metric, jitter, density, seed, n):
     """:func:`worley_n` at every point: ``(F, cell)``, ``F`` of shape (len(xs), n) (F1..Fn)
     and ``cell`` the nearest point's id in [0, 1)."""
