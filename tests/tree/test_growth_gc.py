@@ -47,3 +47,22 @@ def test_a_paused_collector_stays_paused():
         assert not gc.isenabled()
     finally:
         gc.enable()
+
+
+def test_a_traversal_leaves_no_cycle_behind():
+    """The turtle a traversal drew with is freed as soon as it is dropped, without the
+    cycle collector (the traversal's recursive closure held it in a cycle)."""
+    from sylva.tree.components import traverse
+    from sylva.tree.geometry_turtle import TreeTurtle
+
+    tree = _tree().grow(6.0)
+    gc.disable()
+    try:
+        turtle = TreeTurtle(tree.bark_material)
+        stats = traverse(tree.root, turtle)
+        assert stats.components > 30
+        ref = weakref.ref(turtle)
+        del turtle
+        assert ref() is None
+    finally:
+        gc.enable()
