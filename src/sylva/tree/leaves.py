@@ -74,6 +74,10 @@ class LeafParameterError(SylvaError, ValueError):
 
 LEAF_FALL = 0.5  # years a shed branch takes to drop its leaves, before its wood goes
 _AUTUMN_STREAM = 17  # the random stream of the autumn ranks (after the stems' 7, 11, 13)
+# a crown leaf's death (it stays: inf), shared read only by the runs (a view of its first
+# n rows instead of a new array per run; nothing writes a death)
+_NEVER = np.full(1024, np.inf)
+_NEVER.flags.writeable = False
 
 
 class Leaves(Component):
@@ -234,7 +238,7 @@ def plan_leaves(branch, rng) -> Leaves | None:
     birth = None  # worked out later for every leaf of the tree at once (Leaves.birth) ...
     if tree.pf("LeafScaleYoung", level=plan.level + 1, default=1.0).value != 1.0:
         birth = _births(plan, arc)  # ... unless the sizes depend on it now
-    death = np.full(len(arc), np.inf)
+    death = _NEVER[:len(arc)] if len(arc) <= len(_NEVER) else np.full(len(arc), np.inf)
     if birth is not None:
         size = _young(tree, plan.level + 1, size, birth)
     juvenile = _juvenile_leaves(branch)
