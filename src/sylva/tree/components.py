@@ -404,7 +404,7 @@ def traverse(root: Component, turtle, stats: TraversalStats | None = None) -> Tr
                 stats.max_context_depth = max(stats.max_context_depth, len(ctx_stack))
             for ci, child in enumerate(slot.children):
                 turtle.matrix = at_slot
-                visit(child)
+                visit(child)  # noqa: F821 (its own cell, emptied by the del below)
                 if last_slot and ci == n - 1:
                     break
                 top = ctx_stack[-1]
@@ -417,4 +417,7 @@ def traverse(root: Component, turtle, stats: TraversalStats | None = None) -> Tr
                 turtle.matrix = xf_stack.pop()
 
     visit(root)
+    # the closure refers to itself (a cycle, holding the turtle and its rows through its
+    # cell): emptying the cell frees them now instead of at the collector's next pass
+    del visit
     return stats

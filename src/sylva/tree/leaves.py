@@ -74,6 +74,10 @@ class LeafParameterError(SylvaError, ValueError):
 
 LEAF_FALL = 0.5  # years a shed branch takes to drop its leaves, before its wood goes
 _AUTUMN_STREAM = 17  # the random stream of the autumn ranks (after the stems' 7, 11, 13)
+# a crown leaf's death (it stays: inf), shared read only by the runs (a view of its first
+# n rows instead of a new array per run; nothing writes a death)
+_NEVER = np.full(1024, np.inf)
+_NEVER.flags.writeable = False
 
 
 class Leaves(Component):
@@ -108,7 +112,9 @@ class Leaves(Component):
         else:
             self._frame = frame
         self.size = size
-        self.birth = birth
+        self._birth: np.ndarray | None = birth
+        if birth is None:  # worked out with the tree's others when first asked for
+            _pending(self.tree, "_leaf_births").append(self)
         self.death = death
         self.juvenile = juvenile
         self._rank: np.ndarray | None = None
@@ -117,6 +123,16 @@ class Leaves(Component):
 
     def __len__(self) -> int:
         return len(self.arc)
+
+    @property
+    def birth(self) -> np.ndarray:
+        """``float64[n]``: the global time each leaf appears (its stem reaches it, plus
+        ``LeafDelay``).  A crown's leaves are planned without it; the births of all the
+        tree's leaves planned so far are worked out together the first time one is asked
+        for (:func:`_settle_births`)."""
+        if self._birth is None:
+            _settle_births(self)
+        return self._birth
 
     @property
     def frame(self) -> np.ndarray:
@@ -219,12 +235,17 @@ def plan_leaves(branch, rng) -> Leaves | None:
     them as a :class:`Leaves` on its base slot; ``None`` when it has none."""
     plan, tree = branch.plan, branch.plan.tree
     arc, frame, size = _crown_leaves(branch, rng)
-    birth = np.asarray(plan.time_at_length(arc)) + tree.leaf_delay
-    death = np.full(len(arc), np.inf)
-    size = _young(tree, plan.level + 1, size, birth)
+    birth = None  # worked out later for every leaf of the tree at once (Leaves.birth) ...
+    if tree.pf("LeafScaleYoung", level=plan.level + 1, default=1.0).value != 1.0:
+        birth = _births(plan, arc)  # ... unless the sizes depend on it now
+    death = _NEVER[:len(arc)] if len(arc) <= len(_NEVER) else np.full(len(arc), np.inf)
+    if birth is not None:
+        size = _young(tree, plan.level + 1, size, birth)
     juvenile = _juvenile_leaves(branch)
     n_juvenile = 0
     if juvenile is not None:
+        if birth is None:
+            birth = _births(plan, arc)
         j_arc, j_frame, j_size, j_birth, j_death = juvenile
         n_juvenile = len(j_arc)
         arc = np.concatenate([arc, j_arc])
@@ -316,12 +337,49 @@ class _Turns:
         return self.branch.frames[self.seg + 1] @ self.ry @ self.rx @ self.rt
 
 
-def _pending(tree) -> list:
-    """The tree's :class:`Leaves` whose frames are not worked out yet."""
-    pending = tree.__dict__.get("_leaf_turns")
+def _pending(tree, what: str = "_leaf_turns") -> list:
+    """The tree's :class:`Leaves` whose frames (``_leaf_turns``) or births
+    (``_leaf_births``) are not worked out yet."""
+    pending = tree.__dict__.get(what)
     if pending is None:
-        pending = tree._leaf_turns = []
+        pending = tree.__dict__[what] = []
     return pending
+
+
+def _births(plan, arc: np.ndarray) -> np.ndarray:
+    """The birth of a leaf at each arc length ``arc`` of a stem of ``plan``."""
+    return np.asarray(plan.time_at_length(arc)) + plan.tree.leaf_delay
+
+
+def _settle_births(leaves: Leaves) -> None:
+    """Work out the births of every pending :class:`Leaves` of ``leaves``' tree in one
+    pass of array operations (``leaves``' own included).  :meth:`StemPlan.time_at_length
+    <sylva.tree.weber_penn.StemPlan.time_at_length>` on an array is elementwise: each
+    leaf's ``birth + inverse(arc / length) * grow_time + LeafDelay`` with its own stem's
+    numbers, the same IEEE operations on one long array as on each run's (the growth
+    curve is the tree's, shared by every stem), so the same bits
+    (``tests/tree/test_leaf_births.py``); it saves some twelve small NumPy calls per run."""
+    pending = _pending(leaves.tree, "_leaf_births")
+    batch = [x for x in pending if x._birth is None]
+    pending.clear()
+    if leaves._birth is None and all(x is not leaves for x in batch):
+        batch.append(leaves)
+    growth = batch[0].branch.plan.growth
+    if any(x.branch.plan.growth is not growth for x in batch):  # not one curve: each alone
+        for x in batch:
+            x._birth = _births(x.branch.plan, x.arc)
+        return
+    plans = [x.branch.plan for x in batch]
+    counts = [len(x.arc) for x in batch]
+    arc = np.concatenate([x.arc for x in batch]).astype(np.float64, copy=False)
+    length = np.repeat(np.array([p.length for p in plans], np.float64), counts)
+    start = np.repeat(np.array([p.birth for p in plans], np.float64), counts)
+    years = np.repeat(np.array([p.grow_time for p in plans], np.float64), counts)
+    birth = (start + growth.inverse(arc / length) * years) + leaves.tree.leaf_delay
+    at = 0
+    for x, n in zip(batch, counts):
+        x._birth = birth[at:at + n]
+        at += n
 
 
 def _settle_frames(leaves: Leaves) -> None:

@@ -246,7 +246,7 @@ class Tree:
             raise ValueError(f"age must be >= 0, got {age}")
         if age < self.simulation.time - 1e-12:
             self.reset()
-        with _no_cycle_collection(), decided():
+        with _no_cycle_collection(kept=True), decided():
             self.simulation.advance_to(age)
         return self
 
@@ -329,16 +329,28 @@ class Tree:
 
 
 @contextlib.contextmanager
-def _no_cycle_collection():
+def _no_cycle_collection(kept: bool = False):
     """Python's cycle collector paused while a tree grows or is drawn: the thousands of
     components it makes (and keeps) would otherwise be scanned again and again, a tenth
-    of a big tree's time, for cycles that are not garbage."""
+    of a big tree's time, for cycles that are not garbage.
+
+    ``kept``: what was made inside is kept (a tree's growth: its components, which live as
+    long as the tree), so it goes straight to the collector's oldest generation
+    (``gc.freeze()`` then ``gc.unfreeze()``, which moves every tracked object there)
+    instead of being scanned by the young generation's collection that would come at the
+    next allocation (some 60,000 objects, 4% of a willow's time, none of them garbage).
+    They are scanned, and freed once the tree is dropped, by the next full collection as
+    any long-lived object is.  Only while nothing else is frozen (``gc.get_freeze_count()``
+    is 0): unfreezing would thaw another's frozen objects too."""
     was = gc.isenabled()
     gc.disable()
     try:
         yield
     finally:
         if was:
+            if kept and not gc.get_freeze_count():
+                gc.freeze()
+                gc.unfreeze()
             gc.enable()
 
 
