@@ -26,8 +26,7 @@ _SAVE = """
 import os, sys, time
 from pathlib import Path
 sys.path.insert(0, sys.argv[1])
-from sylva._jit import serialise_cache_saves
-serialise_cache_saves()
+import sylva  # every sylva process locks its cache saves, once numba is imported
 from numba.core import caching
 locked, write_index = caching.IndexDataCacheFile.save, caching.IndexDataCacheFile._save_index
 me, other = Path(sys.argv[2]), Path(sys.argv[3])
@@ -82,3 +81,24 @@ def test_two_processes_saving_two_signatures_of_one_kernel_keep_both(tmp_path):
     assert got["values"] == [2, 3.5]
     # nothing compiled: both came from the cache (unlocked, one of them is lost)
     assert got == {"values": [2, 3.5], "hits": ["(float64,)", "(int64,)"], "misses": []}
+
+
+_ORDER = """
+import sys
+sys.path.insert(0, sys.argv[1])
+if sys.argv[2] == "numba first":
+    import numba
+import sylva
+assert sys.argv[2] == "numba first" or "numba" not in sys.modules  # no import for the lock
+from numba.core import caching
+print(getattr(caching.IndexDataCacheFile.save, "_sylva_serialised", False))
+"""
+
+
+def test_every_sylva_process_locks_its_saves_whenever_numba_comes():
+    env = dict(os.environ, PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    for order in ("numba first", "sylva first"):
+        run = subprocess.run([sys.executable, "-c", _ORDER, SRC, order], env=env,
+                             capture_output=True, text=True, timeout=120)  # fmt: skip
+        assert run.returncode == 0, run.stderr
+        assert run.stdout.strip() == "True", order

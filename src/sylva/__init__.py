@@ -28,6 +28,7 @@ The language itself:
 import sys as _sys
 import types as _types
 
+from . import _jit
 from .errors import GrowthLimitError, LSystemSemanticError, LSystemSyntaxError, SylvaError
 from .lsystem import (
     Derivation,
@@ -41,6 +42,10 @@ from .lsystem import (
     loads,
     render_word,
 )
+
+# every sylva process (CLI subprocesses, Dask workers, the studio, the tests' workers) may
+# compile into one numba cache with others: its saves take the cache folder's lock
+_jit.after_numba(_jit.serialise_cache_saves)
 
 __all__ = [
     "Derivation",

@@ -187,21 +187,29 @@ def _register(prog: _Progress) -> None:
     event.register("numba:compile", _Listener())
 
 
-class _AfterNumba(importlib.abc.MetaPathFinder):
-    """Registers the listener once numba has been imported (by whatever needs it), so that
-    a command that compiles nothing does not import numba for the message's sake."""
+_after: list = []  # callables to run once numba has been imported (after_numba)
 
-    def __init__(self, prog: _Progress):
-        self.prog = prog
+
+def _run_after() -> None:
+    with _lock:
+        todo, _after[:] = list(_after), []
+    for fn in todo:
+        fn()
+
+
+class _AfterNumba(importlib.abc.MetaPathFinder):
+    """Runs the :func:`after_numba` callables once numba has been imported (by whatever
+    needs it), so that a command that compiles nothing does not import numba for them."""
 
     def find_spec(self, name, path=None, target=None):
         if name != "numba":
             return None
-        sys.meta_path.remove(self)
+        if self in sys.meta_path:
+            sys.meta_path.remove(self)
         spec = importlib.util.find_spec(name)
         if spec is None or spec.loader is None:
             return spec
-        loader, prog = spec.loader, self.prog
+        loader = spec.loader
 
         class _Loader(importlib.abc.Loader):
             def create_module(self, spec):
@@ -209,10 +217,22 @@ class _AfterNumba(importlib.abc.MetaPathFinder):
 
             def exec_module(self, module):
                 loader.exec_module(module)
-                _register(prog)
+                _run_after()
 
         spec.loader = _Loader()
         return spec
+
+
+def after_numba(fn) -> None:
+    """Call ``fn()`` now if numba is imported, else right after numba's first import (in
+    the order of the calls); never imports numba itself."""
+    with _lock:
+        if "numba" not in sys.modules:
+            _after.append(fn)
+            if not any(isinstance(f, _AfterNumba) for f in sys.meta_path):
+                sys.meta_path.insert(0, _AfterNumba())
+            return
+    fn()
 
 
 def announce(stream=None) -> _Progress:
@@ -226,11 +246,8 @@ def announce(stream=None) -> _Progress:
             return prog
         prog = _Progress(stream)
         _state["listener"] = prog
-        if "numba" in sys.modules:
-            _register(prog)
-        else:
-            sys.meta_path.insert(0, _AfterNumba(prog))
-        return prog
+    after_numba(lambda: _register(prog))
+    return prog
 
 
 # ------------------------------------------------------------------- the interpreted road

@@ -41,3 +41,21 @@ def test_graph_kernels_call_the_noise_kernels_without_literal_copies():
 def test_structural_arguments_are_typed_not_literal():
     assert _Emit.i(3) == "np.int64(3)"
     assert _Emit.b(1) == "np.bool_(True)" and _Emit.b(False) == "np.bool_(False)"
+
+
+def test_generated_sources_name_the_texture_kernels_they_call(tmp_path):
+    # numba's cache of a generated graph module does not notice a change in the grid
+    # kernels it calls: the generated source carries a hash of the texture package's
+    # sources, so an upgraded sylva writes (and compiles) new files instead of running an
+    # old file's cached code with the old kernels inlined
+    g = tg.Graph(tg.fbm(kind="perlin", scale=3.0, octaves=2, seed=4))
+    em = _compile._Emit(g, (4, 16), np.float32)
+    src = em.source([em.emit(g.output, None)], False)
+    assert _compile._stamp() in src.splitlines()
+    for name, text in (("a.py", "x = 1\n"), ("sub/b.py", "y = 2\n")):
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text(text, encoding="utf-8")
+    before = _compile._sources_hash(tmp_path)
+    assert _compile._sources_hash(tmp_path) == before  # the same sources, the same files
+    (tmp_path / "sub/b.py").write_text("y = 3\n", encoding="utf-8")  # one kernel changed
+    assert _compile._sources_hash(tmp_path) != before

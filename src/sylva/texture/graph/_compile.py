@@ -81,6 +81,30 @@ def cache_dir() -> Path:
     return root / "texgraph"
 
 
+_STAMP: list[str] = []
+_STAMP_LOCK = threading.Lock()
+
+
+def _sources_hash(root: Path) -> str:
+    h = hashlib.sha256()
+    for f in sorted(root.rglob("*.py")):
+        h.update(f.relative_to(root).as_posix().encode() + b"\0")
+        h.update(f.read_bytes())
+    return h.hexdigest()[:24]
+
+
+def _stamp() -> str:
+    """A line for the generated source naming the texture package's own sources (the grid,
+    point and Worley kernels the graph calls, and this generator): numba's cache of a
+    generated module does not notice a change in the modules it calls, so a sylva whose
+    kernels changed must generate (and cache) new files, not run an old one's code."""
+    with _STAMP_LOCK:
+        if not _STAMP:
+            root = Path(__file__).resolve().parent.parent
+            _STAMP.append(f"# sylva.texture sources {_sources_hash(root)}")
+        return _STAMP[0]
+
+
 def _key(src: str) -> str:
     return hashlib.sha256(src.encode()).hexdigest()[:24]
 
@@ -603,7 +627,7 @@ class _Emit:
                 store.append(f"out[{q}, m, j, i] = {res}")
         args = ", ".join(f"a{k}" for k in range(len(self.args)))
         ind = " " * 16
-        lines = [_HEADER, *self.funcs, "",
+        lines = [_HEADER, _stamp(), *self.funcs, "",
                  "@njit(cache=True, nogil=True, error_model='numpy')",
                  f"def kernel(c0, c1, out, X, Y, Z, P{', ' if args else ''}{args}):",
                  "    nz = out.shape[1]", "    ny = out.shape[2]", "    nx = out.shape[3]",
