@@ -303,7 +303,7 @@ def _grad4d(x, y, z, w, px, py, pz, pw, interp, perm, g, mask):
 
 @njit(cache=True, fastmath=False)
 def perlin4(x, y, z, w, px, py, pz, pw, interp, perm, g4):
-    return _grad4d(x, y, z, w, px, py, pz, pw, interp, perm, g4, 255)
+    return _grad4d(x, y, z, w, px, py, pz, pw, interp, perm, g4, np.int64(255))
 
 
 # ----------------------------------------------------------------------------- improved Perlin
@@ -374,7 +374,7 @@ def improved2(x, y, px, py, interp, p):
 def improved4(x, y, z, w, px, py, pz, pw, interp, p, g4):
     """4D extension of improved noise: the 32 hypercube-edge gradients of Gustavson's table
     (``hash & 31``), the hash taken over w first."""
-    return _grad4d(x, y, z, w, px, py, pz, pw, interp, p, g4, 31)
+    return _grad4d(x, y, z, w, px, py, pz, pw, interp, p, g4, np.int64(31))
 
 
 # ----------------------------------------------------------------------------- simplex

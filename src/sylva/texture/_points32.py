@@ -21,8 +21,8 @@ gradient and value noises go in three passes per octave:
    selects, no tables), then the multilinear blend axis by axis (one straight loop per
    pair of corners) or the simplex sum, and the octave's fBm, turbulence or ridged term.
 
-Driver: :func:`grid_kernel`, rows in parallel: a grid's rows (with the torus embedding
-when asked) or rows of points (domain warping).  Results differ from the float64
+Driver: :func:`grid_kernel`, rows on threads (:func:`grid_rows`): a grid's rows (with the
+torus embedding when asked) or rows of points (domain warping).  Results differ from the float64
 road by float32 rounding: below :data:`TOLERANCE` (absolute, values about [-1, 1]);
 see ``tests/texture/test_points32.py``.
 """
@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange, uint64
+from numba import njit, uint64
 
 from .. import _jit
 from . import _cellkernels as ck
@@ -600,11 +600,12 @@ def _block(kind, mode, ndim, torus, P, tz, m, freqs, amps, offs, pers, interp, p
             acc[q] *= norm
 
 
-@njit(parallel=True, **_OPTS)
-def grid_kernel(points, kind, mode, ndim, torus, xs, ys, zs, ws, out, freqs, amps, offs, pers,
-                interp, perm, perm12, vals, grad, wpar, norm, gain):
-    """Fill ``out`` (float32, shape (nw, nz, ny, nx)) with the fractal sum, rows in
-    parallel (one kernel for every road: one compile).
+@njit(nogil=True, **_OPTS)
+def grid_rows(r0, r1, points, kind, mode, ndim, torus, xs, ys, zs, ws, out, freqs, amps, offs,
+              pers, interp, perm, perm12, vals, grad, wpar, norm, gain):
+    """Fill rows ``r0 .. r1`` of ``out`` (float32, shape (nw, nz, ny, nx); a row: ``(iw, iz,
+    iy)``) with the fractal sum (one kernel for every road: one compile; :func:`grid_kernel`
+    runs it on threads).
 
     Grid mode: the product grid of ``xs, ys, zs, ws``; with ``torus`` ``xs`` and ``ys``
     are the angles of the 4D torus and ``zs`` the time.  Point mode (``points``): ``out``
@@ -612,13 +613,13 @@ def grid_kernel(points, kind, mode, ndim, torus, xs, ys, zs, ws, out, freqs, amp
     ``(xs, ys, zs, ws)[r * nx + i]``."""
     nw, nz, ny, nx = out.shape
     nb = (nx + BLOCK - 1) // BLOCK
-    for r in prange(nw * nz * ny):
+    wk = work()
+    P = np.empty((4, BLOCK))
+    acc = np.empty(BLOCK, np.float32)
+    for r in range(r0, r1):
         iy = r % ny
         iz = (r // ny) % nz
         iw = r // (ny * nz)
-        wk = work()
-        P = np.empty((4, BLOCK))
-        acc = np.empty(BLOCK, np.float32)
         row = out[iw, iz, iy]
         for b in range(nb):
             x0 = b * BLOCK
@@ -648,6 +649,17 @@ def grid_kernel(points, kind, mode, ndim, torus, xs, ys, zs, ws, out, freqs, amp
                    perm, perm12, vals, grad, wpar, norm, gain, wk, acc)
             for q in range(m):
                 row[x0 + q] = acc[q]
+
+
+def grid_kernel(points, kind, mode, ndim, torus, xs, ys, zs, ws, out, *args):
+    """:func:`grid_rows` over every row of ``out`` (its arguments but the row range), rows
+    on threads (:func:`._gridplan.run_blocks`; a serial kernel compiles in about half the
+    time of a ``parallel=True`` one, issue 25)."""
+    from ._gridplan import run_blocks
+
+    nw, nz, ny, _ = out.shape
+    run_blocks(grid_rows, nw * nz * ny, (points, kind, mode, ndim, torus, xs, ys, zs, ws, out,
+                                         *args))
 
 
 def _points(kind, mode, ndim, pts, freqs, amps, offs, pers, tail):
@@ -710,7 +722,7 @@ def grid32(plan, warp, setup):
 
     which = road(plan, warp)
     n = math.prod(plan.shape)
-    if which is None or _jit.cold(grid_kernel, n, SCALAR_WORK):
+    if which is None or _jit.cold(grid_rows, n, SCALAR_WORK):
         return None
     s, ndim, mode = plan.setup, plan.ndim, plan.mode
     axes = [np.ascontiguousarray(a, np.float64) for a in plan.axes]

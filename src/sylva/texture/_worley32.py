@@ -38,7 +38,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange, uint64
+from numba import njit, uint64
 
 from . import _cellkernels as ck
 from ._gridkernels32 import _OPTS, ONE, ZERO, _combine_block, _finish
@@ -48,7 +48,7 @@ INF = _F(1e30)  # "no distance yet": finite, as fast-math assumes no infinities
 LANES = 16  # samples per block (buffers are padded by as many)
 NSLOT = 36  # cached rows of cells: the 9 (dy, dz) neighbours of a row, 4 ways
 MIN_SPC = 0.5  # samples per cell from which a row goes by blocks (else run by run)
-WROWS = 32  # grid rows per parallel work item (rows of one row of cells share its cache)
+WROWS = 32  # grid rows per work item (rows of one row of cells share its cache)
 
 
 # The small helpers of the lane loops are plain kernels, not inline="always": LLVM inlines
@@ -381,14 +381,13 @@ def supported(wpar) -> bool:
     return not (wpar[7] > 0.0 or int(wpar[1]) == ck.W_CELL)
 
 
-@njit(parallel=True, **_OPTS)
-def worley_grid32(ndim, mode, xs, ys, zs, out, freqs, amps, offs, pers, wpar, norm, gain):
-    """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D or 3D Worley noise (jittered
-    grid, any output but the cell id), every octave summed per row; arguments as for
-    :func:`._gridkernels.worley_grid` (``amps`` already carry ``norm`` unless ridged)."""
+@njit(nogil=True, **_OPTS)
+def worley_rows32(c0, c1, ndim, mode, xs, ys, zs, out, freqs, amps, offs, pers, wpar, norm,
+                  gain):
+    """Work items ``c0 .. c1`` (:data:`WROWS` grid rows each) of :func:`worley_grid32`."""
     nz, ny, nx = out.shape
     nrows = ny * nz
-    for c in prange((nrows + WROWS - 1) // WROWS):
+    for c in range(c0, c1):
         weight = np.empty(nx, np.float32)
         nb = np.empty(nx, np.float32)
         work = row_work(nx)
@@ -399,3 +398,16 @@ def worley_grid32(ndim, mode, xs, ys, zs, out, freqs, amps, offs, pers, wpar, no
             row_worley32(ndim, mode, xs, ys, zs, j, m, row, weight, freqs, amps, offs, pers,
                          wpar, gain, work, nb)
             _finish(mode, row, norm)
+
+
+def worley_grid32(ndim, mode, xs, ys, zs, out, freqs, amps, offs, pers, wpar, norm, gain):
+    """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D or 3D Worley noise (jittered
+    grid, any output but the cell id), every octave summed per row; arguments as for
+    :func:`._gridkernels.worley_grid` (``amps`` already carry ``norm`` unless ridged).
+    The work items of :func:`worley_rows32` run on threads (:func:`._gridplan.run_blocks`:
+    a serial kernel compiles in about half the time of a ``parallel=True`` one, issue 25)."""
+    from ._gridplan import run_blocks
+
+    nz, ny, _ = out.shape
+    run_blocks(worley_rows32, (ny * nz + WROWS - 1) // WROWS,
+               (ndim, mode, xs, ys, zs, out, freqs, amps, offs, pers, wpar, norm, gain))
