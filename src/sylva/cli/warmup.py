@@ -121,7 +121,7 @@ def _graphs() -> None:
 
 
 def _worley32(tmp: Path) -> None:
-    """The float32 Worley grids (the slowest kernels to compile, about 37 CPU s), apart from
+    """The float32 Worley grids (among the slowest kernels to compile, about 21 CPU s), apart from
     the texture group so that they compile beside it (the texture group's
     ``_gridkernels32.warm()`` then loads them): every path its own warm-up takes."""
     import numpy as np
@@ -138,7 +138,7 @@ def _worley32(tmp: Path) -> None:
 
 def _points32(tmp: Path) -> None:
     """noise_grid's float32 road of 4D grids, tileable simplex and domain warping (one
-    kernel, about 30 CPU s), beside the texture group."""
+    serial kernel run on threads, about 20-24 CPU s), beside the texture group."""
     from ..texture import _points32
 
     _points32.warm()
