@@ -9,6 +9,7 @@ covers, with the same statistics (so the same images to the eye).
 import numpy as np
 import pytest
 
+from sylva import _jit
 from sylva.texture import _gridkernels32 as gk32
 from sylva.texture import noise_grid
 
@@ -16,6 +17,14 @@ TOL = gk32.TOLERANCE
 
 # a row longer than a block (256) and one shorter, 2D and 3D
 SHAPES = [(20, 300), (5, 12, 72)]
+
+
+@pytest.fixture(autouse=True)
+def _compiled():
+    # on a cold numba cache small grids take the interpreted float64 road: these tests are
+    # about the compiled float32 road (else they would compare float64 with float64)
+    with _jit.compiled():
+        yield
 
 
 @pytest.mark.parametrize("shape", SHAPES, ids=["2d", "3d"])
