@@ -480,15 +480,22 @@ def _cell_eval(kind, base, cnt, nx, cid, xf, xu, cc, e0, nb):
     from their cells' coefficients (``cc``: those of cells ``e0 ..``; ``cid``: each
     column's cell) into ``nb`` (:data:`LANES` spare entries): blocks of :data:`LANES`
     lanes, each lane's coefficients by selects over the cells its block spans."""
-    for s in range(base, base + cnt, LANES):
+    end = base + cnt
+    s = base
+    while s < end:
         us = uint64(s)
-        uo = uint64(s - base)
         cf = cid[us]
-        nl = min(LANES, nx - s)
-        ce = uint64(cf - e0)
+        # the run of whole vectors whose samples lie in cells cf .. cf + KMAX - 1 (one
+        # set-up of the select chains for them all: ~4 vectors a run at 16 samples a cell)
+        e = s + LANES
+        while e < end and cid[uint64(min(e + LANES, end) - 1)] - cf < KMAX:
+            e += LANES
+        e = min(e, end)
         # a literal span (the chain unrolls); one copy for every kind (value noise has
         # p0 = p1 = 0) keeps compile time down
-        _cell_lanes(False, KMAX, us, nl, cf, ce, cid, xf, xu, cc, nb, uo)
+        _cell_lanes(False, KMAX, us, e - s, cf, uint64(cf - e0), cid, xf, xu, cc, nb,
+                    uint64(s - base))
+        s = e
 
 
 @njit(**_OPTS)
