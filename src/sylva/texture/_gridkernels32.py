@@ -136,9 +136,10 @@ def _finish(mode, row, norm):
 
 @njit(**_OPTS)
 def _lat_hash(kind, ndim, base, cnt, a0, a1, perm, vals, grad, y0, y1, z0, z1, hb, vb, gb):
-    """Scalar pass: the corner hashes of samples ``base..base + cnt`` (gradient indices
-    into ``hb`` for improved noise, lattice values into ``vb`` for value noise, the
-    gradients of classic Perlin noise into ``gb``)."""
+    """Scalar pass: the corner hashes of samples ``base..base + cnt`` (improved noise: the
+    corners' gradient indices into ``hb[c]``, in 2D packed, corner ``c``'s ``perm[...] & 15``
+    in bits ``4c .. 4c + 3`` of ``hb[0]``, one store a sample; value noise: lattice values
+    into ``vb``; classic Perlin noise: the gradients into ``gb``)."""
     b0 = uint64(base)
     if kind == k.PERLIN:
         for q in range(cnt):
@@ -179,11 +180,9 @@ def _lat_hash(kind, ndim, base, cnt, a0, a1, perm, vals, grad, y0, y1, z0, z1, h
             h1 = perm[b + y0]
             h2 = perm[a + y1]
             h3 = perm[b + y1]
-            if kind == k.IMPROVED:
-                hb[0, q] = perm[uint64(h0)]
-                hb[1, q] = perm[uint64(h1)]
-                hb[2, q] = perm[uint64(h2)]
-                hb[3, q] = perm[uint64(h3)]
+            if kind == k.IMPROVED:  # the corners' 4-bit gradient indices in one word
+                hb[0, q] = ((perm[uint64(h0)] & 15) | ((perm[uint64(h1)] & 15) << 4)
+                            | ((perm[uint64(h2)] & 15) << 8) | ((perm[uint64(h3)] & 15) << 12))
             else:
                 vb[0, q] = vals[uint64(h0)]
                 vb[1, q] = vals[uint64(h1)]
@@ -194,7 +193,7 @@ def _lat_hash(kind, ndim, base, cnt, a0, a1, perm, vals, grad, y0, y1, z0, z1, h
             ba = uint64(perm[b + y0])
             ab = uint64(perm[a + y1])
             bb = uint64(perm[b + y1])
-            if kind == k.IMPROVED:
+            if kind == k.IMPROVED:  # 3D: packing measured slower (8 more ALU ops a sample)
                 hb[0, q] = perm[aa + z0]
                 hb[1, q] = perm[ba + z0]
                 hb[2, q] = perm[ab + z0]
@@ -226,9 +225,8 @@ def _row_tables(kind, perm, vals, grad, y0, y1, th, tv, tg):
             tg[1, 0, a] = grad[h0, 1]
             tg[0, 1, a] = grad[h1, 0]
             tg[1, 1, a] = grad[h1, 1]
-        elif kind == k.IMPROVED:
-            th[0, a] = perm[h0]
-            th[1, a] = perm[h1]
+        elif kind == k.IMPROVED:  # corner (x, y0) in bits 0..3, (x, y1) in bits 8..11
+            th[0, a] = (perm[h0] & 15) | ((perm[h1] & 15) << 8)
         else:
             tv[0, a] = vals[h0]
             tv[1, a] = vals[h1]
@@ -248,11 +246,8 @@ def _lat_hash2(kind, base, cnt, a0, a1, th, tv, tg, hb, vb, gb):
                 gb[c, 1, q] = tg[c, 0, b]
                 gb[c, 2, q] = tg[c, 1, a]
                 gb[c, 3, q] = tg[c, 1, b]
-        elif kind == k.IMPROVED:
-            hb[0, q] = th[0, a]
-            hb[1, q] = th[0, b]
-            hb[2, q] = th[1, a]
-            hb[3, q] = th[1, b]
+        elif kind == k.IMPROVED:  # :func:`_lat_hash`'s word: corners x0y0, x1y0, x0y1, x1y1
+            hb[0, q] = th[0, a] | (th[0, b] << 4)
         else:
             vb[0, q] = tv[0, a]
             vb[1, q] = tv[0, b]
@@ -302,10 +297,11 @@ def _lat_eval(kind, ndim, base, cnt, fx, cu, y, v, z, w, hb, vb, gb, nb):
             x = fx[i]
             u = cu[i]
             x_1 = x - ONE
+            h = hb[0, q]
             n = _lerp(
                 v,
-                _lerp(u, _g16_2(hb[0, q], x, y), _g16_2(hb[1, q], x_1, y)),
-                _lerp(u, _g16_2(hb[2, q], x, y_1), _g16_2(hb[3, q], x_1, y_1)),
+                _lerp(u, _g16_2(h, x, y), _g16_2(_i32(h >> I4), x_1, y)),
+                _lerp(u, _g16_2(_i32(h >> I8), x, y_1), _g16_2(_i32(h >> I12), x_1, y_1)),
             )
             nb[q] = n
     elif kind == k.IMPROVED:
@@ -371,7 +367,8 @@ def _cx16(h, three):
 
 @njit(**_OPTS)
 def _grads16(ndim, cnt, hb, gb):
-    """SIMD pass: improved noise's corner gradients ``GRAD16[hb & 15]`` into ``gb`` (the
+    """SIMD pass: improved noise's corner gradients ``GRAD16[h]`` into ``gb`` (``h``:
+    ``hb[c] & 15``, in 2D the 4-bit fields of :func:`_lat_hash`'s words ``hb[0]``; the
     layout of classic Perlin's, so that one coefficient loop serves both)."""
     if ndim == 3:
         for c in range(8):
@@ -379,8 +376,9 @@ def _grads16(ndim, cnt, hb, gb):
                 gb[0, c, q], gb[1, c, q], gb[2, c, q] = _cx16(hb[c, q], True)
     else:
         for c in range(4):
+            sh = _i32(4 * c)
             for q in range(cnt):
-                gb[0, c, q], gb[1, c, q], _ = _cx16(hb[c, q], False)
+                gb[0, c, q], gb[1, c, q], _ = _cx16(_i32(hb[0, q] >> sh), False)
 
 
 @njit(inline="always", **_OPTS)
