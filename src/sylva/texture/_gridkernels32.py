@@ -13,9 +13,12 @@ here, so the lattice noises look up less instead.  Where an octave has about fou
 a lattice cell or more along x (``KMAX``), value, classic and improved noise go by *cells*:
 each cell of a row is hashed once (scalar), its noise along the row reduced to four
 coefficients, ``lerp(u, p0 x + q0, p1 (x - 1) + q1)`` (SIMD across cells), and the
-samples take their cell's coefficients by select chains over the few cells a 16-lane block
-spans (SIMD; the trip count is ``min(16, n)``, as a literal 16 is unrolled to scalar code).
-Finer octaves keep the per-sample road (row tables of 2D corner hashes, then SIMD).
+samples take their cell's coefficients by select chains over ``KMAX`` cells (SIMD; one
+set-up of the chains for each run of whole 16-lane vectors inside those cells, as a literal
+trip count of 16 is unrolled to scalar code).  Finer octaves keep the per-sample road (row
+tables of 2D corner hashes, then SIMD; improved noise's 2D corner gradient indices travel
+packed, four nibbles in one int32).  Integer work inside the SIMD loops is int32
+throughout (numba widens ``int32 & 15`` to int64, which cuts the lanes to 4).
 Simplex noise needs one load a sample (2D) or z plane (3D): :func:`simplex_table` packs
 the gradient indices of a cell's four (x, y) corners in one word (Gustavson's chained
 lookups precomputed), the SIMD corner pass takes its corners' nibbles out; 3D locates in
@@ -24,10 +27,11 @@ float64 (its kernel jumps across simplex faces) and does the rest in float32 lan
 Covered here, 2D and 3D, every fractal sum (fBm, turbulence, ridged) and integer lattice
 periods (``tileable``): value, classic Perlin (its 256 gradients stored into the block by
 the scalar hash pass), improved Perlin, simplex, and Worley F1..F3 and their combinations
-(:mod:`._worley32`).  The rest takes the float64 road and is rounded once: 4D grids
-(and 3D grids with ``time``), tileable simplex (its 4D torus), domain warping, Worley's cell
-id, its Poisson process and its orders above F3.  The row routines (``row_lattice32``,
-``row_simplex32``, ``_worley32.row_worley32``) are also the texture graph's.
+(:mod:`._worley32`).  4D grids (and 3D grids with ``time``), tileable simplex (its 4D
+torus) and domain warping take the float32 road of :mod:`._points32`.  The rest takes the
+float64 road and is rounded once: Worley's cell id and Poisson process on 2D and 3D grids,
+and its orders above F3.  The row routines (``row_lattice32``, ``row_simplex32``,
+``_worley32.row_worley32``) are also the texture graph's.
 
 Results differ from the float64 road by float32 rounding only: the difference is below
 ``TOLERANCE`` (absolute, on values normalised to about [-1, 1]); see
@@ -572,13 +576,15 @@ def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, grad, no
     """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D (``nz == 1``) or 3D value,
     classic Perlin or improved noise, every octave in one pass per row.
 
-    ``xt = (px0, px1, xf, xu)``: per octave and column ``perm[x0]``, ``perm[x1]`` (int32)
-    and the fraction and curve weight (float32); ``yt``, ``zt = (i0, i1, f, c)`` the
-    lattice indices, fractions and weights of the rows and slices (see
-    :func:`._gridkernels.axis_tables`).  ``amps`` already carry ``norm`` unless ``mode``
-    is ridged; ``grad``: classic Perlin's gradient table (float32, 256 x 4).  Each block of
-    :data:`BLOCK` samples goes in two passes: the table lookups (scalar: LLVM rates vector
-    gathers too dear on some CPUs) and the arithmetic (SIMD).
+    ``xt = (px0, px1, xf, xu, cid, cp0, cp1, kspan)``: per octave and column ``perm[x0]``,
+    ``perm[x1]`` (int32) and the fraction and curve weight (float32), then the cells along
+    x (:func:`cell_tables`); ``yt``, ``zt = (i0, i1, f, c)`` the lattice indices,
+    fractions and weights of the rows and slices (see :func:`._gridkernels.axis_tables`;
+    :func:`lattice_tables32` makes all three).  ``amps`` already carry ``norm`` unless
+    ``mode`` is ridged; ``grad``: classic Perlin's gradient table (float32, 256 x 4).  Each
+    block of :data:`BLOCK` samples goes in passes: the table lookups (scalar: LLVM rates
+    vector gathers too dear on some CPUs), then the arithmetic (SIMD); the rows in
+    :data:`CHUNKS` work items.
     """
     nz, ny, nx = out.shape
     nrows = ny * nz
