@@ -13,9 +13,12 @@ here, so the lattice noises look up less instead.  Where an octave has about fou
 a lattice cell or more along x (``KMAX``), value, classic and improved noise go by *cells*:
 each cell of a row is hashed once (scalar), its noise along the row reduced to four
 coefficients, ``lerp(u, p0 x + q0, p1 (x - 1) + q1)`` (SIMD across cells), and the
-samples take their cell's coefficients by select chains over the few cells a 16-lane block
-spans (SIMD; the trip count is ``min(16, n)``, as a literal 16 is unrolled to scalar code).
-Finer octaves keep the per-sample road (row tables of 2D corner hashes, then SIMD).
+samples take their cell's coefficients by select chains over ``KMAX`` cells (SIMD; one
+set-up of the chains for each run of whole 16-lane vectors inside those cells, as a literal
+trip count of 16 is unrolled to scalar code).  Finer octaves keep the per-sample road (row
+tables of 2D corner hashes, then SIMD; improved noise's 2D corner gradient indices travel
+packed, four nibbles in one int32).  Integer work inside the SIMD loops is int32
+throughout (numba widens ``int32 & 15`` to int64, which cuts the lanes to 4).
 Simplex noise needs one load a sample (2D) or z plane (3D): :func:`simplex_table` packs
 the gradient indices of a cell's four (x, y) corners in one word (Gustavson's chained
 lookups precomputed), the SIMD corner pass takes its corners' nibbles out; 3D locates in
@@ -24,10 +27,11 @@ float64 (its kernel jumps across simplex faces) and does the rest in float32 lan
 Covered here, 2D and 3D, every fractal sum (fBm, turbulence, ridged) and integer lattice
 periods (``tileable``): value, classic Perlin (its 256 gradients stored into the block by
 the scalar hash pass), improved Perlin, simplex, and Worley F1..F3 and their combinations
-(:mod:`._worley32`).  The rest takes the float64 road and is rounded once: 4D grids
-(and 3D grids with ``time``), tileable simplex (its 4D torus), domain warping, Worley's cell
-id, its Poisson process and its orders above F3.  The row routines (``row_lattice32``,
-``row_simplex32``, ``_worley32.row_worley32``) are also the texture graph's.
+(:mod:`._worley32`).  4D grids (and 3D grids with ``time``), tileable simplex (its 4D
+torus) and domain warping take the float32 road of :mod:`._points32`.  The rest takes the
+float64 road and is rounded once: Worley's cell id and Poisson process on 2D and 3D grids,
+and its orders above F3.  The row routines (``row_lattice32``, ``row_simplex32``,
+``_worley32.row_worley32``) are also the texture graph's.
 
 Results differ from the float64 road by float32 rounding only: the difference is below
 ``TOLERANCE`` (absolute, on values normalised to about [-1, 1]); see
@@ -40,7 +44,7 @@ import numpy as np
 from numba import njit, prange, uint64
 
 from . import _kernels as k
-from ._gridkernels import BLOCK, ROWS, axis_tables
+from ._gridkernels import BLOCK, axis_tables
 
 #: bound on the absolute difference from the float64 road (values about [-1, 1]): value,
 #: classic and improved noise and Worley differ by ~3e-7 (their lattice tables and feature
@@ -50,6 +54,10 @@ from ._gridkernels import BLOCK, ROWS, axis_tables
 #: jumps across simplex faces, so the simplex must be the float64 road's) and differs by
 #: ~5e-7
 TOLERANCE = 2e-4
+#: work items of a grid (``prange``; numba hands each thread an equal share of them): each
+#: allocates its row and block buffers once, so a few dozen rather than one per
+#: 8 rows (a 16 x 256 x 256 grid made 4,608 allocations)
+CHUNKS = 64
 
 _F = np.float32
 ZERO = _F(0.0)
@@ -73,6 +81,8 @@ S2 = _F(70.0)
 S3 = _F(32.0)
 
 _OPTS = dict(cache=True, fastmath=True, error_model="numpy")
+_i32 = np.int32
+I0, I1, I2, I4, I8, I12, I14, I15 = (np.int32(v) for v in (0, 1, 2, 4, 8, 12, 14, 15))
 
 
 @njit(inline="always", **_OPTS)
@@ -83,20 +93,21 @@ def _lerp(t, a, b):
 @njit(inline="always", **_OPTS)
 def _g16(h, x, y, z):
     """Improved noise's gradient ``GRAD16[h & 15] . (x, y, z)`` by selects (Perlin's own
-    ``grad``; no table, and no 64-bit shifts to halve the lanes)."""
-    h = h & 15
-    u = x if h < 8 else y
-    v = y if h < 4 else (x if (h == 12) | (h == 14) else z)
-    return (-u if h & 1 else u) + (-v if h & 2 else v)
+    ``grad``; no table).  Every integer operation is int32 (:func:`_i32`): numba widens
+    ``int32 & 15`` to int64, and LLVM then ran the whole loop 4 lanes wide instead of 16."""
+    h = _i32(h & I15)
+    u = x if h < I8 else y
+    v = y if h < I4 else (x if (h == I12) | (h == I14) else z)
+    return (-u if _i32(h & I1) != I0 else u) + (-v if _i32(h & I2) != I0 else v)
 
 
 @njit(inline="always", **_OPTS)
 def _g16_2(h, x, y):
     """:func:`_g16` with z = 0."""
-    h = h & 15
-    u = x if h < 8 else y
-    v = y if h < 4 else (x if (h == 12) | (h == 14) else ZERO)
-    return (-u if h & 1 else u) + (-v if h & 2 else v)
+    h = _i32(h & I15)
+    u = x if h < I8 else y
+    v = y if h < I4 else (x if (h == I12) | (h == I14) else ZERO)
+    return (-u if _i32(h & I1) != I0 else u) + (-v if _i32(h & I2) != I0 else v)
 
 
 @njit(**_OPTS)
@@ -129,9 +140,10 @@ def _finish(mode, row, norm):
 
 @njit(**_OPTS)
 def _lat_hash(kind, ndim, base, cnt, a0, a1, perm, vals, grad, y0, y1, z0, z1, hb, vb, gb):
-    """Scalar pass: the corner hashes of samples ``base..base + cnt`` (gradient indices
-    into ``hb`` for improved noise, lattice values into ``vb`` for value noise, the
-    gradients of classic Perlin noise into ``gb``)."""
+    """Scalar pass: the corner hashes of samples ``base..base + cnt`` (improved noise: the
+    corners' gradient indices into ``hb[c]``, in 2D packed, corner ``c``'s ``perm[...] & 15``
+    in bits ``4c .. 4c + 3`` of ``hb[0]``, one store a sample; value noise: lattice values
+    into ``vb``; classic Perlin noise: the gradients into ``gb``)."""
     b0 = uint64(base)
     if kind == k.PERLIN:
         for q in range(cnt):
@@ -172,11 +184,9 @@ def _lat_hash(kind, ndim, base, cnt, a0, a1, perm, vals, grad, y0, y1, z0, z1, h
             h1 = perm[b + y0]
             h2 = perm[a + y1]
             h3 = perm[b + y1]
-            if kind == k.IMPROVED:
-                hb[0, q] = perm[uint64(h0)]
-                hb[1, q] = perm[uint64(h1)]
-                hb[2, q] = perm[uint64(h2)]
-                hb[3, q] = perm[uint64(h3)]
+            if kind == k.IMPROVED:  # the corners' 4-bit gradient indices in one word
+                hb[0, q] = ((perm[uint64(h0)] & 15) | ((perm[uint64(h1)] & 15) << 4)
+                            | ((perm[uint64(h2)] & 15) << 8) | ((perm[uint64(h3)] & 15) << 12))
             else:
                 vb[0, q] = vals[uint64(h0)]
                 vb[1, q] = vals[uint64(h1)]
@@ -187,7 +197,7 @@ def _lat_hash(kind, ndim, base, cnt, a0, a1, perm, vals, grad, y0, y1, z0, z1, h
             ba = uint64(perm[b + y0])
             ab = uint64(perm[a + y1])
             bb = uint64(perm[b + y1])
-            if kind == k.IMPROVED:
+            if kind == k.IMPROVED:  # 3D: packing measured slower (8 more ALU ops a sample)
                 hb[0, q] = perm[aa + z0]
                 hb[1, q] = perm[ba + z0]
                 hb[2, q] = perm[ab + z0]
@@ -219,9 +229,8 @@ def _row_tables(kind, perm, vals, grad, y0, y1, th, tv, tg):
             tg[1, 0, a] = grad[h0, 1]
             tg[0, 1, a] = grad[h1, 0]
             tg[1, 1, a] = grad[h1, 1]
-        elif kind == k.IMPROVED:
-            th[0, a] = perm[h0]
-            th[1, a] = perm[h1]
+        elif kind == k.IMPROVED:  # corner (x, y0) in bits 0..3, (x, y1) in bits 8..11
+            th[0, a] = (perm[h0] & 15) | ((perm[h1] & 15) << 8)
         else:
             tv[0, a] = vals[h0]
             tv[1, a] = vals[h1]
@@ -241,11 +250,8 @@ def _lat_hash2(kind, base, cnt, a0, a1, th, tv, tg, hb, vb, gb):
                 gb[c, 1, q] = tg[c, 0, b]
                 gb[c, 2, q] = tg[c, 1, a]
                 gb[c, 3, q] = tg[c, 1, b]
-        elif kind == k.IMPROVED:
-            hb[0, q] = th[0, a]
-            hb[1, q] = th[0, b]
-            hb[2, q] = th[1, a]
-            hb[3, q] = th[1, b]
+        elif kind == k.IMPROVED:  # :func:`_lat_hash`'s word: corners x0y0, x1y0, x0y1, x1y1
+            hb[0, q] = th[0, a] | (th[0, b] << 4)
         else:
             vb[0, q] = tv[0, a]
             vb[1, q] = tv[0, b]
@@ -295,10 +301,11 @@ def _lat_eval(kind, ndim, base, cnt, fx, cu, y, v, z, w, hb, vb, gb, nb):
             x = fx[i]
             u = cu[i]
             x_1 = x - ONE
+            h = hb[0, q]
             n = _lerp(
                 v,
-                _lerp(u, _g16_2(hb[0, q], x, y), _g16_2(hb[1, q], x_1, y)),
-                _lerp(u, _g16_2(hb[2, q], x, y_1), _g16_2(hb[3, q], x_1, y_1)),
+                _lerp(u, _g16_2(h, x, y), _g16_2(_i32(h >> I4), x_1, y)),
+                _lerp(u, _g16_2(_i32(h >> I8), x, y_1), _g16_2(_i32(h >> I12), x_1, y_1)),
             )
             nb[q] = n
     elif kind == k.IMPROVED:
@@ -350,12 +357,12 @@ KMAX = 5
 def _cx16(h, three):
     """Improved noise's gradient ``GRAD16[h & 15]`` as coefficients ``(gx, gy, gz)`` of
     ``(x, y, z)`` (selects; :func:`_g16` is ``gx x + gy y + gz z``; ``gz = 0`` in 2D)."""
-    h = h & 15
-    su = -ONE if h & 1 else ONE
-    sv = -ONE if h & 2 else ONE
-    lo = h < 8
-    v_y = h < 4
-    v_x = (h == 12) | (h == 14)
+    h = _i32(h & I15)
+    su = -ONE if _i32(h & I1) != I0 else ONE
+    sv = -ONE if _i32(h & I2) != I0 else ONE
+    lo = h < I8
+    v_y = h < I4
+    v_x = (h == I12) | (h == I14)
     gx = (su if lo else ZERO) + (sv if (not v_y) & v_x else ZERO)
     gy = (ZERO if lo else su) + (sv if v_y else ZERO)
     gz = sv if three & (not v_y) & (not v_x) else ZERO
@@ -364,7 +371,8 @@ def _cx16(h, three):
 
 @njit(**_OPTS)
 def _grads16(ndim, cnt, hb, gb):
-    """SIMD pass: improved noise's corner gradients ``GRAD16[hb & 15]`` into ``gb`` (the
+    """SIMD pass: improved noise's corner gradients ``GRAD16[h]`` into ``gb`` (``h``:
+    ``hb[c] & 15``, in 2D the 4-bit fields of :func:`_lat_hash`'s words ``hb[0]``; the
     layout of classic Perlin's, so that one coefficient loop serves both)."""
     if ndim == 3:
         for c in range(8):
@@ -372,8 +380,9 @@ def _grads16(ndim, cnt, hb, gb):
                 gb[0, c, q], gb[1, c, q], gb[2, c, q] = _cx16(hb[c, q], True)
     else:
         for c in range(4):
+            sh = _i32(4 * c)
             for q in range(cnt):
-                gb[0, c, q], gb[1, c, q], _ = _cx16(hb[c, q], False)
+                gb[0, c, q], gb[1, c, q], _ = _cx16(_i32(hb[0, q] >> sh), False)
 
 
 @njit(inline="always", **_OPTS)
@@ -480,15 +489,22 @@ def _cell_eval(kind, base, cnt, nx, cid, xf, xu, cc, e0, nb):
     from their cells' coefficients (``cc``: those of cells ``e0 ..``; ``cid``: each
     column's cell) into ``nb`` (:data:`LANES` spare entries): blocks of :data:`LANES`
     lanes, each lane's coefficients by selects over the cells its block spans."""
-    for s in range(base, base + cnt, LANES):
+    end = base + cnt
+    s = base
+    while s < end:
         us = uint64(s)
-        uo = uint64(s - base)
         cf = cid[us]
-        nl = min(LANES, nx - s)
-        ce = uint64(cf - e0)
+        # the run of whole vectors whose samples lie in cells cf .. cf + KMAX - 1 (one
+        # set-up of the select chains for them all: ~4 vectors a run at 16 samples a cell)
+        e = s + LANES
+        while e < end and cid[uint64(min(e + LANES, end) - 1)] - cf < KMAX:
+            e += LANES
+        e = min(e, end)
         # a literal span (the chain unrolls); one copy for every kind (value noise has
         # p0 = p1 = 0) keeps compile time down
-        _cell_lanes(False, KMAX, us, nl, cf, ce, cid, xf, xu, cc, nb, uo)
+        _cell_lanes(False, KMAX, us, e - s, cf, uint64(cf - e0), cid, xf, xu, cc, nb,
+                    uint64(s - base))
+        s = e
 
 
 @njit(**_OPTS)
@@ -560,20 +576,23 @@ def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, grad, no
     """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D (``nz == 1``) or 3D value,
     classic Perlin or improved noise, every octave in one pass per row.
 
-    ``xt = (px0, px1, xf, xu)``: per octave and column ``perm[x0]``, ``perm[x1]`` (int32)
-    and the fraction and curve weight (float32); ``yt``, ``zt = (i0, i1, f, c)`` the
-    lattice indices, fractions and weights of the rows and slices (see
-    :func:`._gridkernels.axis_tables`).  ``amps`` already carry ``norm`` unless ``mode``
-    is ridged; ``grad``: classic Perlin's gradient table (float32, 256 x 4).  Each block of
-    :data:`BLOCK` samples goes in two passes: the table lookups (scalar: LLVM rates vector
-    gathers too dear on some CPUs) and the arithmetic (SIMD).
+    ``xt = (px0, px1, xf, xu, cid, cp0, cp1, kspan)``: per octave and column ``perm[x0]``,
+    ``perm[x1]`` (int32) and the fraction and curve weight (float32), then the cells along
+    x (:func:`cell_tables`); ``yt``, ``zt = (i0, i1, f, c)`` the lattice indices,
+    fractions and weights of the rows and slices (see :func:`._gridkernels.axis_tables`;
+    :func:`lattice_tables32` makes all three).  ``amps`` already carry ``norm`` unless
+    ``mode`` is ridged; ``grad``: classic Perlin's gradient table (float32, 256 x 4).  Each
+    block of :data:`BLOCK` samples goes in passes: the table lookups (scalar: LLVM rates
+    vector gathers too dear on some CPUs), then the arithmetic (SIMD); the rows in
+    :data:`CHUNKS` work items.
     """
     nz, ny, nx = out.shape
     nrows = ny * nz
-    for c in prange((nrows + ROWS - 1) // ROWS):
+    nch = min(nrows, CHUNKS)
+    for c in prange(nch):
         weight = np.empty(nx, np.float32)
         work = row_work()
-        for r in range(c * ROWS, min(nrows, (c + 1) * ROWS)):
+        for r in range(c * nrows // nch, (c + 1) * nrows // nch):
             j = r % ny
             m = r // ny
             row = out[m, j]
@@ -809,10 +828,11 @@ def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, t
     is ridged; ``tab``: :func:`simplex_table`."""
     nz, ny, nx = out.shape
     nrows = ny * nz
-    for c in prange((nrows + ROWS - 1) // ROWS):
+    nch = min(nrows, CHUNKS)
+    for c in prange(nch):
         weight = np.empty(nx, np.float32)
         work = simplex_work()
-        for r in range(c * ROWS, min(nrows, (c + 1) * ROWS)):
+        for r in range(c * nrows // nch, (c + 1) * nrows // nch):
             j = r % ny
             m = r // ny
             row = out[m, j]
