@@ -632,15 +632,16 @@ class _Emit:
                  f"def kernel(c0, c1, out, X, Y, Z, P{', ' if args else ''}{args}):",
                  "    nz = out.shape[1]", "    ny = out.shape[2]", "    nx = out.shape[3]",
                  "    nrows = ny * nz",
-                 "    for c in range(c0, c1):",
-                 f"        hb = np.empty((8, {_gk.BLOCK}), np.int64)",
-                 f"        nb = np.empty({_gk.BLOCK})",
-                 *("        " + s for s in self.pre),
-                 f"        for r in range(c * {_gk.ROWS}, min(nrows, (c + 1) * {_gk.ROWS})):",
-                 "            j = r % ny", "            m = r // ny",
-                 *("            " + s for s in self.row),
-                 "            for i in range(nx):",
-                 *(ind + s for s in self.body), *(ind + s for s in store), ""]
+                 # the buffers once per call (a run of blocks), not once per block of rows:
+                 # every row overwrites what it reads
+                 f"    hb = np.empty((8, {_gk.BLOCK}), np.int64)",
+                 f"    nb = np.empty({_gk.BLOCK})",
+                 *("    " + s for s in self.pre),
+                 f"    for r in range(c0 * {_gk.ROWS}, min(nrows, c1 * {_gk.ROWS})):",
+                 "        j = r % ny", "        m = r // ny",
+                 *("        " + s for s in self.row),
+                 "        for i in range(nx):",
+                 *(ind[4:] + s for s in self.body), *(ind[4:] + s for s in store), ""]
         return "\n".join(lines)
 
 
