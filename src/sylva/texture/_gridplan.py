@@ -13,6 +13,8 @@ compiled road's bit for bit (``tests/test_cold_start.py``)."""
 from __future__ import annotations
 
 import math
+import os
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,19 +38,54 @@ GRID = _jit.road("sylva.texture._gridkernels", _DEPS, size=SCALAR_WORK)
 SAMPLING = _jit.road("sylva.texture._sampling", _DEPS, size=SCALAR_WORK)
 
 
+_pool: dict = {"pool": None, "size": 0}
+_pool_lock = threading.Lock()
+_in_pool = threading.local()
+
+
+def _forget_pool() -> None:  # a forked child has none of its parent's threads
+    _pool["pool"], _pool["size"] = None, 0
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_pool)
+
+
+def _threads(n: int):
+    """The process's pool of ``n`` or more threads for :func:`run_blocks`, started once: a
+    grid of a few milliseconds (a 1024² Worley grid on two cores) cannot pay for starting
+    threads on every call."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    with _pool_lock:
+        if _pool["size"] < n:
+            old = _pool["pool"]
+            _pool["pool"] = ThreadPoolExecutor(n, thread_name_prefix="sylva-blocks",
+                                               initializer=_mark_pool_thread)  # fmt: skip
+            _pool["size"] = n
+            if old is not None:
+                old.shutdown(wait=False)
+        return _pool["pool"]
+
+
+def _mark_pool_thread() -> None:
+    _in_pool.inside = True
+
+
 def run_blocks(kernel, nblocks, args):
     """``kernel(c0, c1, *args)`` over the blocks ``0 .. nblocks`` on numba's thread count of
-    Python threads (the kernels are ``nogil``), handed out a few at a time so that a thread
-    on a busier core takes fewer; on the calling thread alone where numba's thread count is
-    1 (small work: ``noise._threads``).  A serial kernel compiles in a third to a half of
-    the time its ``parallel=True`` version takes (issue 25), and runs the same code."""
-    import threading
-    from concurrent.futures import ThreadPoolExecutor
+    threads (the kernels are ``nogil``), handed out a few at a time so that a thread on a
+    busier core takes fewer; on the calling thread alone where numba's thread count is 1
+    (small work: ``noise._threads``) or where the caller is itself one of the pool's threads.
+    The threads are one pool per process, started by the first call that needs them.  A
+    serial kernel compiles in a third to a half of the time its ``parallel=True`` version
+    takes (issue 25), and runs the same code."""
+    from concurrent.futures import wait
 
     import numba
 
     nt = min(numba.get_num_threads(), nblocks)
-    if nt <= 1:
+    if nt <= 1 or getattr(_in_pool, "inside", False):
         kernel(0, nblocks, *args)
         return
     step = max(1, nblocks // (8 * nt))
@@ -63,9 +100,14 @@ def run_blocks(kernel, nblocks, args):
                 return
             kernel(c0, min(nblocks, c0 + step), *args)
 
-    with ThreadPoolExecutor(nt) as pool:
-        for f in [pool.submit(work) for _ in range(nt)]:
-            f.result()
+    pool = _threads(nt)
+    futures = [pool.submit(work) for _ in range(nt - 1)]
+    try:
+        work()  # the calling thread takes its share too
+    finally:
+        wait(futures)  # no block of ``args`` is still being written when this returns
+    for f in futures:
+        f.result()
 
 
 def grid_plan(shape, kind, fractal, scale, octaves, persistence, lacunarity, gain, seed,

@@ -1,0 +1,98 @@
+"""``_gridplan.run_blocks``: the threads that run a grid's serial ``nogil`` kernels (one
+pool per process): every block once, the caller's thread taking its share, nested calls
+and forked children served without a deadlock, a kernel's error raised to the caller."""
+
+import os
+import sys
+import threading
+
+import numba
+import numpy as np
+import pytest
+
+from sylva.texture import _gridplan as gp
+
+
+def _record(c0, c1, out, who):
+    for c in range(c0, c1):
+        out[c] += 1
+        who[c] = threading.get_ident()
+
+
+@pytest.fixture
+def two_threads():
+    old = numba.get_num_threads()
+    numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+    yield numba.get_num_threads()
+    numba.set_num_threads(old)
+
+
+def test_every_block_runs_once_on_the_pool_and_the_caller(two_threads):
+    for n in (1, 2, 7, 64, 1000):
+        out, who = np.zeros(n, np.int64), np.zeros(n, np.int64)
+        gp.run_blocks(_record, n, (out, who))
+        assert (out == 1).all()
+    # one pool for every call (no threads started per grid)
+    pools = set()
+    for _ in range(3):
+        gp.run_blocks(_record, 64, (np.zeros(64, np.int64), np.zeros(64, np.int64)))
+        pools.add(id(gp._pool["pool"]))
+    assert len(pools) == 1
+
+
+def test_a_call_from_a_pool_thread_runs_serially_instead_of_waiting_on_itself(two_threads):
+    if two_threads < 2:
+        pytest.skip("one thread: nothing runs on the pool")
+    inner = np.zeros(50, np.int64)
+
+    def outer(c0, c1, out):
+        for c in range(c0, c1):
+            out[c] += 1
+        gp.run_blocks(_record, 50, (inner[:], np.zeros(50, np.int64)))  # nested
+
+    out = np.zeros(8, np.int64)
+    t = threading.Thread(target=gp.run_blocks, args=(outer, 8, (out,)), daemon=True)
+    t.start()
+    t.join(60)
+    assert not t.is_alive()  # no deadlock
+    assert (out == 1).all()
+
+
+def test_a_kernels_error_reaches_the_caller_after_every_thread_stopped(two_threads):
+    done = np.zeros(40, np.int64)
+
+    def bad(c0, c1, out):
+        for c in range(c0, c1):
+            out[c] = 1
+            if c == 13:
+                raise ValueError("block 13")
+
+    with pytest.raises(ValueError, match="block 13"):
+        gp.run_blocks(bad, 40, (done,))
+    assert done[13] == 1
+
+
+@pytest.mark.skipif(not hasattr(os, "fork") or sys.platform == "darwin", reason="POSIX fork")
+def test_a_forked_child_starts_its_own_threads(two_threads):
+    gp.run_blocks(_record, 16, (np.zeros(16, np.int64), np.zeros(16, np.int64)))  # a pool
+    r, w = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: its parent's pool threads do not exist here
+        try:
+            out = np.zeros(64, np.int64)
+            gp.run_blocks(_record, 64, (out, np.zeros(64, np.int64)))
+            os.write(w, b"ok" if (out == 1).all() else b"no")
+        finally:
+            os._exit(0)
+    os.close(w)
+    import signal
+    import time
+
+    deadline = time.monotonic() + 60
+    while (done := os.waitpid(pid, os.WNOHANG))[0] == 0 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    if done[0] == 0:  # waiting on threads that were not forked with it
+        os.kill(pid, signal.SIGKILL)
+        os.waitpid(pid, 0)
+        pytest.fail("the forked child hung in run_blocks")
+    assert os.read(r, 2) == b"ok" and done[1] == 0
