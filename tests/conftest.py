@@ -10,26 +10,28 @@
 
 from __future__ import annotations
 
-# The slowest modules, slowest first: wall seconds of the serial suite after `sylva warmup`
-# (`python benchmarks/cold_test.py pytest --cache DIR`, 2026-12-02, at load 6-8 on the
-# 2-core VM; 1,238 s in all, 399 CPU s).  The other 127 modules take 0-19 s each.
+# The slowest modules, slowest first: wall seconds (setup included) of `make test`'s run on
+# both cores after `sylva warmup` (`pytest -p _test_times -n 2 --dist loadfile`, with
+# benchmarks/ on PYTHONPATH; 2026-12-02, load 0.4 at the start, quiet 2-core VM; 2,805
+# tests in 193 s, the two workers 177 s each in tests).  The other 133 modules take
+# 0-6 s each.
 SLOW_FIRST = (
-    "tests/studio/test_browser.py",  # 118 s (Chromium)
-    "tests/texture/test_graph.py",  # 111 s
-    "tests/test_cold_start.py",  # 85 s
-    "tests/texture/test_graph_glsl.py",  # 77 s
-    "tests/world/test_cluster.py",  # 52 s
-    "tests/test_docs.py",  # 48 s
-    "tests/geometry/test_clients.py",  # 46 s (Blender, POV-Ray, OpenSCAD, node)
-    "tests/cli/test_gallery.py",  # 43 s
-    "tests/cli/test_write_failures.py",  # 33 s
-    "tests/widgets/test_frontend.py",  # 31 s
-    "tests/studio/test_fuzz.py",  # 26 s
-    "tests/world/test_tiles.py",  # 24 s
-    "tests/widgets/test_notebook.py",  # 21 s
-    "tests/test_architecture.py",  # 21 s
-    "tests/studio/test_attack.py",  # 21 s
-    "tests/texture/test_graph_kernel_reuse.py",  # 20 s
+    "tests/studio/test_browser.py",  # 57 s (Chromium)
+    "tests/geometry/test_clients.py",  # 35 s (Blender, POV-Ray, OpenSCAD, node)
+    "tests/test_cold_start.py",  # 32 s
+    "tests/widgets/test_frontend.py",  # 25 s
+    "tests/studio/test_fuzz.py",  # 24 s
+    "tests/world/test_cluster.py",  # 21 s
+    "tests/cli/test_write_failures.py",  # 16 s
+    "tests/cli/test_gallery.py",  # 12 s
+    "tests/studio/test_attack.py",  # 12 s
+    "tests/studio/test_api.py",  # 11 s
+    "tests/studio/test_memory.py",  # 8 s
+    "tests/world/test_tiles.py",  # 8 s
+    "tests/geometry/test_textured_clients.py",  # 7 s
+    "tests/studio/test_texture_browser.py",  # 7 s
+    "tests/test_parallel_cache.py",  # 6 s
+    "tests/widgets/test_notebook.py",  # 6 s
 )
 
 
