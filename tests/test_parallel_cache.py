@@ -102,3 +102,26 @@ def test_every_sylva_process_locks_its_saves_whenever_numba_comes():
                              capture_output=True, text=True, timeout=120)  # fmt: skip
         assert run.returncode == 0, run.stderr
         assert run.stdout.strip() == "True", order
+
+
+_FAILING = """
+import sys, warnings
+sys.path.insert(0, sys.argv[1])
+from sylva import _jit
+def broken():
+    raise OSError("no cache folder")
+_jit.after_numba(broken)
+with warnings.catch_warnings(record=True) as seen:
+    warnings.simplefilter("always")
+    import numba
+print(numba.__name__, [str(w.message) for w in seen if "broken" in str(w.message)])
+"""
+
+
+def test_a_failing_after_numba_hook_warns_and_numba_still_imports():
+    env = dict(os.environ, PYTHONPATH=SRC + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    run = subprocess.run([sys.executable, "-c", _FAILING, SRC], env=env,
+                         capture_output=True, text=True, timeout=120)  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.startswith("numba ")  # imported
+    assert "sylva: broken after numba's import failed: no cache folder" in run.stdout

@@ -194,7 +194,13 @@ def _run_after() -> None:
     with _lock:
         todo, _after[:] = list(_after), []
     for fn in todo:
-        fn()
+        try:
+            fn()
+        except Exception as exc:  # never the user's ``import numba`` that fails for it
+            import warnings
+
+            warnings.warn(f"sylva: {getattr(fn, '__name__', fn)!s} after numba's import "
+                          f"failed: {exc}", RuntimeWarning, stacklevel=2)  # fmt: skip
 
 
 class _AfterNumba(importlib.abc.MetaPathFinder):

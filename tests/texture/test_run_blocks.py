@@ -72,6 +72,23 @@ def test_a_kernels_error_reaches_the_caller_after_every_thread_stopped(two_threa
     assert done[13] == 1
 
 
+def test_after_an_error_no_thread_takes_more_blocks(two_threads):
+    import time
+
+    done = np.zeros(200, np.int64)
+
+    def first_fails(c0, c1, out):
+        for c in range(c0, c1):
+            if c == 0:
+                raise ValueError("block 0")
+            time.sleep(0.01)
+            out[c] = 1
+
+    with pytest.raises(ValueError, match="block 0"):
+        gp.run_blocks(first_fails, 200, (done,))
+    assert done[0] == 0 and done.sum() < 100  # the rest was not computed for nothing
+
+
 @pytest.mark.skipif(not hasattr(os, "fork") or sys.platform == "darwin", reason="POSIX fork")
 def test_a_forked_child_starts_its_own_threads(two_threads):
     gp.run_blocks(_record, 16, (np.zeros(16, np.int64), np.zeros(16, np.int64)))  # a pool

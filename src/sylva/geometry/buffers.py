@@ -18,6 +18,7 @@ and at most 2 GiB; ``SYLVA_BUFFER_POOL`` in bytes overrides it, 0 turns the pool
 Examples
 --------
 >>> import numpy as np
+>>> release()   # no free blocks of earlier work: the pool hands out a fresh one
 >>> a = empty((2_000_000, 3), np.float32)
 >>> a.shape, a.dtype.name
 ((2000000, 3), 'float32')

@@ -91,14 +91,19 @@ def run_blocks(kernel, nblocks, args):
     step = max(1, nblocks // (8 * nt))
     starts = iter(range(0, nblocks, step))
     lock = threading.Lock()
+    failed = []
 
     def work():
         while True:
             with lock:
-                c0 = next(starts, None)
+                c0 = None if failed else next(starts, None)
             if c0 is None:
                 return
-            kernel(c0, min(nblocks, c0 + step), *args)
+            try:
+                kernel(c0, min(nblocks, c0 + step), *args)
+            except BaseException:
+                failed.append(True)  # the other threads take no more blocks
+                raise
 
     pool = _threads(nt)
     futures = [pool.submit(work) for _ in range(nt - 1)]
