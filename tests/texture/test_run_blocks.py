@@ -113,3 +113,11 @@ def test_a_forked_child_starts_its_own_threads(two_threads):
         os.waitpid(pid, 0)
         pytest.fail("the forked child hung in run_blocks")
     assert os.read(r, 2) == b"ok" and done[1] == 0
+
+
+def test_a_bigger_pool_leaves_the_old_one_usable_for_a_call_that_took_it():
+    # a call that took the pool just before another call (with more numba threads) grew it
+    old = gp._threads(2)
+    bigger = gp._threads(gp._pool["size"] + 1)
+    assert bigger is not old and gp._threads(1) is bigger
+    assert old.submit(lambda: 7).result(timeout=30) == 7  # not shut down under it

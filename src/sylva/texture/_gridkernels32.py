@@ -461,9 +461,10 @@ def _pick(lane, c, span):
 
 @njit(inline="always", **_OPTS)
 def _cell_lanes(value, span, us, nl, cf, ce, cid, xf, xu, cc, nb, uo):
-    """A block of ``nl <= LANES`` samples from ``us`` into ``nb[uo:uo + nl]``.  The trip
-    count is ``min(LANES, ...)``: LLVM then vectorises it as one 16-lane step (a literal
-    16 would be unrolled to scalar code instead)."""
+    """A run of ``nl`` samples from ``us`` into ``nb[uo:uo + nl]``, all of them in the
+    ``span`` cells from ``cf`` (:func:`_cell_eval` makes the runs: whole 16-lane vectors,
+    the row's last one partial).  The trip count is a variable: LLVM then vectorises the
+    loop 16 lanes wide (a literal 16 would be unrolled to scalar code instead)."""
     c1 = _ld(cc, 1, ce)
     c3 = _ld(cc, 3, ce)
     if value:
@@ -487,8 +488,9 @@ def _cell_lanes(value, span, us, nl, cf, ce, cid, xf, xu, cc, nb, uo):
 def _cell_eval(kind, base, cnt, nx, cid, xf, xu, cc, e0, nb):
     """SIMD pass: samples ``base .. base + cnt`` (``base`` a multiple of :data:`LANES`)
     from their cells' coefficients (``cc``: those of cells ``e0 ..``; ``cid``: each
-    column's cell) into ``nb`` (:data:`LANES` spare entries): blocks of :data:`LANES`
-    lanes, each lane's coefficients by selects over the cells its block spans."""
+    column's cell) into ``nb``: runs of whole :data:`LANES`-lane vectors whose samples lie
+    in :data:`KMAX` cells, each lane's coefficients by selects over those cells, loaded
+    once per run.  ``nx`` is unused (kept for the callers' one signature)."""
     end = base + cnt
     s = base
     while s < end:

@@ -59,12 +59,11 @@ def _threads(n: int):
 
     with _pool_lock:
         if _pool["size"] < n:
-            old = _pool["pool"]
+            # a bigger pool replaces the old one, which is not shut down: a call that took
+            # it a moment ago may still submit to it; its idle threads end once it is freed
             _pool["pool"] = ThreadPoolExecutor(n, thread_name_prefix="sylva-blocks",
                                                initializer=_mark_pool_thread)  # fmt: skip
             _pool["size"] = n
-            if old is not None:
-                old.shutdown(wait=False)
         return _pool["pool"]
 
 
