@@ -604,20 +604,23 @@ def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, grad, no
 
 
 @njit(inline="always", **_OPTS)
-def _gx(g):
-    """``GRAD3[g, 0]`` for g in 0..11 as a select."""
-    return (-ONE if g & 1 else ONE) if g < 8 else ZERO
+def _g12(g, x, y, z):
+    """``GRAD3[g] . (x, y, z)`` for g in 0..11 (Gustavson's twelve edge gradients, the
+    first twelve of Perlin's improved-noise ``grad``: ``±u ± v`` with u = x for g < 8 else
+    y, v = y for g < 4 else z): two selects and two sign flips on int32 lanes, where
+    reading the three components by selects and multiplying took twice the instructions
+    (the 3D simplex corner pass 5.9 -> 3.7 ns a sample on znver3)."""
+    u = x if g < I8 else y
+    v = y if g < I4 else z
+    return (-u if _i32(g & I1) != I0 else u) + (-v if _i32(g & I2) != I0 else v)
 
 
 @njit(inline="always", **_OPTS)
-def _gy(g):
-    s = -ONE if (g & 2 if g < 4 else g & 1) else ONE
-    return ZERO if (g >= 4) & (g < 8) else s
-
-
-@njit(inline="always", **_OPTS)
-def _gz(g):
-    return (-ONE if g & 2 else ONE) if g >= 4 else ZERO
+def _g12_2(g, x, y):
+    """:func:`_g12` with z = 0 (2D simplex: ``GRAD3[g, :2] . (x, y)``)."""
+    u = x if g < I8 else y
+    v = y if g < I4 else ZERO
+    return (-u if _i32(g & I1) != I0 else u) + (-v if _i32(g & I2) != I0 else v)
 
 
 #: row stride of :func:`simplex_table` (``tab[i * TAB_STRIDE + m]``)
@@ -656,7 +659,7 @@ def _gather(cnt, tab, ba, bw):
 @njit(**_OPTS)
 def _s2_eval(cnt, bx, by, bc, bw, nb):
     """SIMD pass: the three corner contributions, gradient indices from the packed cell
-    corners, gradients by selects."""
+    corners, the gradients' dot products by selects (:func:`_g12_2`)."""
     for q in range(cnt):
         x0 = bx[q]
         y0 = by[q]
@@ -678,9 +681,9 @@ def _s2_eval(cnt, bx, by, bc, bw, nb):
         # variable shift would be int64 in numba, half the lanes)
         b = np.int32(((w >> np.int32(8)) if c else (w >> np.int32(4))) & _N15)
         d = np.int32(w >> np.int32(12))
-        n = t0 * t0 * (_gx(a) * x0 + _gy(a) * y0)
-        n += t1 * t1 * (_gx(b) * x1 + _gy(b) * y1)
-        n += t2 * t2 * (_gx(d) * x2 + _gy(d) * y2)
+        n = t0 * t0 * _g12_2(a, x0, y0)
+        n += t1 * t1 * _g12_2(b, x1, y1)
+        n += t2 * t2 * _g12_2(d, x2, y2)
         nb[q] = S2 * n
 
 
@@ -748,7 +751,7 @@ def _c3(g, x, y, z):
     """One corner's contribution (before the factor 32)."""
     t = max(R3 - x * x - y * y - z * z, ZERO)
     t *= t
-    return t * t * (_gx(g) * x + _gy(g) * y + _gz(g) * z)
+    return t * t * _g12(g, x, y, z)
 
 
 @njit(inline="always", **_OPTS)
