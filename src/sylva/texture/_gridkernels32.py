@@ -351,6 +351,10 @@ LANES = 16
 #: cells along x (about four samples a cell or more); finer octaves keep the sample road
 #: (measured: at two samples a cell the select chains cost more than the lookups saved)
 KMAX = 5
+#: the cell road hashes the cells of a run of blocks at once, up to this many (a block's
+#: 16 cells at 16 samples a cell made the per-cell passes short loops; the block
+#: buffers' columns beyond ~64 cells fell out of L1 in 3D)
+CCELLS = 64
 
 
 @njit(inline="always", **_OPTS)
@@ -531,30 +535,33 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
         rowtab = not cells and ndim == 2 and nx > 128
         if rowtab:
             _row_tables(kind, perm, vals, grad, y0, y1, th, tv, tg)
-        for base in range(0, nx, BLOCK):
-            cnt = min(BLOCK, nx - base)
-            if cells:  # hash the block's cells
+        if cells:  # the cells of a run of blocks spanning at most CCELLS cells at once
+            base = 0
+            while base < nx:
                 h0 = cid[o, base]
-                hn = cid[o, base + cnt - 1] - h0 + 1
-                a0 = cp0[o]
-                a1 = cp1[o]
-            else:  # hash the block's samples
-                h0 = base
-                hn = cnt
-                a0 = px0[o]
-                a1 = px1[o]
-            if rowtab:
-                _lat_hash2(kind, base, cnt, px0[o], px1[o], th, tv, tg, hb, vb, gb)
-            else:  # one call site each: every inlined copy costs compile time
-                _lat_hash(kind, ndim, h0, hn, a0, a1, perm, vals, grad, y0, y1, z0, z1, hb,
-                          vb, gb)
-            if cells:
+                end = min(nx, base + BLOCK)
+                while end < nx and cid[o, min(nx, end + BLOCK) - 1] - h0 < CCELLS:
+                    end = min(nx, end + BLOCK)
+                hn = cid[o, end - 1] - h0 + 1
+                _lat_hash(kind, ndim, h0, hn, cp0[o], cp1[o], perm, vals, grad, y0, y1, z0,
+                          z1, hb, vb, gb)
                 _cell_coef(kind, ndim, hn, yf[o, j], yv[o, j], zf[o, m], zw[o, m], hb, vb, gb,
                            cc)
-                _cell_eval(kind, base, cnt, nx, cid[o], xf[o], xu[o], cc, h0, nb)
+                for b in range(base, end, BLOCK):
+                    cnt = min(BLOCK, end - b)
+                    _cell_eval(kind, b, cnt, nx, cid[o], xf[o], xu[o], cc, h0, nb)
+                    _combine_block(mode, row, weight, b, cnt, nb, amps[o], gain)
+                base = end
+            continue
+        for base in range(0, nx, BLOCK):  # the sample road: each block's samples hashed
+            cnt = min(BLOCK, nx - base)
+            if rowtab:
+                _lat_hash2(kind, base, cnt, px0[o], px1[o], th, tv, tg, hb, vb, gb)
             else:
-                _lat_eval(kind, ndim, base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m],
-                          zw[o, m], hb, vb, gb, nb)
+                _lat_hash(kind, ndim, base, cnt, px0[o], px1[o], perm, vals, grad, y0, y1, z0,
+                          z1, hb, vb, gb)
+            _lat_eval(kind, ndim, base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m],
+                      zw[o, m], hb, vb, gb, nb)
             _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
 
 
