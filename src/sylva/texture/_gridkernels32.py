@@ -352,8 +352,8 @@ LANES = 16
 #: (measured: at two samples a cell the select chains cost more than the lookups saved)
 KMAX = 5
 #: the cell road hashes the cells of a run of blocks at once, up to this many (a block's
-#: 16 cells at 16 samples a cell made the per-cell passes short loops; the block
-#: buffers' columns beyond ~64 cells fell out of L1 in 3D)
+#: 16 cells at 16 samples a cell made the per-cell passes short loops, each with a call's
+#: set-up; 64 is four blocks there, and at most the block buffers' 256 columns)
 CCELLS = 64
 
 
