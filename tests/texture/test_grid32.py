@@ -134,3 +134,28 @@ def test_lattice_cell_road_within_tolerance(kind, shape):
     tab = gk.axis_tables(xs, freqs, np.zeros(4), np.zeros(4), st.interp)
     kspan = gk32.lattice_tables32(tab, st.tables.perm, True)[7]
     assert kspan[0] <= gk32.KMAX < kspan[3]
+
+
+@pytest.mark.parametrize("kind", ["value", "perlin", "improved"])
+@pytest.mark.parametrize("shape", [(3, 1100), (2, 3, 700)], ids=["2d", "3d"])
+def test_lattice_cell_road_over_runs_of_blocks(kind, shape):
+    # rows of several 256-sample blocks, every octave by cells: the coarse octaves hash the
+    # cells of the whole row at once, the finest ones (over CCELLS cells a row) in several
+    # runs of blocks, each run's coefficients read from its own first cell
+    nx = shape[-1]
+    kw = dict(kind=kind, octaves=4, scale=(20.0, 6.0, 5.0)[: len(shape)],
+              offset=(0.41, -2.5, 1.75)[: len(shape)], seed=5)
+    a = noise_grid(shape, **kw)
+    b = noise_grid(shape, dtype=np.float64, **kw)
+    assert np.abs(a.astype(np.float64) - b).max() < TOL
+    assert b.std() > 0.02
+    from sylva.texture import _gridkernels as gk
+    from sylva.texture.noise import _setup
+
+    st = _setup(kind, 5, None, "f1", "euclidean", 1.0)
+    xs = np.arange(nx) * (20.0 / nx)
+    freqs = 2.0 ** np.arange(4)
+    tab = gk.axis_tables(xs, freqs, np.zeros(4), np.zeros(4), st.interp)
+    cid, kspan = gk32.lattice_tables32(tab, st.tables.perm, True)[4::3]
+    assert nx > 2 * gk.BLOCK and (kspan <= gk32.KMAX).all()  # all four octaves by cells
+    assert cid[0, -1] + 1 < gk32.CCELLS < cid[3, -1] + 1  # one run, and several

@@ -614,9 +614,9 @@ def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, grad, no
 def _g12(g, x, y, z):
     """``GRAD3[g] . (x, y, z)`` for g in 0..11 (Gustavson's twelve edge gradients, the
     first twelve of Perlin's improved-noise ``grad``: ``±u ± v`` with u = x for g < 8 else
-    y, v = y for g < 4 else z): two selects and two sign flips on int32 lanes, where
-    reading the three components by selects and multiplying took twice the instructions
-    (the 3D simplex corner pass 5.9 -> 3.7 ns a sample on znver3)."""
+    y, v = y for g < 4 else z): two selects and two sign flips on int32 lanes instead of
+    three component selects and multiplies (the 3D simplex corner pass 5.9 -> 3.7 ns a
+    sample on znver3)."""
     u = x if g < I8 else y
     v = y if g < I4 else z
     return (-u if _i32(g & I1) != I0 else u) + (-v if _i32(g & I2) != I0 else v)
