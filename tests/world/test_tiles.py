@@ -276,11 +276,15 @@ async function view(position, target) {
     instances[tile.content.uri] = Object.values(counts).reduce((a, b) => a + b, 0);
   });
   tiles.addEventListener("load-error", (e) => errors.push(String(e.error) + " " + e.url));
+  let rooted = 0;
   for (let i = 0; i < 600; i++) {
     tiles.update();
     await sleep(25);
     const s = tiles.stats;
-    if (i > 10 && s.downloading === 0 && s.parsing === 0 && s.queued === 0) break;
+    // idle only counts a few updates after tileset.json is in (loaded: 4, failed: -1): on
+    // a busy machine its fetch can outlast the first ten frames, with nothing queued yet
+    if (tiles.rootLoadingState === 4 || tiles.rootLoadingState === -1) rooted++;
+    if (i > 10 && rooted > 2 && s.downloading === 0 && s.parsing === 0 && s.queued === 0) break;
   }
   tiles.update();
   const visible = [...tiles.visibleTiles].map((t) => t.content && t.content.uri).sort();
