@@ -137,13 +137,14 @@ def test_lattice_cell_road_within_tolerance(kind, shape):
 
 
 @pytest.mark.parametrize("kind", ["value", "perlin", "improved"])
-@pytest.mark.parametrize("shape", [(3, 1100), (2, 3, 700)], ids=["2d", "3d"])
-def test_lattice_cell_road_over_runs_of_blocks(kind, shape):
-    # rows of several 256-sample blocks, every octave by cells: the coarse octaves hash the
-    # cells of the whole row at once, the finest ones (over CCELLS cells a row) in several
-    # runs of blocks, each run's coefficients read from its own first cell
+@pytest.mark.parametrize("shape", [(3, 1500), (2, 3, 700)], ids=["2d", "3d"])
+def test_lattice_cell_road_over_rows_of_several_blocks(kind, shape):
+    # rows of several 256-sample blocks, every octave by cells: the cells of the whole row
+    # are hashed and reduced at once, and each block reads its own cells' coefficients; in
+    # 2D the finest octave has more cells in a row than a block has samples
     nx = shape[-1]
-    kw = dict(kind=kind, octaves=4, scale=(20.0, 6.0, 5.0)[: len(shape)],
+    sx = 40.0 if len(shape) == 2 else 20.0
+    kw = dict(kind=kind, octaves=4, scale=(sx, 6.0, 5.0)[: len(shape)],
               offset=(0.41, -2.5, 1.75)[: len(shape)], seed=5)
     a = noise_grid(shape, **kw)
     b = noise_grid(shape, dtype=np.float64, **kw)
@@ -153,9 +154,30 @@ def test_lattice_cell_road_over_runs_of_blocks(kind, shape):
     from sylva.texture.noise import _setup
 
     st = _setup(kind, 5, None, "f1", "euclidean", 1.0)
-    xs = np.arange(nx) * (20.0 / nx)
+    xs = np.arange(nx) * (sx / nx)
     freqs = 2.0 ** np.arange(4)
     tab = gk.axis_tables(xs, freqs, np.zeros(4), np.zeros(4), st.interp)
     cid, kspan = gk32.lattice_tables32(tab, st.tables.perm, True)[4::3]
     assert nx > 2 * gk.BLOCK and (kspan <= gk32.KMAX).all()  # all four octaves by cells
-    assert cid[0, -1] + 1 < gk32.CCELLS < cid[3, -1] + 1  # one run, and several
+    assert (cid[3, -1] + 1 > gk.BLOCK) == (len(shape) == 2)
+
+
+@pytest.mark.parametrize("kind", ["value", "perlin", "improved"])
+@pytest.mark.parametrize("tile", [False, True])
+def test_lattice_cell_road_reuses_a_rows_cells_only_in_the_same_lattice_rows(kind, tile):
+    # the cell road keeps a row's hashed cells for the next row in the same lattice rows
+    # (y0, y1, z0, z1): runs of rows in one lattice row, rows that change only y or only z
+    # (one row a slice: consecutive rows differ in z alone), and tileable lattices whose
+    # rows wrap; each must equal the float64 road, which hashes every sample.  Over
+    # gk32.CHUNKS rows, so that a work item (whose cache it is) has several rows
+    rng = np.random.default_rng(3)
+    for shape, scale in (((300, 320), (5.0, 3.7)), ((200, 1, 300), (4.0, 1.0, 29.0)),
+                         ((8, 24, 200), (3.0, 4.3, 2.2))):
+        kw = dict(kind=kind, octaves=2, scale=scale, seed=int(rng.integers(100)),
+                  offset=tuple(rng.uniform(-3, 3, len(shape))), tileable=tile)
+        a = noise_grid(shape, **kw)
+        b = noise_grid(shape, dtype=np.float64, **kw)
+        assert np.abs(a.astype(np.float64) - b).max() < TOL, shape
+        assert np.prod(shape[:-1]) >= 3 * gk32.CHUNKS
+        rows = a.reshape(-1, shape[-1])
+        assert (np.abs(np.diff(rows, axis=0)).max(axis=1) > 1e-4).all()  # no row repeated

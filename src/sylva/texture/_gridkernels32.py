@@ -11,7 +11,8 @@ float64 road's within rounding) in scalar passes: LLVM emits no vector gathers f
 CPU (znver4 prefers none), and explicit ``vpgatherdd`` measured no faster than scalar loads
 here, so the lattice noises look up less instead.  Where an octave has about four samples
 a lattice cell or more along x (``KMAX``), value, classic and improved noise go by *cells*:
-each cell of a row is hashed once (scalar), its noise along the row reduced to four
+each cell of a row is hashed once (scalar; and kept for the next rows in the same lattice
+rows, ``y0, y1, z0, z1``, which only reduce it anew), its noise along the row reduced to four
 coefficients, ``lerp(u, p0 x + q0, p1 (x - 1) + q1)`` (SIMD across cells), and the
 samples take their cell's coefficients by select chains over ``KMAX`` cells (SIMD; one
 set-up of the chains for each run of whole 16-lane vectors inside those cells, as a literal
@@ -351,10 +352,8 @@ LANES = 16
 #: cells along x (about four samples a cell or more); finer octaves keep the sample road
 #: (measured: at two samples a cell the select chains cost more than the lookups saved)
 KMAX = 5
-#: the cell road hashes the cells of a run of blocks at once, up to this many (a block's
-#: 16 cells at 16 samples a cell made the per-cell passes short loops, each with a call's
-#: set-up; 64 is four blocks there, and at most the block buffers' 256 columns)
-CCELLS = 64
+#: no lattice row (the cell road's cache key before its first row)
+NOKEY = np.uint64(1 << 32)
 
 
 @njit(inline="always", **_OPTS)
@@ -414,11 +413,11 @@ def _coef_loop(three, cnt, y, v, z, w, gb, cc):
 
 
 @njit(**_OPTS)
-def _cell_coef(kind, ndim, cnt, y, v, z, w, hb, vb, gb, cc):
-    """SIMD pass over lattice cells ``0 .. cnt - 1`` of a row (their corner hashes in
-    ``hb``, ``vb``, ``gb`` from :func:`_lat_hash`): the noise inside a cell along the row
-    is ``lerp(u, p0 x + q0, p1 (x - 1) + q1)``; ``cc[:, e] = (p0, q0, p1, q1)``
-    (value noise: ``p0 = p1 = 0``)."""
+def _cell_coef(kind, ndim, cnt, y, v, z, w, vb, gb, cc):
+    """SIMD pass over lattice cells ``0 .. cnt - 1`` of a row (their corner values in
+    ``vb`` or gradients in ``gb``, :func:`_lat_hash` and :func:`_grads16`): the noise
+    inside a cell along the row is ``lerp(u, p0 x + q0, p1 (x - 1) + q1)``;
+    ``cc[:, e] = (p0, q0, p1, q1)`` (value noise: ``p0 = p1 = 0``)."""
     if kind == k.VALUE:
         for q in range(cnt):
             cc[0, q] = ZERO
@@ -431,13 +430,10 @@ def _cell_coef(kind, ndim, cnt, y, v, z, w, hb, vb, gb, cc):
             for q in range(cnt):
                 cc[1, q] = _lerp(v, vb[0, q], vb[2, q])
                 cc[3, q] = _lerp(v, vb[1, q], vb[3, q])
+    elif ndim == 3:
+        _coef_loop(True, cnt, y, v, z, w, gb, cc)
     else:
-        if kind == k.IMPROVED:  # gradients from the hashes, as classic Perlin's are stored
-            _grads16(ndim, cnt, hb, gb)
-        if ndim == 3:
-            _coef_loop(True, cnt, y, v, z, w, gb, cc)
-        else:
-            _coef_loop(False, cnt, y, v, z, w, gb, cc)
+        _coef_loop(False, cnt, y, v, z, w, gb, cc)
 
 
 @njit(inline="always", **_OPTS)
@@ -519,7 +515,7 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
     """Row ``(m, j)`` of 2D or 3D value, classic or improved noise, every octave summed
     into ``row`` (float32; ridged sums are left unnormalised); ``work`` is
     :func:`row_work`'s block buffers (also the texture graph's row routine)."""
-    hb, vb, gb, nb, th, tv, tg, cc = work
+    hb, vb, gb, nb, th, tv, tg, cc, cv, cg, coct, key = work
     nx = row.shape[0]
     row[:] = ZERO
     weight[:] = ONE
@@ -535,23 +531,25 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
         rowtab = not cells and ndim == 2 and nx > 128
         if rowtab:
             _row_tables(kind, perm, vals, grad, y0, y1, th, tv, tg)
-        if cells:  # the cells of a run of blocks spanning at most CCELLS cells at once
-            base = 0
-            while base < nx:
-                h0 = cid[o, base]
-                end = min(nx, base + BLOCK)
-                while end < nx and cid[o, min(nx, end + BLOCK) - 1] - h0 < CCELLS:
-                    end = min(nx, end + BLOCK)
-                hn = cid[o, end - 1] - h0 + 1
-                _lat_hash(kind, ndim, h0, hn, cp0[o], cp1[o], perm, vals, grad, y0, y1, z0,
-                          z1, hb, vb, gb)
-                _cell_coef(kind, ndim, hn, yf[o, j], yv[o, j], zf[o, m], zw[o, m], hb, vb, gb,
-                           cc)
-                for b in range(base, end, BLOCK):
-                    cnt = min(BLOCK, end - b)
-                    _cell_eval(kind, b, cnt, nx, cid[o], xf[o], xu[o], cc, h0, nb)
-                    _combine_block(mode, row, weight, b, cnt, nb, amps[o], gain)
-                base = end
+        if cells:  # the cell road: every cell of the row at once
+            nc = cid[o, nx - 1] + 1
+            ci = coct[o]
+            if (key[o, 0] != y0 or key[o, 1] != y1 or key[o, 2] != z0
+                    or key[o, 3] != z1):  # not the lattice rows of the last row: hash
+                _lat_hash(kind, ndim, 0, nc, cp0[o], cp1[o], perm, vals, grad, y0, y1, z0,
+                          z1, hb, cv[ci], cg[ci])
+                if kind == k.IMPROVED:  # gradients from the hashes, as classic Perlin's
+                    _grads16(ndim, nc, hb, cg[ci])
+                key[o, 0] = y0
+                key[o, 1] = y1
+                key[o, 2] = z0
+                key[o, 3] = z1
+            _cell_coef(kind, ndim, nc, yf[o, j], yv[o, j], zf[o, m], zw[o, m], cv[ci], cg[ci],
+                       cc)
+            for b in range(0, nx, BLOCK):
+                cnt = min(BLOCK, nx - b)
+                _cell_eval(kind, b, cnt, nx, cid[o], xf[o], xu[o], cc, 0, nb)
+                _combine_block(mode, row, weight, b, cnt, nb, amps[o], gain)
             continue
         for base in range(0, nx, BLOCK):  # the sample road: each block's samples hashed
             cnt = min(BLOCK, nx - base)
@@ -566,17 +564,35 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
 
 
 @njit(**_OPTS)
-def row_work():
-    """Block buffers of :func:`row_lattice32`."""
+def row_work(xt):
+    """Block buffers of :func:`row_lattice32` for the x tables ``xt`` (one set per work
+    item: the cell road keeps each octave's cell corners, ``cv``/``cg``, for the next row
+    in the same lattice rows, ``key`` their ``(y0, y1, z0, z1)``)."""
+    cid = xt[4]
+    kspan = xt[7]
+    no, nx = cid.shape
+    coct = np.full(no, -1, np.int32)
+    ncell = 1
+    nco = 0
+    for o in range(no):
+        if kspan[o] <= KMAX and nx > 0:
+            coct[o] = nco
+            nco += 1
+            ncell = max(ncell, cid[o, nx - 1] + 1)
+    nh = max(BLOCK, ncell)
     return (
-        np.empty((8, BLOCK), np.int32),
+        np.empty((8, nh), np.int32),
         np.empty((8, BLOCK), np.float32),
         np.empty((3, 8, BLOCK), np.float32),
         np.empty(BLOCK + LANES, np.float32),
         np.empty((2, 256), np.int32),
         np.empty((2, 256), np.float32),
         np.empty((2, 2, 256), np.float32),
-        np.zeros((4, BLOCK + KMAX), np.float32),  # read up to KMAX - 1 past the cells
+        np.zeros((4, ncell + KMAX), np.float32),  # read up to KMAX - 1 past the cells
+        np.empty((max(nco, 1), 8, ncell), np.float32),
+        np.empty((max(nco, 1), 3, 8, ncell), np.float32),
+        coct,
+        np.full((no, 4), NOKEY, np.uint64),
     )
 
 
@@ -600,7 +616,7 @@ def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, grad, no
     nch = min(nrows, CHUNKS)
     for c in prange(nch):
         weight = np.empty(nx, np.float32)
-        work = row_work()
+        work = row_work(xt)
         for r in range(c * nrows // nch, (c + 1) * nrows // nch):
             j = r % ny
             m = r // ny

@@ -436,7 +436,7 @@ class _Emit:
                 for a in range(nd)]
             xt, yt = self.arg(tabs[0]), self.arg(tabs[1])
             zt = self.arg(tabs[2]) if nd == 3 else yt
-            self.pre.append(f"{wk} = _gk32.row_work()")
+            self.pre.append(f"{wk} = _gk32.row_work({xt})")
             self.row.append(
                 f"_gk32.row_lattice32({self.i(s.kind)}, {self.i(mode)}, {self.i(nd)}, {xt}, "
                 f"{yt}, {zt}, j, m, {acc}, "
