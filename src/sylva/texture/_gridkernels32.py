@@ -44,6 +44,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange, uint64
 
+from . import _bytelanes as _bl
 from . import _kernels as k
 from ._gridkernels import BLOCK, axis_tables
 
@@ -649,6 +650,11 @@ def _g12_2(g, x, y):
 #: row stride of :func:`simplex_table` (``tab[i * TAB_STRIDE + m]``)
 TAB_STRIDE = 512
 _N15 = np.int32(15)
+# rows of the byte-lane work buffer ``bb`` (:func:`simplex_work`): the cell's i, j, k & 255,
+# the code of the middle corners' offsets (3D: :func:`_code3`; 2D: the middle corner is
+# (1, 0)), the corners' gradient indices (:func:`._bytelanes.simplex3_hash`, ``simplex2_hash``)
+_BI, _BJ, _BK, _BC, _BG = 0, 1, 2, 3, 4
+_BROWS = 8
 
 
 @njit(**_OPTS)
@@ -669,6 +675,60 @@ def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bc, ba):
         by[q] = y0
         bc[q] = np.int32(x0 > y0)
         ba[q] = (np.int32(fi) & 255) * st + (np.int32(fj) & 255)
+
+
+@njit(**_OPTS)
+def _s2_locate_b(xs, base, cnt, fx, ox, yin, bx, by, bb):
+    """:func:`_s2_locate` for the byte-lane road: the cell's ``i, j & 255`` and whether
+    the middle corner is (1, 0) into the byte rows of ``bb`` (:func:`simplex_work`)."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        xin = xs[b0 + uint64(q)] * fx + ox
+        s = (xin + yin) * F2
+        fi = np.floor(xin + s)
+        fj = np.floor(yin + s)
+        t = (fi + fj) * G2
+        x0 = xin - (fi - t)
+        y0 = yin - (fj - t)
+        bx[q] = x0
+        by[q] = y0
+        bb[_BI, q] = np.uint8(np.int32(fi))  # the low byte: i & 255 (two's complement)
+        bb[_BJ, q] = np.uint8(np.int32(fj))
+        bb[_BC, q] = np.uint8(x0 > y0)
+
+
+@njit(**_OPTS)
+def _s2_hash_b(cnt, bt, bb):
+    """The three corners' gradient indices of ``cnt`` samples, 64 at a time in byte lanes
+    (:func:`._bytelanes.simplex2_hash`; ``bt``: perm and perm12 as bytes)."""
+    p = bt.ctypes.data
+    rs = uint64(bb.shape[1])
+    r0 = bb.ctypes.data
+    for o in range(0, cnt, _bl.LANES):
+        _bl.simplex2_hash(p, r0 + uint64(o), rs)
+
+
+@njit(**_OPTS)
+def _s2_eval_b(cnt, bx, by, bb, nb):
+    """:func:`_s2_eval` with the corners' gradient indices from the byte rows ``G``."""
+    for q in range(cnt):
+        x0 = bx[q]
+        y0 = by[q]
+        i1 = _F(bb[_BC, q])
+        x1 = x0 - i1 + G2
+        y1 = y0 - (ONE - i1) + G2
+        x2 = x0 + G2X2
+        y2 = y0 + G2X2
+        t0 = max(R2 - x0 * x0 - y0 * y0, ZERO)
+        t1 = max(R2 - x1 * x1 - y1 * y1, ZERO)
+        t2 = max(R2 - x2 * x2 - y2 * y2, ZERO)
+        t0 *= t0
+        t1 *= t1
+        t2 *= t2
+        n = t0 * t0 * _g12_2(_i32(bb[_BG, q]), x0, y0)
+        n += t1 * t1 * _g12_2(_i32(bb[_BG + 1, q]), x1, y1)
+        n += t2 * t2 * _g12_2(_i32(bb[_BG + 2, q]), x2, y2)
+        nb[q] = S2 * n
 
 
 @njit(**_OPTS)
@@ -715,6 +775,21 @@ def _bit(cond):
     return 1.0 if cond else 0.0
 
 
+@njit(inline="always", cache=True, error_model="numpy")
+def _s3_cell64(xin, yin, zin):
+    """Gustavson's skew and cell in float64, as :func:`._kernels.simplex3`: the offsets
+    ``x0, y0, z0``, the three comparisons of the six-way choice, the cell ``i, j, k``."""
+    s = (xin + yin + zin) * k.F3
+    fi = np.floor(xin + s)
+    fj = np.floor(yin + s)
+    fk = np.floor(zin + s)
+    t = (fi + fj + fk) * k.G3
+    x0 = xin - (fi - t)
+    y0 = yin - (fj - t)
+    z0 = zin - (fk - t)
+    return x0, y0, z0, x0 >= y0, y0 >= z0, x0 >= z0, fi, fj, fk
+
+
 @njit(cache=True, error_model="numpy")  # no fast-math: the float64 road's roundings
 def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk):
     """SIMD pass, in float64 (``xs``, ``fx`` ... ``zin``): Gustavson's 3D kernel
@@ -725,27 +800,44 @@ def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk):
     for ``perm[k]`` into ``ba``, ``k & 255`` into ``bk``."""
     b0 = uint64(base)
     for q in range(cnt):
-        xin = xs[b0 + uint64(q)] * fx + ox
-        s = (xin + yin + zin) * k.F3
-        fi = np.floor(xin + s)
-        fj = np.floor(yin + s)
-        fk = np.floor(zin + s)
-        t = (fi + fj + fk) * k.G3
-        x0 = xin - (fi - t)
-        y0 = yin - (fj - t)
-        z0 = zin - (fk - t)
-        ca = _bit(x0 >= y0)
-        cb = _bit(y0 >= z0)
-        cc = _bit(x0 >= z0)
+        x0, y0, z0, ca, cb, cc, fi, fj, fk = _s3_cell64(xs[b0 + uint64(q)] * fx + ox, yin, zin)
         bx[q] = x0
         by[q] = y0
         bz[q] = z0
-        bf[0, q] = ca + cc
-        bf[1, q] = 1.0 - ca + cb
+        bf[0, q] = _bit(ca) + _bit(cc)
+        bf[1, q] = 1.0 - _bit(ca) + _bit(cb)
         ii = fi - 256.0 * np.floor(fi * (1.0 / 256.0))  # i & 255, exactly
         jj = fj - 256.0 * np.floor(fj * (1.0 / 256.0))
         ba[q] = np.int32(ii * TAB_STRIDE + jj)
         bk[q] = np.int32(fk - 256.0 * np.floor(fk * (1.0 / 256.0)))
+
+
+@njit(inline="always", **_OPTS)
+def _code3(ca, cb, cc):
+    """Corners 1 and 2's offsets ``i1 | j1 << 1 | k1 << 2 | i2 << 3 | j2 << 4 | k2 << 5``
+    from the comparisons ``x0 >= y0``, ``y0 >= z0``, ``x0 >= z0``: Gustavson's six-way
+    choice, as :func:`_ranks3` from the ranks.  Bitwise, not ``and`` / ``or``:
+    short-circuits are branches, which LLVM does not vectorise."""
+    i = _i32
+    return np.uint8(i(ca & cc) | i(cb & (not ca)) << I1 | i(not (cb | cc)) << I2
+                    | i(ca | cc) << np.int32(3) | i(cb | (not ca)) << I4
+                    | i(not (cb & cc)) << np.int32(5))
+
+
+@njit(cache=True, error_model="numpy")  # no fast-math: the float64 road's roundings
+def _s3_locate_b(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bb):
+    """:func:`_s3_locate` for the byte-lane road: the cell and the code of its corners
+    (:func:`_code3`) into the byte rows of ``bb`` instead of a table address and ranks."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        x0, y0, z0, ca, cb, cc, fi, fj, fk = _s3_cell64(xs[b0 + uint64(q)] * fx + ox, yin, zin)
+        bx[q] = x0
+        by[q] = y0
+        bz[q] = z0
+        bb[_BI, q] = np.uint8(np.int32(fi))  # the low byte: i & 255 (two's complement)
+        bb[_BJ, q] = np.uint8(np.int32(fj))
+        bb[_BK, q] = np.uint8(np.int32(fk))
+        bb[_BC, q] = _code3(ca, cb, cc)
 
 
 @njit(**_OPTS)
@@ -804,14 +896,50 @@ def _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb):
         nb[q] = S3 * n
 
 
+
+@njit(**_OPTS)
+def _s3_hash_b(cnt, bt, bb):
+    """The corners' gradient indices of ``cnt`` samples, 64 at a time in byte lanes
+    (:func:`._bytelanes.simplex3_hash`; ``bt``: perm and perm12 as bytes)."""
+    p = bt.ctypes.data
+    rs = uint64(bb.shape[1])
+    r0 = bb.ctypes.data
+    for o in range(0, cnt, _bl.LANES):
+        _bl.simplex3_hash(p, r0 + uint64(o), rs)
+
+
+@njit(inline="always", **_OPTS)
+def _obit(c, n):
+    return ONE if _i32(c & n) != I0 else ZERO
+
+
+@njit(**_OPTS)
+def _s3_eval_b(cnt, bx, by, bz, bb, nb):
+    """:func:`_s3_eval` with the corners' gradient indices from the byte rows ``G`` and
+    their offsets from the code row (:func:`_code3`)."""
+    for q in range(cnt):
+        c = _i32(bb[_BC, q])
+        i1, j1, k1 = _obit(c, I1), _obit(c, I2), _obit(c, I4)
+        i2, j2, k2 = _obit(c, I8), _obit(c, np.int32(16)), _obit(c, np.int32(32))
+        x0 = bx[q]
+        y0 = by[q]
+        z0 = bz[q]
+        n = _c3(_i32(bb[_BG, q]), x0, y0, z0)
+        n += _c3(_i32(bb[_BG + 1, q]), x0 - i1 + G3, y0 - j1 + G3, z0 - k1 + G3)
+        n += _c3(_i32(bb[_BG + 2, q]), x0 - i2 + G3X2, y0 - j2 + G3X2, z0 - k2 + G3X2)
+        n += _c3(_i32(bb[_BG + 3, q]), x0 + G3X3, y0 + G3X3, z0 + G3X3)
+        nb[q] = S3 * n
+
+
 @njit(cache=True, error_model="numpy")  # no fast-math: yin, zin as in float64
 def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, offs, perm,
                   tab, gain, work):
     """Row ``(m, j)`` of 2D or 3D simplex noise, every octave summed into ``row`` (float32;
     ridged sums are left unnormalised); ``work``: :func:`simplex_work` (also the texture
     graph's row routine).  Blocks of :data:`BLOCK` samples go in passes: locate (SIMD; 3D
-    in float64), one table load a sample and z plane (scalar), corner sums (SIMD)."""
-    bx, by, bz, nb, bf, ba, bk, bc, w0, w1 = work
+    in float64), one table load a sample and z plane (scalar; 3D with ``hashed``: the
+    chained lookups in byte lanes), corner sums (SIMD)."""
+    bx, by, bz, nb, bf, ba, bk, bc, w0, w1, bb, bt, hashed = work
     tf = tab.reshape(tab.size)
     nx = row.shape[0]
     row[:] = ZERO
@@ -826,29 +954,48 @@ def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, 
         yin32 = _F(yin)
         for base in range(0, nx, BLOCK):
             cnt = min(BLOCK, nx - base)
-            if ndim == 2:
+            if ndim == 2 and hashed:
+                _s2_locate_b(xs32, base, cnt, fx32, ox32, yin32, bx, by, bb)
+                _s2_hash_b(cnt, bt, bb)
+                _s2_eval_b(cnt, bx, by, bb, nb)
+            elif ndim == 2:
                 _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bc, ba)
                 _gather(cnt, tf, ba, w0)
                 _s2_eval(cnt, bx, by, bc, w0, nb)
             else:
-                _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk)
-                _s3_gather(cnt, tf, perm, ba, bk, w0, w1)
-                _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb)
+                if hashed:
+                    _s3_locate_b(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bb)
+                else:
+                    _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk)
+                if hashed:
+                    _s3_hash_b(cnt, bt, bb)
+                    _s3_eval_b(cnt, bx, by, bz, bb, nb)
+                else:
+                    _s3_gather(cnt, tf, perm, ba, bk, w0, w1)
+                    _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb)
             _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
 
 
 @njit(cache=True)
-def simplex_work():
-    """Block buffers of :func:`row_simplex32`."""
+def simplex_work(perm, hashed):
+    """Block buffers of :func:`row_simplex32`; ``hashed``:
+    3D hashes its corners in byte lanes (:mod:`._bytelanes`; ``perm``: the doubled
+    permutation) instead of loading the packed corners of :func:`simplex_table`."""
     f = np.float32
     i = np.int32
+    bb = np.zeros((_BROWS, BLOCK), np.uint8)  # BLOCK: a multiple of the 64 byte lanes
+    bt = np.empty(512, np.uint8)
+    for m in range(256):
+        bt[m] = perm[m]
+        bt[256 + m] = perm[m] % 12
     return (np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f),
             np.empty((2, BLOCK), f), np.empty(BLOCK, i), np.empty(BLOCK, i),
-            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i))
+            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), bb, bt, hashed)
 
 
 @njit(cache=True, parallel=True, error_model="numpy")  # no fast-math: yin, zin as in float64
-def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, tab, norm, gain):
+def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, tab, norm, gain,
+                   hashed):
     """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D or 3D simplex noise (Gustavson's
     corners, hashes and gradients), every octave in one pass per row.  ``xs, ys, zs``,
     ``freqs``, ``offs`` as for :func:`._gridkernels.simplex_grid` (float64; ``xs32``:
@@ -859,7 +1006,7 @@ def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, t
     nch = min(nrows, CHUNKS)
     for c in prange(nch):
         weight = np.empty(nx, np.float32)
-        work = simplex_work()
+        work = simplex_work(perm, hashed)
         for r in range(c * nrows // nch, (c + 1) * nrows // nch):
             j = r % ny
             m = r // ny
@@ -999,6 +1146,7 @@ def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, 
             simplex_table(t.seed, t.perm, t.perm12),
             f32(norm),
             f32(gain),
+            _bl.USE,
         )
         return out
     return None

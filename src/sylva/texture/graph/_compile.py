@@ -444,7 +444,8 @@ class _Emit:
                 f"{self.arg(t.gradients[nd - 2].astype(f32))}, {gain}, {wk})")
         elif s.kind == _k.SIMPLEX:
             ax = [self.arg(a) for a in plan.axes[:3]]
-            self.pre.append(f"{wk} = _gk32.simplex_work()")
+            self.pre.append(f"{wk} = _gk32.simplex_work({self.arg(t.perm)}, "
+                            f"{bool(_gk32._bl.USE)})")
             tab = _gk32.simplex_table(t.seed, t.perm, t.perm12)
             self.row.append(
                 f"_gk32.row_simplex32({self.i(nd)}, {self.i(mode)}, {ax[0]}, "

@@ -1,0 +1,155 @@
+"""Permutation-table lookups 64 at a time, in byte lanes (private; for the float32 roads).
+
+Gradient noise hashes a lattice point by chained lookups in a permutation of 0..255,
+``perm[i + perm[j + perm[k]]]``.  With the table doubled (as Perlin's and Gustavson's are)
+every index is taken modulo 256, which byte arithmetic does for free: a lookup is a byte
+permutation.  AVX-512 VBMI's ``vpermi2b`` permutes 64 bytes out of a 128-byte table in
+one instruction, so two of them and a blend by the index's top bit read a 256-entry table
+for 64 indices at once: 12 lookups hash the four corners of 64 simplices, where scalar
+code loads 4 table words a sample.  :func:`lookup` emits that (LLVM's
+``llvm.x86.avx512.vpermi2var.qi.512``) when the CPU numba compiles for has VBMI, and 64
+scalar loads otherwise (the same results: the tests run both where they can);
+:data:`VBMI` tells the kernels which road is the fast one on this machine.
+
+Numba caches compiled kernels per CPU name and feature set, so a cache made on a VBMI
+machine is never loaded on one without.
+"""
+
+from __future__ import annotations
+
+import os
+
+import llvmlite.binding as llvm
+import llvmlite.ir as ir
+import numpy as np
+from numba import types
+from numba.extending import intrinsic
+
+#: bytes a :func:`lookup` reads and writes (one zmm register)
+LANES = 64
+
+_I8 = ir.IntType(8)
+_I32 = ir.IntType(32)
+_V = ir.VectorType(_I8, LANES)
+
+
+def _host_has_vbmi() -> bool:
+    try:
+        feats = llvm.get_host_cpu_features()
+    except RuntimeError:  # no feature list from this host
+        return False
+    return bool(feats.get("avx512vbmi") and feats.get("avx512bw"))
+
+
+#: the CPU has AVX-512 VBMI (byte permutes): the byte-lane roads are the fast ones here.
+#: ``SYLVA_BYTELANES=0`` / ``1`` chooses the road for a process (both compile everywhere).
+VBMI = _host_has_vbmi()
+_env = os.environ.get("SYLVA_BYTELANES", "")
+USE = VBMI if _env not in ("0", "1") else _env == "1"
+
+
+def _load(b, addr):
+    return b.load(b.inttoptr(addr, _V.as_pointer()), align=1)
+
+
+def _lut(b, t, idx):
+    """IR: ``tab[idx]`` for 64 byte indices (``t``: the address of the 256-byte table)."""
+    if VBMI:
+        rows = [_load(b, b.add(t, ir.Constant(t.type, LANES * r))) for r in range(4)]
+        fn = b.module.declare_intrinsic(
+            "llvm.x86.avx512.vpermi2var.qi.512", fnty=ir.FunctionType(_V, [_V, _V, _V])
+        )
+        lo = b.call(fn, [rows[0], idx, rows[1]])  # index bit 6 picks the row, 0..5 the byte
+        hi = b.call(fn, [rows[2], idx, rows[3]])
+        return b.select(b.icmp_signed("<", idx, ir.Constant(_V, None)), hi, lo)  # bit 7
+    base = b.inttoptr(t, _I8.as_pointer())
+    res = ir.Constant(_V, ir.Undefined)
+    for q in range(LANES):
+        i = b.zext(b.extract_element(idx, ir.Constant(_I32, q)), ir.IntType(64))
+        res = b.insert_element(res, b.load(b.gep(base, [i]), align=1), ir.Constant(_I32, q))
+    return res
+
+
+def _row(b, rows, stride, r):
+    return b.add(rows, b.mul(stride, ir.Constant(stride.type, r)))
+
+
+@intrinsic
+def lookup(typingctx, tab, a, c, d, dst):
+    """``dst[q] = tab[(a[q] + c[q] + d[q]) & 255]`` for the :data:`LANES` bytes at the
+    integer addresses ``a, c, d, dst`` (uint8; ``tab``: the address of 256 bytes).  The
+    caller owns the 64 bytes at each address."""
+    sig = types.void(types.uintp, types.uintp, types.uintp, types.uintp, types.uintp)
+
+    def codegen(context, b, signature, args):
+        t, pa, pc, pd, out = args
+        idx = b.add(b.add(_load(b, pa), _load(b, pc)), _load(b, pd))  # wraps: & 255
+        b.store(_lut(b, t, idx), b.inttoptr(out, _V.as_pointer()), align=1)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def simplex3_hash(typingctx, tab, rows, stride):
+    """Gustavson's 3D corner hashes for 64 samples: from byte rows 0..3 at the address
+    ``rows`` (``stride`` bytes apart) — the cell's ``i, j, k & 255`` and the code
+    ``i1 | j1 << 1 | k1 << 2 | i2 << 3 | j2 << 4 | k2 << 5`` of corners 1 and 2 — the four
+    corners' gradient indices ``perm12[i + di + perm[j + dj + perm[k + dk]]]`` into rows
+    4..7 (corners 0 .. 3).  ``tab``: the address of perm (256 bytes) then perm12."""
+    sig = types.void(types.uintp, types.uintp, types.uintp)
+
+    def codegen(context, b, signature, args):
+        t, r0, st = args
+        t12 = b.add(t, ir.Constant(t.type, 256))
+        vi, vj, vk, code = (_load(b, _row(b, r0, st, r)) for r in range(4))
+        one = ir.Constant(_V, [1] * LANES)
+        zero = ir.Constant(_V, None)
+
+        def bit(n):
+            return b.and_(b.lshr(code, ir.Constant(_V, [n] * LANES)), one)
+
+        offs = [(zero, zero, zero), (bit(0), bit(1), bit(2)), (bit(3), bit(4), bit(5)),
+                (one, one, one)]
+        for c, (di, dj, dk) in enumerate(offs):
+            a = _lut(b, t, b.add(vk, dk))
+            h = _lut(b, t, b.add(b.add(vj, dj), a))
+            g = _lut(b, t12, b.add(b.add(vi, di), h))
+            b.store(g, b.inttoptr(_row(b, r0, st, 4 + c), _V.as_pointer()), align=1)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def simplex2_hash(typingctx, tab, rows, stride):
+    """Gustavson's 2D corner hashes for 64 samples: from byte rows 0, 1 and 3 at the
+    address ``rows`` (``stride`` bytes apart) — the cell's ``i, j & 255`` and 1 where the
+    middle corner is (1, 0), 0 where it is (0, 1) — the three corners' gradient indices
+    ``perm12[i + di + perm[j + dj]]`` into rows 4..6.  ``tab`` as for
+    :func:`simplex3_hash`."""
+    sig = types.void(types.uintp, types.uintp, types.uintp)
+
+    def codegen(context, b, signature, args):
+        t, r0, st = args
+        t12 = b.add(t, ir.Constant(t.type, 256))
+        vi, vj, c = (_load(b, _row(b, r0, st, r)) for r in (0, 1, 3))
+        one = ir.Constant(_V, [1] * LANES)
+        zero = ir.Constant(_V, None)
+        offs = [(zero, zero), (c, b.xor(c, one)), (one, one)]
+        for k, (di, dj) in enumerate(offs):
+            h = _lut(b, t, b.add(vj, dj))
+            g = _lut(b, t12, b.add(b.add(vi, di), h))
+            b.store(g, b.inttoptr(_row(b, r0, st, 4 + k), _V.as_pointer()), align=1)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+def byte_table(table) -> np.ndarray:
+    """The first 256 entries of a (doubled) permutation table as uint8, the layout
+    :func:`lookup` reads."""
+    t = np.asarray(table)[:256]
+    if t.shape != (256,) or t.min() < 0 or t.max() > 255:
+        raise ValueError("a byte table needs 256 entries in 0..255")
+    return np.ascontiguousarray(t, dtype=np.uint8)

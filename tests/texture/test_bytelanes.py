@@ -1,0 +1,105 @@
+"""Gustavson's simplex corner hashes in byte lanes (``_bytelanes``, AVX-512 VBMI byte
+permutes where the CPU has them, scalar loads elsewhere) against the chained table
+lookups of his reference code, and both float32 simplex roads against the float64 one."""
+
+import numpy as np
+import pytest
+from numba import njit, uint64
+
+from sylva import _jit
+from sylva.texture import _bytelanes as bl
+from sylva.texture import _gridkernels32 as gk32
+from sylva.texture import noise_grid
+from sylva.texture.noise import noise_tables
+
+N = 4 * bl.LANES
+
+
+def _rows(seed, ndim):
+    rng = np.random.default_rng(seed)
+    rows = np.zeros((8, N), np.uint8)
+    rows[:3] = rng.integers(0, 256, (3, N))  # i, j, k & 255: every byte, 255 included
+    rows[0, :3] = 255
+    # 3D: the six codes of Gustavson's six-way choice; 2D: 0 or 1
+    codes = np.array([0b011001, 0b101001, 0b101100, 0b110100, 0b110010, 0b011010], np.uint8)
+    rows[3] = codes[rng.integers(0, 6, N)] if ndim == 3 else rng.integers(0, 2, N)
+    return rows
+
+
+def _tables(seed):
+    t = noise_tables(seed)
+    return t.perm, t.perm12, np.concatenate([t.perm[:256], t.perm12[:256]]).astype(np.uint8)
+
+
+def _hash_caller(ndim):
+    # a fresh function per call: the intrinsic's code is generated when this compiles, for
+    # the road that ``bl.VBMI`` names at that moment
+    fn = bl.simplex3_hash if ndim == 3 else bl.simplex2_hash
+
+    @njit(cache=False)
+    def run(tab, rows):
+        for o in range(0, rows.shape[1], bl.LANES):
+            fn(tab.ctypes.data, rows.ctypes.data + uint64(o), uint64(rows.shape[1]))
+
+    return run
+
+
+def _reference(ndim, perm, perm12, rows):
+    i, j, k, c = (rows[r].astype(np.int64) for r in range(4))
+    if ndim == 2:
+        offs = [(0, 0), (c, 1 - c), (1, 1)]
+        return [perm12[i + di + perm[j + dj]] for di, dj in offs]
+    bits = [(c >> n) & 1 for n in range(6)]
+    offs = [(0, 0, 0), tuple(bits[:3]), tuple(bits[3:]), (1, 1, 1)]
+    return [perm12[i + di + perm[j + dj + perm[k + dk]]] for di, dj, dk in offs]
+
+
+@pytest.mark.parametrize("vbmi", [True, False], ids=["vbmi", "scalar"])
+@pytest.mark.parametrize("ndim", [2, 3])
+@pytest.mark.parametrize("seed", [None, 7])
+def test_corner_hashes_are_gustavsons_chained_lookups(monkeypatch, vbmi, ndim, seed):
+    if vbmi and not bl.VBMI:
+        pytest.skip("this CPU has no AVX-512 VBMI (the scalar road runs here)")
+    monkeypatch.setattr(bl, "VBMI", vbmi)
+    perm, perm12, tab = _tables(seed)
+    rows = _rows(3 if seed is None else seed, ndim)
+    _hash_caller(ndim)(tab, rows)
+    for corner, ref in enumerate(_reference(ndim, perm, perm12, rows)):
+        np.testing.assert_array_equal(rows[4 + corner], ref)
+
+
+def test_corner_code_is_the_six_way_choice():
+    # _code3 from the comparisons equals Gustavson's if/else (his reference code)
+    for x0, y0, z0 in [(3, 2, 1), (3, 1, 2), (2, 1, 3), (1, 2, 3), (1, 3, 2), (2, 3, 1),
+                       (1, 1, 1), (2, 2, 1), (1, 2, 2)]:  # fmt: skip
+        if x0 >= y0:
+            o = ((1, 0, 0, 1, 1, 0) if y0 >= z0 else
+                 (1, 0, 0, 1, 0, 1) if x0 >= z0 else (0, 0, 1, 1, 0, 1))  # fmt: skip
+        else:
+            o = ((0, 0, 1, 0, 1, 1) if y0 < z0 else
+                 (0, 1, 0, 0, 1, 1) if x0 < z0 else (0, 1, 0, 1, 1, 0))  # fmt: skip
+        code = int(gk32._code3(x0 >= y0, y0 >= z0, x0 >= z0))
+        assert tuple((code >> n) & 1 for n in range(6)) == o, (x0, y0, z0)
+
+
+@pytest.fixture
+def _compiled():
+    with _jit.compiled():
+        yield
+
+
+@pytest.mark.usefixtures("_compiled")
+@pytest.mark.parametrize("use", [True, False], ids=["bytelanes", "packed"])
+@pytest.mark.parametrize("shape", [(20, 300), (5, 12, 333)], ids=["2d", "3d"])
+@pytest.mark.parametrize("fractal,octaves", [("fbm", 1), ("fbm", 6), ("ridged", 3)])
+def test_both_float32_simplex_roads_within_tolerance(monkeypatch, use, shape, fractal,
+                                                     octaves):  # fmt: skip
+    monkeypatch.setattr(bl, "USE", use)
+    # negative lattice coordinates: the byte of i & 255 is two's complement
+    kw = dict(kind="simplex", fractal=fractal, octaves=octaves, scale=24.0, seed=5,
+              offset=(-30.25, -7.5, -2.0)[: len(shape)])
+    a = noise_grid(shape, **kw)
+    b = noise_grid(shape, dtype=np.float64, **kw)
+    assert a.dtype == np.float32
+    assert np.abs(a.astype(np.float64) - b).max() < gk32.TOLERANCE
+    assert b.std() > 0.05
