@@ -5,11 +5,12 @@ Gradient noise hashes a lattice point by chained lookups in a permutation of 0..
 every index is taken modulo 256, which byte arithmetic does for free: a lookup is a byte
 permutation.  AVX-512 VBMI's ``vpermi2b`` permutes 64 bytes out of a 128-byte table in
 one instruction, so two of them and a blend by the index's top bit read a 256-entry table
-for 64 indices at once: 12 lookups hash the four corners of 64 simplices, where scalar
-code loads 4 table words a sample.  :func:`lookup` emits that (LLVM's
-``llvm.x86.avx512.vpermi2var.qi.512``) when the CPU numba compiles for has VBMI, and 64
-scalar loads otherwise (the same results: the tests run both where they can);
-:data:`VBMI` tells the kernels which road is the fast one on this machine.
+for 64 indices at once: 12 lookups hash the four corners of 64 3D simplices (6 the three
+of 2D ones), their intermediate results staying in registers.  The intrinsics below emit
+that (LLVM's ``llvm.x86.avx512.vpermi2var.qi.512``) when the CPU numba compiles for has
+VBMI, and 64 scalar loads a lookup otherwise (the same results: the tests run both where
+they can); :data:`USE` tells the kernels which road to take on this machine (the other
+one loads one packed word of corner hashes a sample, :func:`._gridkernels32.simplex_table`).
 
 Numba caches compiled kernels per CPU name and feature set, so a cache made on a VBMI
 machine is never loaded on one without.
@@ -21,7 +22,6 @@ import os
 
 import llvmlite.binding as llvm
 import llvmlite.ir as ir
-import numpy as np
 from numba import types
 from numba.extending import intrinsic
 
@@ -72,22 +72,6 @@ def _lut(b, t, idx):
 
 def _row(b, rows, stride, r):
     return b.add(rows, b.mul(stride, ir.Constant(stride.type, r)))
-
-
-@intrinsic
-def lookup(typingctx, tab, a, c, d, dst):
-    """``dst[q] = tab[(a[q] + c[q] + d[q]) & 255]`` for the :data:`LANES` bytes at the
-    integer addresses ``a, c, d, dst`` (uint8; ``tab``: the address of 256 bytes).  The
-    caller owns the 64 bytes at each address."""
-    sig = types.void(types.uintp, types.uintp, types.uintp, types.uintp, types.uintp)
-
-    def codegen(context, b, signature, args):
-        t, pa, pc, pd, out = args
-        idx = b.add(b.add(_load(b, pa), _load(b, pc)), _load(b, pd))  # wraps: & 255
-        b.store(_lut(b, t, idx), b.inttoptr(out, _V.as_pointer()), align=1)
-        return context.get_dummy_value()
-
-    return sig, codegen
 
 
 @intrinsic
@@ -144,12 +128,3 @@ def simplex2_hash(typingctx, tab, rows, stride):
         return context.get_dummy_value()
 
     return sig, codegen
-
-
-def byte_table(table) -> np.ndarray:
-    """The first 256 entries of a (doubled) permutation table as uint8, the layout
-    :func:`lookup` reads."""
-    t = np.asarray(table)[:256]
-    if t.shape != (256,) or t.min() < 0 or t.max() > 255:
-        raise ValueError("a byte table needs 256 entries in 0..255")
-    return np.ascontiguousarray(t, dtype=np.uint8)

@@ -20,10 +20,15 @@ trip count of 16 is unrolled to scalar code).  Finer octaves keep the per-sample
 tables of 2D corner hashes, then SIMD; improved noise's 2D corner gradient indices travel
 packed, four nibbles in one int32).  Integer work inside the SIMD loops is int32
 throughout (numba widens ``int32 & 15`` to int64, which cuts the lanes to 4).
-Simplex noise needs one load a sample (2D) or z plane (3D): :func:`simplex_table` packs
-the gradient indices of a cell's four (x, y) corners in one word (Gustavson's chained
-lookups precomputed), the SIMD corner pass takes its corners' nibbles out; 3D locates in
-float64 (its kernel jumps across simplex faces) and does the rest in float32 lanes.
+Simplex noise hashes its corners in byte lanes where the CPU has AVX-512 VBMI
+(:mod:`._bytelanes`: Gustavson's chained lookups for 64 samples in a few byte permutes);
+elsewhere it needs one load a sample (2D) or z plane (3D): :func:`simplex_table` packs
+the gradient indices of a cell's four (x, y) corners in one word (the chained lookups
+precomputed), the SIMD corner pass takes its corners' nibbles out.  3D locates in float64
+(its kernel jumps across simplex faces) and does the rest in float32 lanes.  (Tried and
+dropped: locating 3D in float32 lanes from split coordinates, exactly but for the
+fractions' rounding and again in float64 near a face — no faster than float64, twice the
+operations at twice the lanes.)
 
 Covered here, 2D and 3D, every fractal sum (fBm, turbulence, ridged) and integer lattice
 periods (``tileable``): value, classic Perlin (its 256 gradients stored into the block by
