@@ -1,6 +1,7 @@
-"""Gustavson's simplex corner hashes in byte lanes (``_bytelanes``, AVX-512 VBMI byte
-permutes where the CPU has them, scalar loads elsewhere) against the chained table
-lookups of his reference code, and both float32 simplex roads against the float64 one."""
+"""The corner hashes in byte lanes (``_bytelanes``, AVX-512 VBMI byte permutes where the
+CPU has them, scalar loads elsewhere) against the chained table lookups of Gustavson's
+simplex and Perlin's improved-noise reference code, and both float32 roads (byte lanes
+and table loads) against the float64 one."""
 
 import numpy as np
 import pytest
@@ -82,6 +83,48 @@ def test_corner_code_is_the_six_way_choice():
         assert tuple((code >> n) & 1 for n in range(6)) == o, (x0, y0, z0)
 
 
+def _lattice_caller(ndim):
+    fn = bl.lattice3_hash if ndim == 3 else bl.lattice2_hash
+
+    @njit(cache=False)
+    def run(tab, rows, y0, y1, z0, z1):
+        for o in range(0, rows.shape[1], bl.LANES):
+            a = rows.ctypes.data + uint64(o)
+            if ndim == 3:
+                fn(tab.ctypes.data, a, uint64(rows.shape[1]), y0, y1, z0, z1)
+            else:
+                fn(tab.ctypes.data, a, uint64(rows.shape[1]), y0, y1)
+
+    return run
+
+
+@pytest.mark.parametrize("vbmi", [True, False], ids=["vbmi", "scalar"])
+@pytest.mark.parametrize("ndim", [2, 3])
+@pytest.mark.parametrize("yz", [(0, 1, 254, 255), (255, 0, 7, 8)])
+def test_lattice_hashes_are_perlins_chained_lookups(monkeypatch, vbmi, ndim, yz):
+    if vbmi and not bl.VBMI:
+        pytest.skip("this CPU has no AVX-512 VBMI (the scalar road runs here)")
+    monkeypatch.setattr(bl, "VBMI", vbmi)
+    perm = noise_tables(4).perm
+    rng = np.random.default_rng(1)
+    x0 = rng.integers(0, 256, N)
+    x0[:2] = (0, 255)
+    x1 = (x0 + 1) % 256
+    rows = np.zeros((10, N), np.uint8)
+    rows[0], rows[1] = perm[x0], perm[x1]  # the x axis table holds perm[x] already
+    y0, y1, z0, z1 = yz
+    _lattice_caller(ndim)(perm[:256].astype(np.uint8), rows, *map(np.uint64, yz))
+    px = [perm[x0], perm[x1]]
+    if ndim == 3:  # Perlin's improved noise: perm[perm[perm[x] + y] + z], corner c = zyx bits
+        for c in range(8):
+            h = perm[perm[px[c & 1] + (y1 if c & 2 else y0)] + (z1 if c & 4 else z0)]
+            np.testing.assert_array_equal(rows[2 + c], h)
+    else:  # 2D: perm[perm[perm[x] + y]] & 15, two nibbles a byte
+        g = [perm[perm[px[c & 1] + (y1 if c & 2 else y0)]] & 15 for c in range(4)]
+        np.testing.assert_array_equal(rows[2], g[0] | (g[1] << 4))
+        np.testing.assert_array_equal(rows[3], g[2] | (g[3] << 4))
+
+
 @pytest.fixture
 def _compiled():
     with _jit.compiled():
@@ -101,5 +144,21 @@ def test_both_float32_simplex_roads_within_tolerance(monkeypatch, use, shape, fr
     a = noise_grid(shape, **kw)
     b = noise_grid(shape, dtype=np.float64, **kw)
     assert a.dtype == np.float32
+    assert np.abs(a.astype(np.float64) - b).max() < gk32.TOLERANCE
+    assert b.std() > 0.05
+
+
+@pytest.mark.usefixtures("_compiled")
+@pytest.mark.parametrize("use", [True, False], ids=["bytelanes", "tables"])
+@pytest.mark.parametrize("shape", [(20, 300), (4, 10, 333)], ids=["2d", "3d"])
+@pytest.mark.parametrize("tileable", [False, True])
+def test_both_float32_improved_roads_within_tolerance(monkeypatch, use, shape, tileable):
+    # 6 octaves from 4 samples a cell down: the first by cells, the finer ones by samples
+    # (the byte-lane road where it is taken); negative lattice coordinates and periods
+    monkeypatch.setattr(bl, "USE", use)
+    kw = dict(kind="improved", octaves=6, scale=75.0, seed=3, tileable=tileable,
+              offset=(-41.5, -7.25, -3.0)[: len(shape)])
+    a = noise_grid(shape, **kw)
+    b = noise_grid(shape, dtype=np.float64, **kw)
     assert np.abs(a.astype(np.float64) - b).max() < gk32.TOLERANCE
     assert b.std() > 0.05

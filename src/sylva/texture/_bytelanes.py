@@ -128,3 +128,57 @@ def simplex2_hash(typingctx, tab, rows, stride):
         return context.get_dummy_value()
 
     return sig, codegen
+
+
+@intrinsic
+def lattice3_hash(typingctx, tab, rows, stride, y0, y1, z0, z1):
+    """Perlin's 3D corner hashes for 64 samples: from byte rows 0 and 1 at the address
+    ``rows`` (``stride`` bytes apart) — each sample's ``perm[x0]`` and ``perm[x1]`` — and
+    the row's lattice indices ``y0, y1, z0, z1`` (0..255), the eight corners'
+    ``perm[perm[perm[x] + y] + z]`` into rows 2..9 (corner ``c``: x1 if ``c & 1``, y1 if
+    ``c & 2``, z1 if ``c & 4``).  ``tab``: the address of perm (256 bytes)."""
+    sig = types.void(types.uintp, types.uintp, types.uintp, types.uint64, types.uint64,
+                     types.uint64, types.uint64)  # fmt: skip
+
+    def codegen(context, b, signature, args):
+        t, r0, st, *yz = args
+        a0, a1 = (_load(b, _row(b, r0, st, r)) for r in range(2))
+        sy0, sy1, sz0, sz1 = (_splat8(b, v) for v in yz)
+        hy = [_lut(b, t, b.add(a, y)) for y in (sy0, sy1) for a in (a0, a1)]
+        for c in range(8):
+            g = _lut(b, t, b.add(hy[c & 3], sz1 if c & 4 else sz0))
+            b.store(g, b.inttoptr(_row(b, r0, st, 2 + c), _V.as_pointer()), align=1)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def lattice2_hash(typingctx, tab, rows, stride, y0, y1):
+    """Improved noise's 2D corner gradient indices for 64 samples, packed as
+    :func:`._gridkernels32._lat_hash` packs them: from byte rows 0 and 1 at ``rows`` (each
+    sample's ``perm[x0]``, ``perm[x1]``) and the row's ``y0, y1`` (0..255), the corners'
+    ``perm[perm[perm[x] + y]] & 15`` — into row 2 corners (x0, y0) and (x1, y0) in the
+    low and high nibble, into row 3 (x0, y1) and (x1, y1).  ``tab``: perm (256 bytes)."""
+    sig = types.void(types.uintp, types.uintp, types.uintp, types.uint64, types.uint64)
+
+    def codegen(context, b, signature, args):
+        t, r0, st, y0, y1 = args
+        a0, a1 = (_load(b, _row(b, r0, st, r)) for r in range(2))
+        low = ir.Constant(_V, [15] * LANES)
+        four = ir.Constant(_V, [4] * LANES)
+        for r, y in enumerate((y0, y1)):
+            sy = _splat8(b, y)
+            g0, g1 = (b.and_(_lut(b, t, _lut(b, t, b.add(a, sy))), low) for a in (a0, a1))
+            word = b.or_(g0, b.shl(g1, four))
+            b.store(word, b.inttoptr(_row(b, r0, st, 2 + r), _V.as_pointer()), align=1)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+def _splat8(b, v):
+    x = b.trunc(v, _I8)
+    vec = b.insert_element(ir.Constant(_V, ir.Undefined), x, ir.Constant(_I32, 0))
+    return b.shuffle_vector(vec, ir.Constant(_V, ir.Undefined),
+                            ir.Constant(ir.VectorType(_I32, LANES), [0] * LANES))

@@ -225,6 +225,39 @@ def _lat_hash(kind, ndim, base, cnt, a0, a1, perm, vals, grad, y0, y1, z0, z1, h
 
 
 @njit(**_OPTS)
+def _lat_hash_b(base, cnt, a0, a1, bt, lb, y0, y1, z0, z1):
+    """:func:`_lat_hash` of 3D improved noise in byte lanes: the samples' ``perm[x0]``,
+    ``perm[x1]`` into byte rows 0 and 1 of ``lb`` (SIMD), then the eight corners' hashes
+    into rows 2..9 (:func:`._bytelanes.lattice3_hash`)."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        lb[0, q] = np.uint8(a0[b0 + uint64(q)])
+        lb[1, q] = np.uint8(a1[b0 + uint64(q)])
+    p = bt.ctypes.data
+    rs = uint64(lb.shape[1])
+    r0 = lb.ctypes.data
+    for o in range(0, cnt, _bl.LANES):
+        _bl.lattice3_hash(p, r0 + uint64(o), rs, y0, y1, z0, z1)
+
+
+@njit(**_OPTS)
+def _lat_hash2_b(base, cnt, a0, a1, bt, lb, y0, y1, hb):
+    """:func:`_lat_hash` of 2D improved noise in byte lanes
+    (:func:`._bytelanes.lattice2_hash`), the four nibbles into ``hb[0]``'s word."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        lb[0, q] = np.uint8(a0[b0 + uint64(q)])
+        lb[1, q] = np.uint8(a1[b0 + uint64(q)])
+    p = bt.ctypes.data
+    rs = uint64(lb.shape[1])
+    r0 = lb.ctypes.data
+    for o in range(0, cnt, _bl.LANES):
+        _bl.lattice2_hash(p, r0 + uint64(o), rs, y0, y1)
+    for q in range(cnt):
+        hb[0, q] = _i32(lb[2, q]) | _i32(_i32(lb[3, q]) << I8)
+
+
+@njit(**_OPTS)
 def _row_tables(kind, perm, vals, grad, y0, y1, th, tv, tg):
     """The 2D corner hashes of one row and octave for every ``a = perm[x]`` (0..255): a
     row of 2D noise then needs one lookup per corner instead of two."""
@@ -521,7 +554,12 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
     """Row ``(m, j)`` of 2D or 3D value, classic or improved noise, every octave summed
     into ``row`` (float32; ridged sums are left unnormalised); ``work`` is
     :func:`row_work`'s block buffers (also the texture graph's row routine)."""
-    hb, vb, gb, nb, th, tv, tg, cc, cv, cg, coct, key = work
+    hb, vb, gb, nb, th, tv, tg, cc, cv, cg, coct, key, lb, bt, btok, hashed = work
+    hashed = hashed and kind == k.IMPROVED
+    if hashed and btok[0] == 0:
+        for a in range(256):
+            bt[a] = perm[a]
+        btok[0] = 1
     nx = row.shape[0]
     row[:] = ZERO
     weight[:] = ONE
@@ -534,7 +572,7 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
         z0 = uint64(zi0[o, m]) if ndim == 3 else uint64(0)
         z1 = uint64(zi1[o, m]) if ndim == 3 else uint64(0)
         cells = kspan[o] <= KMAX  # the cell road: corners hashed once per cell
-        rowtab = not cells and ndim == 2 and nx > 128
+        rowtab = not cells and ndim == 2 and nx > 128 and not hashed
         if rowtab:
             _row_tables(kind, perm, vals, grad, y0, y1, th, tv, tg)
         if cells:  # the cell road: every cell of the row at once
@@ -559,7 +597,15 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
             continue
         for base in range(0, nx, BLOCK):  # the sample road: each block's samples hashed
             cnt = min(BLOCK, nx - base)
-            if rowtab:
+            if hashed and ndim == 3:  # in byte lanes; the corners' hashes: rows 2..9 of lb
+                _lat_hash_b(base, cnt, px0[o], px1[o], bt, lb, y0, y1, z0, z1)
+                _lat_eval(kind, ndim, base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m],
+                          zw[o, m], lb[2:], vb, gb, nb)
+                _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
+                continue
+            if hashed:  # 2D in byte lanes, into hb's packed word
+                _lat_hash2_b(base, cnt, px0[o], px1[o], bt, lb, y0, y1, hb)
+            elif rowtab:
                 _lat_hash2(kind, base, cnt, px0[o], px1[o], th, tv, tg, hb, vb, gb)
             else:
                 _lat_hash(kind, ndim, base, cnt, px0[o], px1[o], perm, vals, grad, y0, y1, z0,
@@ -570,10 +616,12 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
 
 
 @njit(**_OPTS)
-def row_work(xt):
+def row_work(xt, hashed):
     """Block buffers of :func:`row_lattice32` for the x tables ``xt`` (one set per work
     item: the cell road keeps each octave's cell corners, ``cv``/``cg``, for the next row
-    in the same lattice rows, ``key`` their ``(y0, y1, z0, z1)``)."""
+    in the same lattice rows, ``key`` their ``(y0, y1, z0, z1)``); ``hashed``: improved
+    noise hashes its samples in byte lanes (:mod:`._bytelanes`; ``lb``, and
+    ``bt``: perm as bytes once the first row has filled it)."""
     cid = xt[4]
     kspan = xt[7]
     no, nx = cid.shape
@@ -599,11 +647,16 @@ def row_work(xt):
         np.empty((max(nco, 1), 3, 8, ncell), np.float32),
         coct,
         np.full((no, 4), NOKEY, np.uint64),
+        np.zeros((10, BLOCK), np.uint8),  # BLOCK: a multiple of the 64 byte lanes
+        np.zeros(256, np.uint8),
+        np.zeros(1, np.int32),
+        hashed,
     )
 
 
 @njit(parallel=True, **_OPTS)
-def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, grad, norm, gain):
+def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, grad, norm, gain,
+                   hashed):
     """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D (``nz == 1``) or 3D value,
     classic Perlin or improved noise, every octave in one pass per row.
 
@@ -622,7 +675,7 @@ def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, grad, no
     nch = min(nrows, CHUNKS)
     for c in prange(nch):
         weight = np.empty(nx, np.float32)
-        work = row_work(xt)
+        work = row_work(xt, hashed)
         for r in range(c * nrows // nch, (c + 1) * nrows // nch):
             j = r % ny
             m = r // ny
@@ -1120,6 +1173,7 @@ def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, 
             t.gradients[ndim - 2].astype(np.float32),
             np.float32(norm),
             np.float32(gain),
+            _bl.USE,
         )
         return out
     if setup.kind == k.WORLEY:

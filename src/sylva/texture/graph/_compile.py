@@ -436,7 +436,7 @@ class _Emit:
                 for a in range(nd)]
             xt, yt = self.arg(tabs[0]), self.arg(tabs[1])
             zt = self.arg(tabs[2]) if nd == 3 else yt
-            self.pre.append(f"{wk} = _gk32.row_work({xt})")
+            self.pre.append(f"{wk} = _gk32.row_work({xt}, {self.b(_gk32._bl.USE)})")
             self.row.append(
                 f"_gk32.row_lattice32({self.i(s.kind)}, {self.i(mode)}, {self.i(nd)}, {xt}, "
                 f"{yt}, {zt}, j, m, {acc}, "
@@ -445,7 +445,7 @@ class _Emit:
         elif s.kind == _k.SIMPLEX:
             ax = [self.arg(a) for a in plan.axes[:3]]
             self.pre.append(f"{wk} = _gk32.simplex_work({self.arg(t.perm)}, "
-                            f"{bool(_gk32._bl.USE)})")
+                            f"{self.b(_gk32._bl.USE)})")
             tab = _gk32.simplex_table(t.seed, t.perm, t.perm12)
             self.row.append(
                 f"_gk32.row_simplex32({self.i(nd)}, {self.i(mode)}, {ax[0]}, "
