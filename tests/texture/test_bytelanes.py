@@ -125,6 +125,33 @@ def test_lattice_hashes_are_perlins_chained_lookups(monkeypatch, vbmi, ndim, yz)
         np.testing.assert_array_equal(rows[3], g[2] | (g[3] << 4))
 
 
+@pytest.mark.parametrize("avx512", [True, False], ids=["vpermps", "scalar"])
+def test_cell_lerp16_picks_each_lanes_cell(monkeypatch, avx512):
+    # the cell road's permute: lane q blends cell cid[q] - cf's coefficients (p0, q0, p1,
+    # q1) as lerp(u, p0 x + q0, p1 (x - 1) + q1); 16 lanes over up to 16 cells
+    if avx512 and not bl.AVX512:
+        pytest.skip("this CPU has no AVX-512")
+    monkeypatch.setattr(bl, "AVX512", avx512)
+
+    @njit(cache=False)
+    def run(cc, cid, cf, xf, xu, out):
+        bl.cell_lerp16(cc.ctypes.data, uint64(cc.shape[1] * 4), cid.ctypes.data, cf,
+                       xf.ctypes.data, xu.ctypes.data, out.ctypes.data)
+
+    rng = np.random.default_rng(2)
+    cc = rng.uniform(-1, 1, (4, 40)).astype(np.float32)
+    for cells in ([7] * 16, list(range(7, 23)), sorted(rng.integers(7, 12, 16))):
+        cid = np.asarray(cells, np.int32)
+        xf = rng.uniform(0, 1, 16).astype(np.float32)
+        xu = rng.uniform(0, 1, 16).astype(np.float32)
+        out = np.zeros(16, np.float32)
+        run(cc[:, 7:].copy(), cid, 7, xf, xu, out)
+        c = cc[:, cid].astype(np.float64)
+        a = c[0] * xf + c[1]
+        b = c[2] * (xf - 1.0) + c[3]
+        np.testing.assert_allclose(out, a + xu * (b - a), rtol=0, atol=1e-6)
+
+
 @pytest.fixture
 def _compiled():
     with _jit.compiled():
@@ -158,6 +185,22 @@ def test_both_float32_improved_roads_within_tolerance(monkeypatch, use, shape, t
     monkeypatch.setattr(bl, "USE", use)
     kw = dict(kind="improved", octaves=6, scale=75.0, seed=3, tileable=tileable,
               offset=(-41.5, -7.25, -3.0)[: len(shape)])
+    a = noise_grid(shape, **kw)
+    b = noise_grid(shape, dtype=np.float64, **kw)
+    assert np.abs(a.astype(np.float64) - b).max() < gk32.TOLERANCE
+    assert b.std() > 0.05
+
+
+@pytest.mark.usefixtures("_compiled")
+@pytest.mark.parametrize("use", [True, False], ids=["permutes", "selects"])
+@pytest.mark.parametrize("kind", ["value", "perlin", "improved"])
+@pytest.mark.parametrize("shape", [(6, 500), (3, 5, 333)], ids=["2d", "3d"])
+def test_both_cell_roads_within_tolerance(monkeypatch, use, kind, shape):
+    # 25, 12.5, 6.25, 3.1 samples a cell: the cell road (permutes down to two samples a
+    # cell, select chains down to about four), then samples; rows of several blocks
+    # with a partial last vector
+    monkeypatch.setattr(bl, "USE", use)
+    kw = dict(kind=kind, octaves=5, scale=20.0, seed=8, offset=(-3.3, 1.7, -0.4)[: len(shape)])
     a = noise_grid(shape, **kw)
     b = noise_grid(shape, dtype=np.float64, **kw)
     assert np.abs(a.astype(np.float64) - b).max() < gk32.TOLERANCE

@@ -33,17 +33,23 @@ _I32 = ir.IntType(32)
 _V = ir.VectorType(_I8, LANES)
 
 
-def _host_has_vbmi() -> bool:
+def _host_has(*features: str) -> bool:
     try:
         feats = llvm.get_host_cpu_features()
     except RuntimeError:  # no feature list from this host
         return False
-    return bool(feats.get("avx512vbmi") and feats.get("avx512bw"))
+    return all(feats.get(f) for f in features)
+
+
+def _host_has_vbmi() -> bool:
+    return _host_has("avx512vbmi", "avx512bw")
 
 
 #: the CPU has AVX-512 VBMI (byte permutes): the byte-lane roads are the fast ones here.
 #: ``SYLVA_BYTELANES=0`` / ``1`` chooses the road for a process (both compile everywhere).
 VBMI = _host_has_vbmi()
+#: AVX-512F (16-lane float permutes, :func:`cell_lerp16`): every VBMI CPU has it
+AVX512 = VBMI or _host_has("avx512f")
 _env = os.environ.get("SYLVA_BYTELANES", "")
 USE = VBMI if _env not in ("0", "1") else _env == "1"
 
@@ -172,6 +178,61 @@ def lattice2_hash(typingctx, tab, rows, stride, y0, y1):
             g0, g1 = (b.and_(_lut(b, t, _lut(b, t, b.add(a, sy))), low) for a in (a0, a1))
             word = b.or_(g0, b.shl(g1, four))
             b.store(word, b.inttoptr(_row(b, r0, st, 2 + r), _V.as_pointer()), align=1)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+_F32 = ir.FloatType()
+_VF = ir.VectorType(_F32, 16)
+_VI = ir.VectorType(_I32, 16)
+_CONTRACT = ("contract",)
+
+
+@intrinsic
+def cell_lerp16(typingctx, cc, stride, cid, cf, xf, xu, out):
+    """The cell road's 16 samples at once (:func:`._gridkernels32._cell_eval`): lane ``q``
+    takes cell ``cid[q] - cf`` of the 16 cells whose four coefficient rows start at the
+    address ``cc`` (``stride`` bytes apart; ``p0, q0, p1, q1``) by one ``vpermps`` a row
+    (AVX-512F) instead of select chains, and writes ``lerp(u, p0 x + q0, p1 (x - 1) +
+    q1)`` (``x = xf[q]``, ``u = xu[q]``) to ``out``.  ``cid``, ``xf``, ``xu``, ``out``:
+    addresses of 16 int32 / float32; every ``cid[q] - cf`` must lie in 0..15."""
+    sig = types.void(types.uintp, types.uintp, types.uintp, types.int64, types.uintp,
+                     types.uintp, types.uintp)  # fmt: skip
+
+    def codegen(context, b, signature, args):
+        c0a, st, pcid, cf, pxf, pxu, pout = args
+
+        def ld(addr, ty):
+            return b.load(b.inttoptr(addr, ty.as_pointer()), align=4)
+
+        cfv = b.trunc(cf, _I32)
+        vcf = b.shuffle_vector(
+            b.insert_element(ir.Constant(_VI, ir.Undefined), cfv, ir.Constant(_I32, 0)),
+            ir.Constant(_VI, ir.Undefined), ir.Constant(_VI, [0] * 16))
+        idx = b.sub(ld(pcid, _VI), vcf)
+        rows = [ld(b.add(c0a, b.mul(st, ir.Constant(st.type, r))), _VF) for r in range(4)]
+        if AVX512:
+            fn = b.module.declare_intrinsic(
+                "llvm.x86.avx512.permvar.sf.512", fnty=ir.FunctionType(_VF, [_VF, _VI]))
+            c = [b.call(fn, [row, idx]) for row in rows]
+        else:  # compiles everywhere; the kernels take the select chains there
+            c = []
+            for row in rows:
+                res = ir.Constant(_VF, ir.Undefined)
+                for q in range(16):
+                    e = b.extract_element(idx, ir.Constant(_I32, q))
+                    res = b.insert_element(res, b.extract_element(row, e), ir.Constant(_I32, q))
+                c.append(res)
+        x = ld(pxf, _VF)
+        u = ld(pxu, _VF)
+        one = ir.Constant(_VF, [1.0] * 16)
+        a = b.fadd(b.fmul(c[0], x, flags=_CONTRACT), c[1], flags=_CONTRACT)
+        x1 = b.fsub(x, one, flags=_CONTRACT)
+        e = b.fadd(b.fmul(c[2], x1, flags=_CONTRACT), c[3], flags=_CONTRACT)
+        r = b.fadd(a, b.fmul(u, b.fsub(e, a, flags=_CONTRACT), flags=_CONTRACT),
+                   flags=_CONTRACT)
+        b.store(r, b.inttoptr(pout, _VF.as_pointer()), align=4)
         return context.get_dummy_value()
 
     return sig, codegen

@@ -391,6 +391,9 @@ LANES = 16
 #: cells along x (about four samples a cell or more); finer octaves keep the sample road
 #: (measured: at two samples a cell the select chains cost more than the lookups saved)
 KMAX = 5
+#: with 16-lane permutes (:func:`_cell_eval16`) the cell road takes an octave whose
+#: 16-sample blocks span at most this many cells (about two samples a cell or more)
+KPERM = 8
 #: no lattice row (the cell road's cache key before its first row)
 NOKEY = np.uint64(1 << 32)
 
@@ -524,6 +527,34 @@ def _cell_lanes(value, span, us, nl, cf, ce, cid, xf, xu, cc, nb, uo):
 
 
 @njit(**_OPTS)
+def _cell_eval16(base, cnt, cid, xf, xu, cc, e0, nb):
+    """:func:`_cell_eval` by 16-lane permutes (:func:`._bytelanes.cell_lerp16`, AVX-512):
+    any 16 samples lie in at most 16 cells (``cid`` grows by at most one a sample), so
+    every whole vector goes in one step, whatever the cells' width; the row's last
+    partial vector sample by sample."""
+    end = base + cnt
+    st = uint64(cc.shape[1] * 4)
+    c0 = cc.ctypes.data
+    pc = cid.ctypes.data
+    px = xf.ctypes.data
+    pu = xu.ctypes.data
+    po = nb.ctypes.data
+    s = base
+    while s + LANES <= end:
+        cf = cid[uint64(s)]
+        o = uint64(s) * uint64(4)
+        _bl.cell_lerp16(c0 + uint64(cf - e0) * uint64(4), st, pc + o, cf, px + o, pu + o,
+                        po + uint64(s - base) * uint64(4))
+        s += LANES
+    for p in range(s, end):
+        c = uint64(cid[p] - e0)
+        x = xf[p]
+        a = cc[0, c] * x + cc[1, c]
+        b = cc[2, c] * (x - ONE) + cc[3, c]
+        nb[p - base] = _lerp(xu[p], a, b)
+
+
+@njit(**_OPTS)
 def _cell_eval(kind, base, cnt, nx, cid, xf, xu, cc, e0, nb):
     """SIMD pass: samples ``base .. base + cnt`` (``base`` a multiple of :data:`LANES`)
     from their cells' coefficients (``cc``: those of cells ``e0 ..``; ``cid``: each
@@ -554,8 +585,9 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
     """Row ``(m, j)`` of 2D or 3D value, classic or improved noise, every octave summed
     into ``row`` (float32; ridged sums are left unnormalised); ``work`` is
     :func:`row_work`'s block buffers (also the texture graph's row routine)."""
-    hb, vb, gb, nb, th, tv, tg, cc, cv, cg, coct, key, lb, bt, btok, hashed = work
-    hashed = hashed and kind == k.IMPROVED
+    hb, vb, gb, nb, th, tv, tg, cc, cv, cg, coct, key, lb, bt, btok, lanes = work
+    kmax = KPERM if lanes else KMAX
+    hashed = lanes and kind == k.IMPROVED
     if hashed and btok[0] == 0:
         for a in range(256):
             bt[a] = perm[a]
@@ -571,7 +603,7 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
         y1 = uint64(yi1[o, j])
         z0 = uint64(zi0[o, m]) if ndim == 3 else uint64(0)
         z1 = uint64(zi1[o, m]) if ndim == 3 else uint64(0)
-        cells = kspan[o] <= KMAX  # the cell road: corners hashed once per cell
+        cells = kspan[o] <= kmax  # the cell road: corners hashed once per cell
         rowtab = not cells and ndim == 2 and nx > 128 and not hashed
         if rowtab:
             _row_tables(kind, perm, vals, grad, y0, y1, th, tv, tg)
@@ -592,7 +624,10 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
                        cc)
             for b in range(0, nx, BLOCK):
                 cnt = min(BLOCK, nx - b)
-                _cell_eval(kind, b, cnt, nx, cid[o], xf[o], xu[o], cc, 0, nb)
+                if lanes:
+                    _cell_eval16(b, cnt, cid[o], xf[o], xu[o], cc, 0, nb)
+                else:
+                    _cell_eval(kind, b, cnt, nx, cid[o], xf[o], xu[o], cc, 0, nb)
                 _combine_block(mode, row, weight, b, cnt, nb, amps[o], gain)
             continue
         for base in range(0, nx, BLOCK):  # the sample road: each block's samples hashed
@@ -619,9 +654,10 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
 def row_work(xt, hashed):
     """Block buffers of :func:`row_lattice32` for the x tables ``xt`` (one set per work
     item: the cell road keeps each octave's cell corners, ``cv``/``cg``, for the next row
-    in the same lattice rows, ``key`` their ``(y0, y1, z0, z1)``); ``hashed``: improved
-    noise hashes its samples in byte lanes (:mod:`._bytelanes`; ``lb``, and
-    ``bt``: perm as bytes once the first row has filled it)."""
+    in the same lattice rows, ``key`` their ``(y0, y1, z0, z1)``); ``hashed``: the
+    AVX-512 roads of :mod:`._bytelanes` — improved noise hashes its samples in byte lanes
+    (``lb``, and ``bt``: perm as bytes once the first row has filled it) and the cell
+    road picks its cells' coefficients by permutes, down to :data:`KPERM`."""
     cid = xt[4]
     kspan = xt[7]
     no, nx = cid.shape
@@ -629,7 +665,7 @@ def row_work(xt, hashed):
     ncell = 1
     nco = 0
     for o in range(no):
-        if kspan[o] <= KMAX and nx > 0:
+        if kspan[o] <= (KPERM if hashed else KMAX) and nx > 0:
             coct[o] = nco
             nco += 1
             ncell = max(ncell, cid[o, nx - 1] + 1)
@@ -642,7 +678,7 @@ def row_work(xt, hashed):
         np.empty((2, 256), np.int32),
         np.empty((2, 256), np.float32),
         np.empty((2, 2, 256), np.float32),
-        np.zeros((4, ncell + KMAX), np.float32),  # read up to KMAX - 1 past the cells
+        np.zeros((4, ncell + LANES), np.float32),  # read up to 15 past the cells
         np.empty((max(nco, 1), 8, ncell), np.float32),
         np.empty((max(nco, 1), 3, 8, ncell), np.float32),
         coct,
