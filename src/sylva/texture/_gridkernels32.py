@@ -241,6 +241,33 @@ def _lat_hash_b(base, cnt, a0, a1, bt, lb, y0, y1, z0, z1):
 
 
 @njit(**_OPTS)
+def _lat_eval_b3(base, cnt, fx, cu, y, v, z, w, lb, nb):
+    """:func:`_lat_eval` of 3D improved noise from the byte rows 2..9 of ``lb`` (its own
+    copy of that one loop: :func:`_lat_eval` for a byte table would compile all six)."""
+    b0 = uint64(base)
+    y_1 = y - ONE
+    z_1 = z - ONE
+    for q in range(cnt):
+        i = b0 + uint64(q)
+        x = fx[i]
+        u = cu[i]
+        x_1 = x - ONE
+        nb[q] = _lerp(
+            w,
+            _lerp(
+                v,
+                _lerp(u, _g16(lb[2, q], x, y, z), _g16(lb[3, q], x_1, y, z)),
+                _lerp(u, _g16(lb[4, q], x, y_1, z), _g16(lb[5, q], x_1, y_1, z)),
+            ),
+            _lerp(
+                v,
+                _lerp(u, _g16(lb[6, q], x, y, z_1), _g16(lb[7, q], x_1, y, z_1)),
+                _lerp(u, _g16(lb[8, q], x, y_1, z_1), _g16(lb[9, q], x_1, y_1, z_1)),
+            ),
+        )
+
+
+@njit(**_OPTS)
 def _lat_hash2_b(base, cnt, a0, a1, bt, lb, y0, y1, hb):
     """:func:`_lat_hash` of 2D improved noise in byte lanes
     (:func:`._bytelanes.lattice2_hash`), the four nibbles into ``hb[0]``'s word."""
@@ -634,8 +661,8 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
             cnt = min(BLOCK, nx - base)
             if hashed and ndim == 3:  # in byte lanes; the corners' hashes: rows 2..9 of lb
                 _lat_hash_b(base, cnt, px0[o], px1[o], bt, lb, y0, y1, z0, z1)
-                _lat_eval(kind, ndim, base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m],
-                          zw[o, m], lb[2:], vb, gb, nb)
+                _lat_eval_b3(base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m], zw[o, m],
+                             lb, nb)
                 _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
                 continue
             if hashed:  # 2D in byte lanes, into hb's packed word
