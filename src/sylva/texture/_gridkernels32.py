@@ -118,16 +118,33 @@ def _g16_2(h, x, y):
 
 
 @njit(**_OPTS)
-def _combine_block(mode, row, weight, base, cnt, nb, amp, gain):
+def _combine_block(mode, row, weight, base, cnt, nb, amp, gain, first):
     """Add octave values ``nb[:cnt]`` into ``row[base:base + cnt]`` (fBm, turbulence or
-    ridged, as :func:`._gridkernels._combine_block`)."""
+    ridged, as :func:`._gridkernels._combine_block`); ``first``: the first octave, which
+    sets ``row`` (and ridged's ``weight``) instead, as if they held 0 (and 1) — no pass to
+    clear them."""
     b = uint64(base)
     if mode == k.FBM:
-        for q in range(cnt):
-            row[b + uint64(q)] += amp * nb[q]
+        if first:
+            for q in range(cnt):
+                row[b + uint64(q)] = amp * nb[q]
+        else:
+            for q in range(cnt):
+                row[b + uint64(q)] += amp * nb[q]
     elif mode == k.TURBULENCE:
+        if first:
+            for q in range(cnt):
+                row[b + uint64(q)] = amp * abs(nb[q])
+        else:
+            for q in range(cnt):
+                row[b + uint64(q)] += amp * abs(nb[q])
+    elif first:
         for q in range(cnt):
-            row[b + uint64(q)] += amp * abs(nb[q])
+            i = b + uint64(q)
+            s = ONE - abs(nb[q])
+            s *= s
+            weight[i] = min(max(s * gain, ZERO), ONE)
+            row[i] = amp * s
     else:
         for q in range(cnt):
             i = b + uint64(q)
@@ -620,8 +637,8 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
             bt[a] = perm[a]
         btok[0] = 1
     nx = row.shape[0]
-    row[:] = ZERO
-    weight[:] = ONE
+    if amps.shape[0] == 0:  # no octave (the first octave sets the row, no clearing pass)
+        row[:] = ZERO
     px0, px1, xf, xu, cid, cp0, cp1, kspan = xt
     yi0, yi1, yf, yv = yt
     zi0, zi1, zf, zw = zt
@@ -655,7 +672,7 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
                     _cell_eval16(b, cnt, cid[o], xf[o], xu[o], cc, 0, nb)
                 else:
                     _cell_eval(kind, b, cnt, nx, cid[o], xf[o], xu[o], cc, 0, nb)
-                _combine_block(mode, row, weight, b, cnt, nb, amps[o], gain)
+                _combine_block(mode, row, weight, b, cnt, nb, amps[o], gain, o == 0)
             continue
         for base in range(0, nx, BLOCK):  # the sample road: each block's samples hashed
             cnt = min(BLOCK, nx - base)
@@ -663,7 +680,7 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
                 _lat_hash_b(base, cnt, px0[o], px1[o], bt, lb, y0, y1, z0, z1)
                 _lat_eval_b3(base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m], zw[o, m],
                              lb, nb)
-                _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
+                _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
                 continue
             if hashed:  # 2D in byte lanes, into hb's packed word
                 _lat_hash2_b(base, cnt, px0[o], px1[o], bt, lb, y0, y1, hb)
@@ -674,7 +691,7 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
                           z1, hb, vb, gb)
             _lat_eval(kind, ndim, base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m],
                       zw[o, m], hb, vb, gb, nb)
-            _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
+            _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
 
 
 @njit(**_OPTS)
@@ -1063,8 +1080,8 @@ def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, 
     bx, by, bz, nb, bf, ba, bk, bc, w0, w1, bb, bt, hashed = work
     tf = tab.reshape(tab.size)
     nx = row.shape[0]
-    row[:] = ZERO
-    weight[:] = ONE
+    if amps.shape[0] == 0:  # no octave (the first octave sets the row, no clearing pass)
+        row[:] = ZERO
     for o in range(freqs.shape[0]):
         fx = freqs[o, 0]
         ox = offs[o, 0]
@@ -1094,7 +1111,7 @@ def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, 
                 else:
                     _s3_gather(cnt, tf, perm, ba, bk, w0, w1)
                     _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb)
-            _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain)
+            _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
 
 
 @njit(cache=True)

@@ -41,7 +41,7 @@ import numpy as np
 from numba import njit, uint64
 
 from . import _cellkernels as ck
-from ._gridkernels32 import _OPTS, ONE, ZERO, _combine_block, _finish
+from ._gridkernels32 import _OPTS, ZERO, _combine_block, _finish
 
 _F = np.float32
 INF = _F(1e30)  # "no distance yet": finite, as fast-math assumes no infinities
@@ -365,14 +365,14 @@ def row_worley32(ndim, mode, xs, ys, zs, j, m, row, weight, freqs, amps, offs, p
     metric = int(wpar[0])
     combo = int(wpar[1])
     seed = int(wpar[3])
-    row[:] = ZERO
-    weight[:] = ONE
+    if amps.shape[0] == 0:  # no octave (the first octave sets the row, no clearing pass)
+        row[:] = ZERO
     for o in range(freqs.shape[0]):
         worley_row32(ndim, xs, freqs[o, 0], offs[o, 0], ys[j] * freqs[o, 1] + offs[o, 1],
                      zs[m] * freqs[o, 2] + offs[o, 2], int(pers[o, 0]), int(pers[o, 1]),
                      int(pers[o, 2]), metric, wpar[2], seed, combo, wpar[4], wpar[5], wpar[6],
                      work, nb)
-        _combine_block(mode, row, weight, 0, row.shape[0], nb, amps[o], gain)
+        _combine_block(mode, row, weight, 0, row.shape[0], nb, amps[o], gain, o == 0)
 
 
 def supported(wpar) -> bool:
