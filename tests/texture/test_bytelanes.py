@@ -125,6 +125,62 @@ def test_lattice_hashes_are_perlins_chained_lookups(monkeypatch, vbmi, ndim, yz)
         np.testing.assert_array_equal(rows[3], g[2] | (g[3] << 4))
 
 
+def _chain_caller(fn):
+    @njit(cache=False)
+    def run(tab, rows):
+        for o in range(0, rows.shape[1], bl.LANES):
+            fn(tab.ctypes.data, rows.ctypes.data + uint64(o), uint64(rows.shape[1]))
+
+    return run
+
+
+@pytest.mark.parametrize("vbmi", [True, False], ids=["vbmi", "scalar"])
+@pytest.mark.parametrize("name", ["lattice_chain2", "lattice_chain2i", "lattice_chain3",
+                                  "lattice_chain4", "simplex_chain2", "simplex_chain3",
+                                  "simplex_chain4"])  # fmt: skip
+def test_point_chains_are_the_float64_roads_chains(monkeypatch, vbmi, name):
+    # the _points32 road's hashes: every corner of 4D, 3D and 2D lattice noise (Perlin's
+    # chain, w first in 4D as the float64 road's) and of Gustavson's simplices
+    if vbmi and not bl.VBMI:
+        pytest.skip("this CPU has no AVX-512 VBMI (the scalar road runs here)")
+    monkeypatch.setattr(bl, "VBMI", vbmi)
+    perm, perm12, tab = _tables(9)
+    rng = np.random.default_rng(5)
+    rows = np.zeros((25, N), np.uint8)
+    I0 = rng.integers(0, 256, (4, N))
+    I0[:, 0] = 255
+    I1 = (I0 + 1) % 256
+    if name.startswith("lattice"):
+        rows[0:4], rows[4:8] = I0, I1
+    else:  # simplex: corner c's indices i, j, k, l in rows 4c ..
+        rows[:20] = rng.integers(0, 256, (20, N))
+    _chain_caller(getattr(bl, name))(tab, rows)
+    if name.startswith("lattice"):
+        nd = int(name[13])
+        for c in range(1 << nd):
+            x, y, z, w = ((I1 if c >> a & 1 else I0)[a] for a in range(4))
+            if name == "lattice_chain4":
+                h = perm[perm[perm[perm[w] + x] + y] + z]
+            elif name == "lattice_chain3":
+                h = perm[perm[perm[x] + y] + z]
+            elif name == "lattice_chain2i":
+                h = perm[perm[perm[x] + y]]
+            else:
+                h = perm[perm[x] + y]
+            np.testing.assert_array_equal(rows[8 + c], h)
+    else:
+        nd = int(name[-1])
+        for c in range(nd + 1):
+            i, j, k, l = (rows[4 * c + a].astype(np.int64) for a in range(4))
+            if nd == 4:
+                h = perm[i + perm[j + perm[k + perm[l]]]] & 31
+            elif nd == 3:
+                h = perm12[i + perm[j + perm[k]]]
+            else:
+                h = perm12[i + perm[j]]
+            np.testing.assert_array_equal(rows[20 + c], h)
+
+
 @pytest.mark.parametrize("avx512", [True, False], ids=["vpermps", "scalar"])
 def test_cell_lerp16_picks_each_lanes_cell(monkeypatch, avx512):
     # the cell road's permute: lane q blends cell cid[q] - cf's coefficients (p0, q0, p1,
@@ -201,6 +257,29 @@ def test_both_cell_roads_within_tolerance(monkeypatch, use, kind, shape):
     # with a partial last vector
     monkeypatch.setattr(bl, "USE", use)
     kw = dict(kind=kind, octaves=5, scale=20.0, seed=8, offset=(-3.3, 1.7, -0.4)[: len(shape)])
+    a = noise_grid(shape, **kw)
+    b = noise_grid(shape, dtype=np.float64, **kw)
+    assert np.abs(a.astype(np.float64) - b).max() < gk32.TOLERANCE
+    assert b.std() > 0.05
+
+
+@pytest.mark.usefixtures("_compiled")
+@pytest.mark.parametrize("use", [True, False], ids=["bytelanes", "tables"])
+@pytest.mark.parametrize(
+    "shape,kw",
+    [((2, 3, 6, 70), dict(kind="value", octaves=3)),
+     ((2, 3, 6, 70), dict(kind="improved", octaves=2, offset=(-5.5, 2.0, -1.0, 3.25))),
+     ((2, 3, 6, 70), dict(kind="perlin", octaves=2, tileable=True)),
+     ((2, 3, 6, 70), dict(kind="simplex", octaves=3, fractal="ridged")),
+     ((24, 70), dict(kind="simplex", octaves=2, tileable=True)),
+     ((3, 10, 40), dict(kind="simplex", octaves=2, warp=0.6)),
+     ((20, 50), dict(kind="improved", octaves=2, warp=0.7))],
+    ids=["4d-value", "4d-improved", "4d-perlin", "4d-simplex", "torus", "warp3d", "warp2d"],
+)
+def test_both_point_roads_within_tolerance(monkeypatch, use, shape, kw):
+    # the _points32 road (4D grids, the torus of tileable simplex, domain warping)
+    monkeypatch.setattr(bl, "USE", use)
+    kw = dict(kw, scale=7.0, seed=2)
     a = noise_grid(shape, **kw)
     b = noise_grid(shape, dtype=np.float64, **kw)
     assert np.abs(a.astype(np.float64) - b).max() < gk32.TOLERANCE

@@ -238,6 +238,89 @@ def cell_lerp16(typingctx, cc, stride, cid, cf, xf, xu, out):
     return sig, codegen
 
 
+def _chain_codegen(order, extra):
+    """IR of :func:`lattice_chain2` .. ``4``: the chain over the axes ``order``."""
+
+    def codegen(context, b, signature, args):
+        t, r0, st = args
+        lo = {a: _load(b, _row(b, r0, st, a)) for a in order}
+        hi = {a: _load(b, _row(b, r0, st, 4 + a)) for a in order}
+        vals = {0: None}
+        for n, a in enumerate(order):  # corner keys: bit a set where axis a takes index 1
+            nxt = {}
+            for key, v in vals.items():
+                for bit, idx in ((0, lo[a]), (1 << a, hi[a])):
+                    nxt[key | bit] = _lut(b, t, idx if n == 0 else b.add(v, idx))
+            vals = nxt
+        for c, v in vals.items():
+            if extra:
+                v = _lut(b, t, v)
+            b.store(v, b.inttoptr(_row(b, r0, st, 8 + c), _V.as_pointer()), align=1)
+        return context.get_dummy_value()
+
+    return codegen
+
+
+def _chain(order, extra, doc):
+    @intrinsic
+    def chain(typingctx, tab, rows, stride):
+        return types.void(types.uintp, types.uintp, types.uintp), _chain_codegen(order, extra)
+
+    chain.__doc__ = doc
+    return chain
+
+
+_CHAIN_DOC = """The lattice corners' hashes of 64 points, the float64 road's chain ({}): from
+byte rows ``a`` (index 0) and ``4 + a`` (index 1) of axis ``a`` (x = 0 .. w = 3) at
+``rows`` (``stride`` bytes apart) into rows ``8 + c`` (corner ``c``: bit ``a`` set where
+axis ``a`` takes index 1).  ``tab``: perm (256 bytes)."""
+lattice_chain2 = _chain((0, 1), False, _CHAIN_DOC.format("perm[perm[x] + y]"))
+lattice_chain2i = _chain((0, 1), True, _CHAIN_DOC.format(
+    "perm[perm[perm[x] + y]], 2D improved noise's z = 0"))
+lattice_chain3 = _chain((0, 1, 2), False, _CHAIN_DOC.format("perm[perm[perm[x] + y] + z]"))
+lattice_chain4 = _chain((3, 0, 1, 2), False, _CHAIN_DOC.format(
+    "perm[perm[perm[perm[w] + x] + y] + z]"))
+
+
+def _simplex_chain_codegen(nd):
+    def codegen(context, b, signature, args):
+        t, r0, st = args
+        t12 = b.add(t, ir.Constant(t.type, 256))
+        mask = ir.Constant(_V, [31] * LANES)
+        for c in range(nd + 1):
+            idx = [_load(b, _row(b, r0, st, 4 * c + a)) for a in range(nd)]
+            h = _lut(b, t, idx[-1])
+            for a in range(nd - 2, 0, -1):
+                h = _lut(b, t, b.add(idx[a], h))
+            if nd == 4:  # Gustavson's 4D: perm[...] & 31
+                h = b.and_(_lut(b, t, b.add(idx[0], h)), mask)
+            else:
+                h = _lut(b, t12, b.add(idx[0], h))
+            b.store(h, b.inttoptr(_row(b, r0, st, 20 + c), _V.as_pointer()), align=1)
+        return context.get_dummy_value()
+
+    return codegen
+
+
+def _simplex_chain(nd, doc):
+    @intrinsic
+    def chain(typingctx, tab, rows, stride):
+        return types.void(types.uintp, types.uintp, types.uintp), _simplex_chain_codegen(nd)
+
+    chain.__doc__ = doc
+    return chain
+
+
+_SCHAIN_DOC = """Gustavson's {nd}D corner gradient indices of 64 points ({f}): corner ``c``'s
+lattice indices ``i, j, ...`` (& 255) in byte rows ``4 c ..`` at ``rows`` (``stride``
+bytes apart), its index into row ``20 + c`` (corners 0 .. {nd}).  ``tab``: perm then
+perm12 (256 bytes each)."""
+simplex_chain2 = _simplex_chain(2, _SCHAIN_DOC.format(nd=2, f="perm12[i + perm[j]]"))
+simplex_chain3 = _simplex_chain(3, _SCHAIN_DOC.format(nd=3, f="perm12[i + perm[j + perm[k]]]"))
+simplex_chain4 = _simplex_chain(4, _SCHAIN_DOC.format(
+    nd=4, f="perm[i + perm[j + perm[k + perm[l]]]] & 31"))
+
+
 def _splat8(b, v):
     x = b.trunc(v, _I8)
     vec = b.insert_element(ir.Constant(_V, ir.Undefined), x, ir.Constant(_I32, 0))

@@ -35,6 +35,7 @@ import numpy as np
 from numba import njit, uint64
 
 from .. import _jit
+from . import _bytelanes as _bl
 from . import _cellkernels as ck
 from . import _kernels as k
 
@@ -108,6 +109,8 @@ def work():
         np.empty((3, B), np.float32),  # Worley F1..F3
         np.empty(B, np.int64),  # Worley: the nearest point's cell hash
         np.empty((9, B), np.int64),  # Worley: the cell hashes of nine candidates
+        np.zeros((25, B), np.uint8),  # byte lanes: lattice indices, corner hashes
+        np.zeros(512, np.uint8),  # byte lanes: perm, perm12
     )
 
 
@@ -195,10 +198,37 @@ def _hash_lattice(kind, nd, m, I0, I1, perm, H):
 
 
 @njit(**_OPTS)
+def _hash_lattice_b(kind, nd, m, I0, I1, BT, BB, H):
+    """:func:`_hash_lattice` in byte lanes (:mod:`._bytelanes`, AVX-512 VBMI): the lattice
+    indices into byte rows 0..7 of ``BB``, every corner's chain 64 points at a time into
+    rows 8.., then into ``H``."""
+    for a in range(nd):
+        for q in range(m):
+            BB[a, q] = np.uint8(I0[a, q])
+            BB[4 + a, q] = np.uint8(I1[a, q])
+    p = BT.ctypes.data
+    rs = uint64(BB.shape[1])
+    r0 = BB.ctypes.data
+    for o in range(0, m, _bl.LANES):
+        a = r0 + uint64(o)
+        if nd == 4:
+            _bl.lattice_chain4(p, a, rs)
+        elif nd == 3:
+            _bl.lattice_chain3(p, a, rs)
+        elif kind == k.IMPROVED:
+            _bl.lattice_chain2i(p, a, rs)
+        else:
+            _bl.lattice_chain2(p, a, rs)
+    for c in range(1 << nd):
+        for q in range(m):
+            H[c, q] = np.int32(BB[8 + c, q])
+
+
+@njit(**_OPTS)
 def _lattice(kind, nd, m, I0, I1, FR, CU, perm, vals, grad, H, K, L, G):
-    """One octave of lattice noise at the block's located points, into ``K[0, :m]``."""
+    """One octave of lattice noise at the block's located and hashed points (``H``:
+    :func:`_hash_lattice`), into ``K[0, :m]``."""
     nc = 1 << nd
-    _hash_lattice(kind, nd, m, I0, I1, perm, H)
     if kind == k.VALUE:
         for c in range(nc):
             for q in range(m):
@@ -364,6 +394,32 @@ def _simplex(nd, m, I0, R, FR, perm, perm12, H):
                 ll = I0[3, q] + (1 if R[3, q] >= lim else 0)
                 h = perm[uint64(kk + perm[uint64(ll)])]
                 Hc[q] = perm[uint64(ii + perm[uint64(jj + h)])] & 31
+
+
+@njit(**_OPTS)
+def _simplex_b(nd, m, I0, R, BT, BB, H):
+    """:func:`_simplex` in byte lanes (:mod:`._bytelanes`): every corner's lattice indices
+    into byte rows ``4 c ..`` of ``BB`` (SIMD), the chains 64 points at a time, then into
+    ``H``."""
+    for c in range(nd + 1):
+        lim = nd - c
+        for a in range(nd):
+            for q in range(m):
+                BB[4 * c + a, q] = np.uint8(I0[a, q] + (1 if R[a, q] >= lim else 0))
+    p = BT.ctypes.data
+    rs = uint64(BB.shape[1])
+    r0 = BB.ctypes.data
+    for o in range(0, m, _bl.LANES):
+        a = r0 + uint64(o)
+        if nd == 4:
+            _bl.simplex_chain4(p, a, rs)
+        elif nd == 3:
+            _bl.simplex_chain3(p, a, rs)
+        else:
+            _bl.simplex_chain2(p, a, rs)
+    for c in range(nd + 1):
+        for q in range(m):
+            H[c, q] = np.int32(BB[20 + c, q])
 
 
 @njit(**_OPTS)
@@ -562,10 +618,15 @@ def _worley(nd, m, C, o, pers, wpar, I0, FR, FK, BEST, HB9, K):
 
 @njit(**_OPTS)
 def _block(kind, mode, ndim, torus, P, tz, m, freqs, amps, offs, pers, interp, perm,
-           perm12, vals, grad, wpar, norm, gain, wk, acc):
+           perm12, vals, grad, wpar, norm, gain, lanes, wk, acc):
     """The fractal sum at the block's ``m`` points into ``acc[:m]`` (``amps`` already
-    carry ``norm`` unless ``mode`` is ridged)."""
-    C, I0, I1, FR, CU, H, K, L, G, wgt, FK, BEST, HB9 = wk
+    carry ``norm`` unless ``mode`` is ridged; ``lanes``: the lattice and simplex noises
+    hash in byte lanes, :func:`_hash_lattice_b` and :func:`_simplex_b`)."""
+    C, I0, I1, FR, CU, H, K, L, G, wgt, FK, BEST, HB9, BB, BT = wk
+    if lanes and kind != k.WORLEY:
+        for a in range(256):
+            BT[a] = perm[a]
+            BT[256 + a] = perm12[a]
     nd = 4 if torus else ndim
     for q in range(m):
         acc[q] = ZERO
@@ -576,10 +637,17 @@ def _block(kind, mode, ndim, torus, P, tz, m, freqs, amps, offs, pers, interp, p
             _worley(nd, m, C, o, pers, wpar, I0, FR, FK, BEST, HB9, K)
         elif kind == k.SIMPLEX:
             _locate_simplex(nd, m, C, I0, I1, FR)
-            _simplex(nd, m, I0, I1, FR, perm, perm12, H)
+            if lanes:
+                _simplex_b(nd, m, I0, I1, BT, BB, H)
+            else:
+                _simplex(nd, m, I0, I1, FR, perm, perm12, H)
             _simplex_eval(nd, m, I1, FR, H, K)
         else:
             _locate_lattice(nd, m, C, o, pers, interp, I0, I1, FR, CU)
+            if lanes:
+                _hash_lattice_b(kind, nd, m, I0, I1, BT, BB, H)
+            else:
+                _hash_lattice(kind, nd, m, I0, I1, perm, H)
             _lattice(kind, nd, m, I0, I1, FR, CU, perm, vals, grad, H, K, L, G)
         a = amps[o]
         if mode == k.FBM:
@@ -602,7 +670,7 @@ def _block(kind, mode, ndim, torus, P, tz, m, freqs, amps, offs, pers, interp, p
 
 @njit(nogil=True, **_OPTS)
 def grid_rows(r0, r1, points, kind, mode, ndim, torus, xs, ys, zs, ws, out, freqs, amps, offs,
-              pers, interp, perm, perm12, vals, grad, wpar, norm, gain):
+              pers, interp, perm, perm12, vals, grad, wpar, norm, gain, lanes):
     """Fill rows ``r0 .. r1`` of ``out`` (float32, shape (nw, nz, ny, nx); a row: ``(iw, iz,
     iy)``) with the fractal sum (one kernel for every road: one compile; :func:`grid_kernel`
     runs it on threads).
@@ -646,7 +714,7 @@ def grid_rows(r0, r1, points, kind, mode, ndim, torus, xs, ys, zs, ws, out, freq
                     P[2, q] = zs[iz]
                     P[3, q] = ws[iw]
             _block(kind, mode, ndim, torus, P, zs[iz], m, freqs, amps, offs, pers, interp,
-                   perm, perm12, vals, grad, wpar, norm, gain, wk, acc)
+                   perm, perm12, vals, grad, wpar, norm, gain, lanes, wk, acc)
             for q in range(m):
                 row[x0 + q] = acc[q]
 
@@ -687,12 +755,13 @@ KINDS = (k.VALUE, k.PERLIN, k.IMPROVED, k.SIMPLEX, k.WORLEY)
 
 def _tables(setup, ndim, mode, amps, norm, gain):
     """The kernels' arguments after ``pers``: float32 amplitudes (carrying ``norm`` unless
-    ridged), the interpolation, the tables of ``setup`` and float32 norm and gain."""
+    ridged), the interpolation, the tables of ``setup``, float32 norm and gain, and whether
+    to hash in byte lanes (:data:`._bytelanes.USE`)."""
     t = setup.tables
     a32 = (amps if mode == k.RIDGED else amps * norm).astype(np.float32)
     grad = np.ascontiguousarray(t.gradients[ndim - 2], np.float32)
     return (setup.interp, t.perm, t.perm12, t.values.astype(np.float32), grad, setup.wpar,
-            np.float32(norm), np.float32(gain)), a32
+            np.float32(norm), np.float32(gain), _bl.USE), a32
 
 
 def road(plan, warp) -> str | None:
