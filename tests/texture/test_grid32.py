@@ -181,3 +181,28 @@ def test_lattice_cell_road_reuses_a_rows_cells_only_in_the_same_lattice_rows(kin
         assert np.prod(shape[:-1]) >= 3 * gk32.CHUNKS
         rows = a.reshape(-1, shape[-1])
         assert (np.abs(np.diff(rows, axis=0)).max(axis=1) > 1e-4).all()  # no row repeated
+
+
+@pytest.mark.parametrize("n,octaves,period", [(1024, 1, 0), (300, 6, 0), (77, 3, 1),
+                                              (500, 4, 5), (1, 2, 0), (17, 2, 0)])
+@pytest.mark.parametrize("interp", [0, 1, 2, 3])
+def test_x_tables_in_one_pass_equal_the_numpy_tables(n, octaves, period, interp):
+    # noise_grid's x axis tables and cells in one compiled pass, the same as the axis
+    # tables followed by lattice_tables32's NumPy passes (cells, spans), bit for bit
+    from sylva.texture import _gridkernels as gk
+    from sylva.texture.noise import noise_tables
+
+    perm = noise_tables(5).perm
+    rng = np.random.default_rng(n)
+    coords = np.arange(n) * (64.0 / n) - 3.3
+    freqs = 2.0 ** np.arange(octaves)
+    if period:
+        freqs = np.round(freqs * period) / period
+    offs = rng.uniform(-10.0, 10.0, octaves)
+    pers = np.full(octaves, float(period))
+    want = gk32.lattice_tables32(gk.axis_tables(coords, freqs, offs, pers, interp), perm, True)
+    got = gk32.x_tables32(coords, freqs, offs, pers, interp, perm)
+    assert len(got) == len(want) == 8
+    for g, w in zip(got, want):
+        assert g.dtype == w.dtype and g.shape == w.shape
+        np.testing.assert_array_equal(g, w)

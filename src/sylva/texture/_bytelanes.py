@@ -10,7 +10,7 @@ of 2D ones), their intermediate results staying in registers.  The intrinsics be
 that (LLVM's ``llvm.x86.avx512.vpermi2var.qi.512``) when the CPU numba compiles for has
 VBMI, and 64 scalar loads a lookup otherwise (the same results: the tests run both where
 they can); :data:`USE` tells the kernels which road to take on this machine (the other
-one loads one packed word of corner hashes a sample, :func:`._gridkernels32.simplex_table`).
+one loads one packed word of corner hashes a sample, :func:`._simplex32.simplex_table`).
 
 Numba caches compiled kernels per CPU name and feature set, so a cache made on a VBMI
 machine is never loaded on one without.

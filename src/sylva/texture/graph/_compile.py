@@ -42,6 +42,7 @@ from .. import _gridkernels as _gk
 from .. import _gridkernels32 as _gk32
 from .. import _gridplan as _gp
 from .. import _kernels as _k
+from .. import _simplex32 as _s32
 from .. import _worley32 as _w32
 from .. import colormap as _cm
 from .. import fractals as _fr
@@ -60,6 +61,7 @@ from numba import njit
 from sylva.texture import _gridkernels as _gk
 from sylva.texture import _gridkernels32 as _gk32
 from sylva.texture import _sampling as _s
+from sylva.texture import _simplex32 as _s32
 from sylva.texture import _worley32 as _w32
 from sylva.texture.graph import _ops
 """
@@ -444,11 +446,11 @@ class _Emit:
                 f"{self.arg(t.gradients[nd - 2].astype(f32))}, {gain}, {wk})")
         elif s.kind == _k.SIMPLEX:
             ax = [self.arg(a) for a in plan.axes[:3]]
-            self.pre.append(f"{wk} = _gk32.simplex_work({self.arg(t.perm)}, "
+            self.pre.append(f"{wk} = _s32.simplex_work({self.arg(t.perm)}, "
                             f"{self.b(_gk32._bl.USE)})")
-            tab = _gk32.simplex_table(t.seed, t.perm, t.perm12)
+            tab = _s32.simplex_table(t.seed, t.perm, t.perm12)
             self.row.append(
-                f"_gk32.row_simplex32({self.i(nd)}, {self.i(mode)}, {ax[0]}, "
+                f"_s32.row_simplex32({self.i(nd)}, {self.i(mode)}, {ax[0]}, "
                 f"{self.arg(plan.axes[0].astype(f32))}"
                 f", {ax[1]}, {ax[2]}, j, m, {acc}, {wt}, {self.arg(plan.freqs)}, {amps}, "
                 f"{self.arg(plan.offs)}, {self.arg(t.perm)}, {self.arg(tab)}, {gain}, {wk})")

@@ -1,0 +1,462 @@
+"""Float32 SIMD paths for simplex noise on regular grids (private; the simplex part of
+:mod:`._gridkernels32`, whose module docstring describes the float32 road).
+
+Simplex noise hashes its corners in byte lanes where the CPU has AVX-512 VBMI
+(:mod:`._bytelanes`: Gustavson's chained lookups for 64 samples in a few byte permutes);
+elsewhere it needs one load a sample (2D) or z plane (3D): :func:`simplex_table` packs
+the gradient indices of a cell's four (x, y) corners in one word (the chained lookups
+precomputed), the SIMD corner pass takes its corners' nibbles out.  3D locates in float64
+(its kernel jumps across simplex faces) and does the rest in float32 lanes.  (Tried and
+dropped: locating 3D in float32 lanes from split coordinates, exactly but for the
+fractions' rounding and again in float64 near a face — no faster than float64, twice the
+operations at twice the lanes.)  :func:`row_simplex32` is also the texture graph's row
+routine.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange, uint64
+
+from . import _bytelanes as _bl
+from . import _kernels as k
+from ._gridkernels32 import (
+    _F,
+    _OPTS,
+    BLOCK,
+    CHUNKS,
+    F2,
+    G2,
+    G2X2,
+    G3,
+    G3X2,
+    G3X3,
+    I0,
+    I1,
+    I2,
+    I4,
+    I8,
+    ONE,
+    R2,
+    R3,
+    S2,
+    S3,
+    THREE,
+    TWO,
+    ZERO,
+    _combine_block,
+    _finish,
+    _i32,
+)
+
+
+@njit(inline="always", **_OPTS)
+def _g12(g, x, y, z):
+    """``GRAD3[g] . (x, y, z)`` for g in 0..11 (Gustavson's twelve edge gradients, the
+    first twelve of Perlin's improved-noise ``grad``: ``±u ± v`` with u = x for g < 8 else
+    y, v = y for g < 4 else z): two selects and two sign flips on int32 lanes instead of
+    three component selects and multiplies (the 3D simplex corner pass 5.9 -> 3.7 ns a
+    sample on znver3)."""
+    u = x if g < I8 else y
+    v = y if g < I4 else z
+    return (-u if _i32(g & I1) != I0 else u) + (-v if _i32(g & I2) != I0 else v)
+
+
+@njit(inline="always", **_OPTS)
+def _g12_2(g, x, y):
+    """:func:`_g12` with z = 0 (2D simplex: ``GRAD3[g, :2] . (x, y)``)."""
+    u = x if g < I8 else y
+    v = y if g < I4 else ZERO
+    return (-u if _i32(g & I1) != I0 else u) + (-v if _i32(g & I2) != I0 else v)
+
+
+#: row stride of :func:`simplex_table` (``tab[i * TAB_STRIDE + m]``)
+TAB_STRIDE = 512
+_N15 = np.int32(15)
+# rows of the byte-lane work buffer ``bb`` (:func:`simplex_work`): the cell's i, j, k & 255,
+# the code of the middle corners' offsets (3D: :func:`_code3`; 2D: the middle corner is
+# (1, 0)), the corners' gradient indices (:func:`._bytelanes.simplex3_hash`, ``simplex2_hash``)
+_BI, _BJ, _BK, _BC, _BG = 0, 1, 2, 3, 4
+_BROWS = 8
+
+
+@njit(**_OPTS)
+def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bc, ba):
+    """SIMD pass: skew, find the simplex of samples ``base..base + cnt``, and the flat
+    address of its cell's packed corners in :func:`simplex_table` (``ba``)."""
+    b0 = uint64(base)
+    st = np.int32(TAB_STRIDE)
+    for q in range(cnt):
+        xin = xs[b0 + uint64(q)] * fx + ox
+        s = (xin + yin) * F2
+        fi = np.floor(xin + s)
+        fj = np.floor(yin + s)
+        t = (fi + fj) * G2
+        x0 = xin - (fi - t)
+        y0 = yin - (fj - t)
+        bx[q] = x0
+        by[q] = y0
+        bc[q] = np.int32(x0 > y0)
+        ba[q] = (np.int32(fi) & 255) * st + (np.int32(fj) & 255)
+
+
+@njit(**_OPTS)
+def _s2_locate_b(xs, base, cnt, fx, ox, yin, bx, by, bb):
+    """:func:`_s2_locate` for the byte-lane road: the cell's ``i, j & 255`` and whether
+    the middle corner is (1, 0) into the byte rows of ``bb`` (:func:`simplex_work`)."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        xin = xs[b0 + uint64(q)] * fx + ox
+        s = (xin + yin) * F2
+        fi = np.floor(xin + s)
+        fj = np.floor(yin + s)
+        t = (fi + fj) * G2
+        x0 = xin - (fi - t)
+        y0 = yin - (fj - t)
+        bx[q] = x0
+        by[q] = y0
+        bb[_BI, q] = np.uint8(np.int32(fi))  # the low byte: i & 255 (two's complement)
+        bb[_BJ, q] = np.uint8(np.int32(fj))
+        bb[_BC, q] = np.uint8(x0 > y0)
+
+
+@njit(**_OPTS)
+def _s2_hash_b(cnt, bt, bb):
+    """The three corners' gradient indices of ``cnt`` samples, 64 at a time in byte lanes
+    (:func:`._bytelanes.simplex2_hash`; ``bt``: perm and perm12 as bytes)."""
+    p = bt.ctypes.data
+    rs = uint64(bb.shape[1])
+    r0 = bb.ctypes.data
+    for o in range(0, cnt, _bl.LANES):
+        _bl.simplex2_hash(p, r0 + uint64(o), rs)
+
+
+@njit(**_OPTS)
+def _s2_eval_b(cnt, bx, by, bb, nb):
+    """:func:`_s2_eval` with the corners' gradient indices from the byte rows ``G``."""
+    for q in range(cnt):
+        x0 = bx[q]
+        y0 = by[q]
+        i1 = _F(bb[_BC, q])
+        x1 = x0 - i1 + G2
+        y1 = y0 - (ONE - i1) + G2
+        x2 = x0 + G2X2
+        y2 = y0 + G2X2
+        t0 = max(R2 - x0 * x0 - y0 * y0, ZERO)
+        t1 = max(R2 - x1 * x1 - y1 * y1, ZERO)
+        t2 = max(R2 - x2 * x2 - y2 * y2, ZERO)
+        t0 *= t0
+        t1 *= t1
+        t2 *= t2
+        n = t0 * t0 * _g12_2(_i32(bb[_BG, q]), x0, y0)
+        n += t1 * t1 * _g12_2(_i32(bb[_BG + 1, q]), x1, y1)
+        n += t2 * t2 * _g12_2(_i32(bb[_BG + 2, q]), x2, y2)
+        nb[q] = S2 * n
+
+
+@njit(**_OPTS)
+def _gather(cnt, tab, ba, bw):
+    """Scalar pass: one load a sample, ``bw = tab[ba]`` (LLVM emits no vector gathers for
+    this CPU, and ``vpgatherdd`` measured only ~10% faster here)."""
+    for q in range(cnt):
+        bw[q] = tab[uint64(ba[q])]
+
+
+@njit(**_OPTS)
+def _s2_eval(cnt, bx, by, bc, bw, nb):
+    """SIMD pass: the three corner contributions, gradient indices from the packed cell
+    corners, the gradients' dot products by selects (:func:`_g12_2`)."""
+    for q in range(cnt):
+        x0 = bx[q]
+        y0 = by[q]
+        c = bc[q]
+        w = bw[q]
+        i1 = _F(c)
+        x1 = x0 - i1 + G2
+        y1 = y0 - (ONE - i1) + G2
+        x2 = x0 + G2X2
+        y2 = y0 + G2X2
+        t0 = max(R2 - x0 * x0 - y0 * y0, ZERO)
+        t1 = max(R2 - x1 * x1 - y1 * y1, ZERO)
+        t2 = max(R2 - x2 * x2 - y2 * y2, ZERO)
+        t0 *= t0
+        t1 *= t1
+        t2 *= t2
+        a = np.int32(w & _N15)
+        # corner (1, 0) is nibble 2, (0, 1) nibble 1 (constant shifts and a select: a
+        # variable shift would be int64 in numba, half the lanes)
+        b = np.int32(((w >> np.int32(8)) if c else (w >> np.int32(4))) & _N15)
+        d = np.int32(w >> np.int32(12))
+        n = t0 * t0 * _g12_2(a, x0, y0)
+        n += t1 * t1 * _g12_2(b, x1, y1)
+        n += t2 * t2 * _g12_2(d, x2, y2)
+        nb[q] = S2 * n
+
+
+@njit(inline="always", cache=True, error_model="numpy")
+def _bit(cond):
+    return 1.0 if cond else 0.0
+
+
+@njit(inline="always", cache=True, error_model="numpy")
+def _s3_cell64(xin, yin, zin):
+    """Gustavson's skew and cell in float64, as :func:`._kernels.simplex3`: the offsets
+    ``x0, y0, z0``, the three comparisons of the six-way choice, the cell ``i, j, k``."""
+    s = (xin + yin + zin) * k.F3
+    fi = np.floor(xin + s)
+    fj = np.floor(yin + s)
+    fk = np.floor(zin + s)
+    t = (fi + fj + fk) * k.G3
+    x0 = xin - (fi - t)
+    y0 = yin - (fj - t)
+    z0 = zin - (fk - t)
+    return x0, y0, z0, x0 >= y0, y0 >= z0, x0 >= z0, fi, fj, fk
+
+
+@njit(cache=True, error_model="numpy")  # no fast-math: the float64 road's roundings
+def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk):
+    """SIMD pass, in float64 (``xs``, ``fx`` ... ``zin``): Gustavson's 3D kernel
+    (r² = 0.6) jumps by up to 1e-2 across simplex faces, so the simplex must be the one
+    the float64 road picks.  Into float32 rows: the offsets ``x0, y0, z0`` (rounded) and
+    the ranks ``rx, ry`` of ``x0, y0`` among the three (``bf``; Gustavson's six-way
+    choice, as :func:`._kernels.simplex3`); the cell's :func:`simplex_table` address but
+    for ``perm[k]`` into ``ba``, ``k & 255`` into ``bk``."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        x0, y0, z0, ca, cb, cc, fi, fj, fk = _s3_cell64(xs[b0 + uint64(q)] * fx + ox, yin, zin)
+        bx[q] = x0
+        by[q] = y0
+        bz[q] = z0
+        bf[0, q] = _bit(ca) + _bit(cc)
+        bf[1, q] = 1.0 - _bit(ca) + _bit(cb)
+        ii = fi - 256.0 * np.floor(fi * (1.0 / 256.0))  # i & 255, exactly
+        jj = fj - 256.0 * np.floor(fj * (1.0 / 256.0))
+        ba[q] = np.int32(ii * TAB_STRIDE + jj)
+        bk[q] = np.int32(fk - 256.0 * np.floor(fk * (1.0 / 256.0)))
+
+
+@njit(inline="always", **_OPTS)
+def _code3(ca, cb, cc):
+    """Corners 1 and 2's offsets ``i1 | j1 << 1 | k1 << 2 | i2 << 3 | j2 << 4 | k2 << 5``
+    from the comparisons ``x0 >= y0``, ``y0 >= z0``, ``x0 >= z0``: Gustavson's six-way
+    choice, as :func:`_ranks3` from the ranks.  Bitwise, not ``and`` / ``or``:
+    short-circuits are branches, which LLVM does not vectorise."""
+    i = _i32
+    return np.uint8(i(ca & cc) | i(cb & (not ca)) << I1 | i(not (cb | cc)) << I2
+                    | i(ca | cc) << np.int32(3) | i(cb | (not ca)) << I4
+                    | i(not (cb & cc)) << np.int32(5))
+
+
+@njit(cache=True, error_model="numpy")  # no fast-math: the float64 road's roundings
+def _s3_locate_b(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bb):
+    """:func:`_s3_locate` for the byte-lane road: the cell and the code of its corners
+    (:func:`_code3`) into the byte rows of ``bb`` instead of a table address and ranks."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        x0, y0, z0, ca, cb, cc, fi, fj, fk = _s3_cell64(xs[b0 + uint64(q)] * fx + ox, yin, zin)
+        bx[q] = x0
+        by[q] = y0
+        bz[q] = z0
+        bb[_BI, q] = np.uint8(np.int32(fi))  # the low byte: i & 255 (two's complement)
+        bb[_BJ, q] = np.uint8(np.int32(fj))
+        bb[_BK, q] = np.uint8(np.int32(fk))
+        bb[_BC, q] = _code3(ca, cb, cc)
+
+
+@njit(**_OPTS)
+def _s3_gather(cnt, tab, perm, ba, bk, w0, w1):
+    """Scalar pass: the packed corners of the cell's two z planes, rows ``j + perm[k]``
+    and ``j + perm[k + 1]`` of :func:`simplex_table`."""
+    one = uint64(1)
+    for q in range(cnt):
+        kk = uint64(bk[q])
+        a = uint64(ba[q])
+        w0[q] = tab[a + uint64(perm[kk])]
+        w1[q] = tab[a + uint64(perm[kk + one])]
+
+
+@njit(inline="always", **_OPTS)
+def _ranks3(rx, ry):
+    """Corners 1 and 2's offsets ``(i1, j1, k1, i2, j2, k2)`` from the ranks (float32)."""
+    rz = THREE - rx - ry
+    return (ONE if rx >= TWO else ZERO, ONE if ry >= TWO else ZERO,
+            ONE if rz >= TWO else ZERO, ONE if rx >= ONE else ZERO,
+            ONE if ry >= ONE else ZERO, ONE if rz >= ONE else ZERO)
+
+
+@njit(inline="always", **_OPTS)
+def _c3(g, x, y, z):
+    """One corner's contribution (before the factor 32)."""
+    t = max(R3 - x * x - y * y - z * z, ZERO)
+    t *= t
+    return t * t * _g12(g, x, y, z)
+
+
+@njit(inline="always", **_OPTS)
+def _corner3(w0, w1, i, j, k):
+    """The gradient index of corner ``(i, j, k)`` (float32 0/1) of the cell: nibble
+    ``2 i + j`` of its z plane's packed corners (constant shifts and selects)."""
+    w = w1 if k > ZERO else w0
+    w = np.int32(w >> np.int32(8)) if i > ZERO else w  # int32 again: 16 lanes
+    w = np.int32(w >> np.int32(4)) if j > ZERO else w
+    return np.int32(w & _N15)
+
+
+@njit(**_OPTS)
+def _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb):
+    """SIMD pass: the four corner contributions (float32, 16 lanes)."""
+    for q in range(cnt):
+        i1, j1, k1, i2, j2, k2 = _ranks3(bf[0, q], bf[1, q])
+        a = w0[q]
+        b = w1[q]
+        x0 = bx[q]
+        y0 = by[q]
+        z0 = bz[q]
+        n = _c3(np.int32(a & _N15), x0, y0, z0)
+        n += _c3(_corner3(a, b, i1, j1, k1), x0 - i1 + G3, y0 - j1 + G3, z0 - k1 + G3)
+        n += _c3(_corner3(a, b, i2, j2, k2), x0 - i2 + G3X2, y0 - j2 + G3X2, z0 - k2 + G3X2)
+        n += _c3(np.int32(b >> np.int32(12)), x0 + G3X3, y0 + G3X3, z0 + G3X3)
+        nb[q] = S3 * n
+
+
+
+@njit(**_OPTS)
+def _s3_hash_b(cnt, bt, bb):
+    """The corners' gradient indices of ``cnt`` samples, 64 at a time in byte lanes
+    (:func:`._bytelanes.simplex3_hash`; ``bt``: perm and perm12 as bytes)."""
+    p = bt.ctypes.data
+    rs = uint64(bb.shape[1])
+    r0 = bb.ctypes.data
+    for o in range(0, cnt, _bl.LANES):
+        _bl.simplex3_hash(p, r0 + uint64(o), rs)
+
+
+@njit(inline="always", **_OPTS)
+def _obit(c, n):
+    return ONE if _i32(c & n) != I0 else ZERO
+
+
+@njit(**_OPTS)
+def _s3_eval_b(cnt, bx, by, bz, bb, nb):
+    """:func:`_s3_eval` with the corners' gradient indices from the byte rows ``G`` and
+    their offsets from the code row (:func:`_code3`)."""
+    for q in range(cnt):
+        c = _i32(bb[_BC, q])
+        i1, j1, k1 = _obit(c, I1), _obit(c, I2), _obit(c, I4)
+        i2, j2, k2 = _obit(c, I8), _obit(c, np.int32(16)), _obit(c, np.int32(32))
+        x0 = bx[q]
+        y0 = by[q]
+        z0 = bz[q]
+        n = _c3(_i32(bb[_BG, q]), x0, y0, z0)
+        n += _c3(_i32(bb[_BG + 1, q]), x0 - i1 + G3, y0 - j1 + G3, z0 - k1 + G3)
+        n += _c3(_i32(bb[_BG + 2, q]), x0 - i2 + G3X2, y0 - j2 + G3X2, z0 - k2 + G3X2)
+        n += _c3(_i32(bb[_BG + 3, q]), x0 + G3X3, y0 + G3X3, z0 + G3X3)
+        nb[q] = S3 * n
+
+
+@njit(cache=True, error_model="numpy")  # no fast-math: yin, zin as in float64
+def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, offs, perm,
+                  tab, gain, work):
+    """Row ``(m, j)`` of 2D or 3D simplex noise, every octave summed into ``row`` (float32;
+    ridged sums are left unnormalised); ``work``: :func:`simplex_work` (also the texture
+    graph's row routine).  Blocks of :data:`BLOCK` samples go in passes: locate (SIMD; 3D
+    in float64), one table load a sample and z plane (scalar; 3D with ``hashed``: the
+    chained lookups in byte lanes), corner sums (SIMD)."""
+    bx, by, bz, nb, bf, ba, bk, bc, w0, w1, bb, bt, hashed = work
+    tf = tab.reshape(tab.size)
+    nx = row.shape[0]
+    if amps.shape[0] == 0:  # no octave (the first octave sets the row, no clearing pass)
+        row[:] = ZERO
+    for o in range(freqs.shape[0]):
+        fx = freqs[o, 0]
+        ox = offs[o, 0]
+        yin = ys[j] * freqs[o, 1] + offs[o, 1]
+        zin = zs[m] * freqs[o, 2] + offs[o, 2]
+        fx32 = _F(fx)
+        ox32 = _F(ox)
+        yin32 = _F(yin)
+        for base in range(0, nx, BLOCK):
+            cnt = min(BLOCK, nx - base)
+            if ndim == 2 and hashed:
+                _s2_locate_b(xs32, base, cnt, fx32, ox32, yin32, bx, by, bb)
+                _s2_hash_b(cnt, bt, bb)
+                _s2_eval_b(cnt, bx, by, bb, nb)
+            elif ndim == 2:
+                _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bc, ba)
+                _gather(cnt, tf, ba, w0)
+                _s2_eval(cnt, bx, by, bc, w0, nb)
+            else:
+                if hashed:
+                    _s3_locate_b(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bb)
+                else:
+                    _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk)
+                if hashed:
+                    _s3_hash_b(cnt, bt, bb)
+                    _s3_eval_b(cnt, bx, by, bz, bb, nb)
+                else:
+                    _s3_gather(cnt, tf, perm, ba, bk, w0, w1)
+                    _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb)
+            _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
+
+
+@njit(cache=True)
+def simplex_work(perm, hashed):
+    """Block buffers of :func:`row_simplex32`; ``hashed``:
+    3D hashes its corners in byte lanes (:mod:`._bytelanes`; ``perm``: the doubled
+    permutation) instead of loading the packed corners of :func:`simplex_table`."""
+    f = np.float32
+    i = np.int32
+    bb = np.zeros((_BROWS, BLOCK), np.uint8)  # BLOCK: a multiple of the 64 byte lanes
+    bt = np.empty(512, np.uint8)
+    for m in range(256):
+        bt[m] = perm[m]
+        bt[256 + m] = perm[m] % 12
+    return (np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f),
+            np.empty((2, BLOCK), f), np.empty(BLOCK, i), np.empty(BLOCK, i),
+            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), bb, bt, hashed)
+
+
+@njit(cache=True, parallel=True, error_model="numpy")  # no fast-math: yin, zin as in float64
+def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, tab, norm, gain,
+                   hashed):
+    """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D or 3D simplex noise (Gustavson's
+    corners, hashes and gradients), every octave in one pass per row.  ``xs, ys, zs``,
+    ``freqs``, ``offs`` as for :func:`._gridkernels.simplex_grid` (float64; ``xs32``:
+    ``xs`` in float32 for the 2D pass); ``amps`` already carry ``norm`` unless ``mode``
+    is ridged; ``tab``: :func:`simplex_table`."""
+    nz, ny, nx = out.shape
+    nrows = ny * nz
+    nch = min(nrows, CHUNKS)
+    for c in prange(nch):
+        weight = np.empty(nx, np.float32)
+        work = simplex_work(perm, hashed)
+        for r in range(c * nrows // nch, (c + 1) * nrows // nch):
+            j = r % ny
+            m = r // ny
+            row = out[m, j]
+            row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, offs,
+                          perm, tab, gain, work)
+            _finish(mode, row, norm)
+
+
+def simplex_table(seed, perm, perm12):
+    """The packed corner gradients of simplex noise (cached per seed): ``tab[i, m]``
+    (int32, i in 0..255, m in 0..511, C order: flat address ``i * TAB_STRIDE + m``) holds
+    ``g(i + di, m + dj) = perm12[i + di + perm[m + dj]]`` in nibble ``2 di + dj``.  With
+    ``m = j`` in 2D and ``m = j + perm[k]`` in 3D one load gives the four corners of a
+    cell's (z) plane: Gustavson's chained lookups ``perm12[i + perm[j + perm[k]]]``, as
+    the float64 road's, once a sample and plane."""
+    tab = _TABS.get(seed)
+    if tab is None:
+        g = perm12[np.arange(257)[:, None] + perm[np.arange(TAB_STRIDE)][None, :]]
+        g = g.astype(np.int32)
+        tab = np.zeros((256, TAB_STRIDE), np.int32)
+        tab[:, :-1] = (g[:-1, :-1] | (g[:-1, 1:] << 4) | (g[1:, :-1] << 8)
+                       | (g[1:, 1:] << 12))
+        if len(_TABS) > 16:
+            _TABS.clear()
+        _TABS[seed] = tab
+    return tab
+
+
+_TABS: dict = {}
