@@ -13,7 +13,10 @@ they can); :data:`USE` tells the kernels which road to take on this machine (the
 one loads one packed word of corner hashes a sample, :func:`._simplex32.simplex_table`).
 
 Numba caches compiled kernels per CPU name and feature set, so a cache made on a VBMI
-machine is never loaded on one without.
+machine is never loaded on one without.  Its cache keys on each kernel module's own source
+file, not on this one: after editing an intrinsic here, touch the modules that call it
+(``_gridkernels32``, ``_simplex32``, ``_points32``), or their cached kernels keep the old
+code (a wheel install rewrites every file).
 """
 
 from __future__ import annotations
