@@ -6,11 +6,13 @@ every index is taken modulo 256, which byte arithmetic does for free: a lookup i
 permutation.  AVX-512 VBMI's ``vpermi2b`` permutes 64 bytes out of a 128-byte table in
 one instruction, so two of them and a blend by the index's top bit read a 256-entry table
 for 64 indices at once: 12 lookups hash the four corners of 64 3D simplices (6 the three
-of 2D ones), their intermediate results staying in registers.  The intrinsics below emit
-that (LLVM's ``llvm.x86.avx512.vpermi2var.qi.512``) when the CPU numba compiles for has
-VBMI, and 64 scalar loads a lookup otherwise (the same results: the tests run both where
-they can); :data:`USE` tells the kernels which road to take on this machine (the other
-one loads one packed word of corner hashes a sample, :func:`._simplex32.simplex_table`).
+of 2D ones), 12 the eight corners of 64 samples of 3D improved noise, up to 30 the sixteen
+of a 4D lattice point, the chain's intermediate bytes staying in registers.  The
+intrinsics below emit that (LLVM's ``llvm.x86.avx512.vpermi2var.qi.512``) when the CPU
+numba compiles for has VBMI, and 64 scalar loads a lookup otherwise (the same results: the
+tests run both where they can); :data:`USE` tells the kernels which road to take on this
+machine (the other one loads the tables with scalar loads, simplex one packed word of
+corner hashes a sample, :func:`._simplex32.simplex_table`).
 
 Numba caches compiled kernels per CPU name and feature set, so a cache made on a VBMI
 machine is never loaded on one without.  Its cache keys on each kernel module's own source
@@ -28,7 +30,7 @@ import llvmlite.ir as ir
 from numba import types
 from numba.extending import intrinsic
 
-#: bytes a :func:`lookup` reads and writes (one zmm register)
+#: bytes an intrinsic reads and writes per row (one zmm register)
 LANES = 64
 
 _I8 = ir.IntType(8)
@@ -194,7 +196,7 @@ _CONTRACT = ("contract",)
 
 @intrinsic
 def cell_lerp16(typingctx, cc, stride, cid, cf, xf, xu, out):
-    """The cell road's 16 samples at once (:func:`._gridkernels32._cell_eval`): lane ``q``
+    """The cell road's 16 samples at once (:func:`._gridkernels32._cell_eval16`): lane ``q``
     takes cell ``cid[q] - cf`` of the 16 cells whose four coefficient rows start at the
     address ``cc`` (``stride`` bytes apart; ``p0, q0, p1, q1``) by one ``vpermps`` a row
     (AVX-512F) instead of select chains, and writes ``lerp(u, p0 x + q0, p1 (x - 1) +
