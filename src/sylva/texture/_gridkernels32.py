@@ -6,20 +6,24 @@ float32 arithmetic throughout, every octave fused into one pass per row (the out
 is the accumulator), and one branch-free loop per row and octave that LLVM vectorises to
 the machine's widest registers (16 float32 lanes with AVX-512, 8 with AVX2): gradients come
 from bit masks or selects instead of tables, floors are float floors, fast-math lets LLVM
-fuse multiply-adds.  The permutation-table lookups stay (so that the values are the
-float64 road's within rounding) in scalar passes: LLVM emits no vector gathers for this
-CPU (znver4 prefers none), and explicit ``vpgatherdd`` measured no faster than scalar loads
-here, so the lattice noises look up less instead.  Where an octave has about four samples
-a lattice cell or more along x (``KMAX``), value, classic and improved noise go by *cells*:
+fuse multiply-adds.  The permutation tables stay (so that the values are the float64
+road's within rounding); where the CPU has AVX-512 VBMI their lookups go 64 at a time in
+byte lanes (:mod:`._bytelanes`, the ``hashed`` / ``lanes`` flag of the work buffers),
+elsewhere in scalar passes (LLVM emits no vector gathers for znver4, and explicit
+``vpgatherdd`` measured no faster than scalar loads), so the lattice noises look up less.
+Where an octave has about four samples a lattice cell or more along x (``KMAX``; two,
+``KPERM``, with AVX-512 permutes), value, classic and improved noise go by *cells*:
 each cell of a row is hashed once (scalar; and kept for the next rows in the same lattice
 rows, ``y0, y1, z0, z1``, which only reduce it anew), its noise along the row reduced to four
 coefficients, ``lerp(u, p0 x + q0, p1 (x - 1) + q1)`` (SIMD across cells), and the
 samples take their cell's coefficients by select chains over ``KMAX`` cells (SIMD; one
 set-up of the chains for each run of whole 16-lane vectors inside those cells, as a literal
-trip count of 16 is unrolled to scalar code).  Finer octaves keep the per-sample road (row
-tables of 2D corner hashes, then SIMD; improved noise's 2D corner gradient indices travel
-packed, four nibbles in one int32).  Integer work inside the SIMD loops is int32
-throughout (numba widens ``int32 & 15`` to int64, which cuts the lanes to 4).
+trip count of 16 is unrolled to scalar code), or with AVX-512 by one permute per
+coefficient row for each 16-lane vector (:func:`_cell_eval16`).  Finer octaves keep the
+per-sample road (row tables of 2D corner hashes, then SIMD; improved noise's 2D corner
+gradient indices travel packed, four nibbles in one int32).  Integer work inside the SIMD
+loops is int32 throughout (numba widens ``int32 & 15`` to int64, which cuts the lanes to
+4).
 Simplex noise is :mod:`._simplex32` (its corners hashed in byte lanes where the CPU has
 AVX-512 VBMI, else one packed table word a sample; 3D located in float64).
 
@@ -255,26 +259,12 @@ def _lat_eval_b3(base, cnt, fx, cu, y, v, z, w, lb, nb):
     """:func:`_lat_eval` of 3D improved noise from the byte rows 2..9 of ``lb`` (its own
     copy of that one loop: :func:`_lat_eval` for a byte table would compile all six)."""
     b0 = uint64(base)
-    y_1 = y - ONE
-    z_1 = z - ONE
     for q in range(cnt):
         i = b0 + uint64(q)
         x = fx[i]
         u = cu[i]
-        x_1 = x - ONE
-        nb[q] = _lerp(
-            w,
-            _lerp(
-                v,
-                _lerp(u, _g16(lb[2, q], x, y, z), _g16(lb[3, q], x_1, y, z)),
-                _lerp(u, _g16(lb[4, q], x, y_1, z), _g16(lb[5, q], x_1, y_1, z)),
-            ),
-            _lerp(
-                v,
-                _lerp(u, _g16(lb[6, q], x, y, z_1), _g16(lb[7, q], x_1, y, z_1)),
-                _lerp(u, _g16(lb[8, q], x, y_1, z_1), _g16(lb[9, q], x_1, y_1, z_1)),
-            ),
-        )
+        nb[q] = _imp3(lb[2, q], lb[3, q], lb[4, q], lb[5, q], lb[6, q], lb[7, q], lb[8, q],
+                      lb[9, q], x, y, z, u, v, w)
 
 
 @njit(**_OPTS)
@@ -336,6 +326,23 @@ def _lat_hash2(kind, base, cnt, a0, a1, th, tv, tg, hb, vb, gb):
             vb[3, q] = tv[1, b]
 
 
+@njit(inline="always", **_OPTS)
+def _imp3(h0, h1, h2, h3, h4, h5, h6, h7, x, y, z, u, v, w):
+    """3D improved noise from its eight corner hashes (corner c: x1 if ``c & 1``, y1 if
+    ``c & 2``, z1 if ``c & 4``), the fractions and curve weights (scalars only: an
+    inlined helper that took the hash array would cost a reference count a sample)."""
+    x_1 = x - ONE
+    y_1 = y - ONE
+    z_1 = z - ONE
+    return _lerp(
+        w,
+        _lerp(v, _lerp(u, _g16(h0, x, y, z), _g16(h1, x_1, y, z)),
+              _lerp(u, _g16(h2, x, y_1, z), _g16(h3, x_1, y_1, z))),
+        _lerp(v, _lerp(u, _g16(h4, x, y, z_1), _g16(h5, x_1, y, z_1)),
+              _lerp(u, _g16(h6, x, y_1, z_1), _g16(h7, x_1, y_1, z_1))),
+    )
+
+
 @njit(**_OPTS)
 def _lat_eval(kind, ndim, base, cnt, fx, cu, y, v, z, w, hb, vb, gb, nb):
     """SIMD pass: blend the corners of samples ``base..base + cnt`` into ``nb``."""
@@ -390,21 +397,8 @@ def _lat_eval(kind, ndim, base, cnt, fx, cu, y, v, z, w, hb, vb, gb, nb):
             i = b0 + uint64(q)
             x = fx[i]
             u = cu[i]
-            x_1 = x - ONE
-            n = _lerp(
-                w,
-                _lerp(
-                    v,
-                    _lerp(u, _g16(hb[0, q], x, y, z), _g16(hb[1, q], x_1, y, z)),
-                    _lerp(u, _g16(hb[2, q], x, y_1, z), _g16(hb[3, q], x_1, y_1, z)),
-                ),
-                _lerp(
-                    v,
-                    _lerp(u, _g16(hb[4, q], x, y, z_1), _g16(hb[5, q], x_1, y, z_1)),
-                    _lerp(u, _g16(hb[6, q], x, y_1, z_1), _g16(hb[7, q], x_1, y_1, z_1)),
-                ),
-            )
-            nb[q] = n
+            nb[q] = _imp3(hb[0, q], hb[1, q], hb[2, q], hb[3, q], hb[4, q], hb[5, q],
+                          hb[6, q], hb[7, q], x, y, z, u, v, w)
     elif ndim == 2:
         for q in range(cnt):
             i = b0 + uint64(q)

@@ -80,6 +80,17 @@ _BI, _BJ, _BK, _BC, _BG = 0, 1, 2, 3, 4
 _BROWS = 8
 
 
+@njit(inline="always", **_OPTS)
+def _s2_cell(xin, yin):
+    """Gustavson's 2D skew and cell (float32): the offsets ``x0, y0`` and the cell's
+    floors ``i, j`` (both locate passes)."""
+    s = (xin + yin) * F2
+    fi = np.floor(xin + s)
+    fj = np.floor(yin + s)
+    t = (fi + fj) * G2
+    return xin - (fi - t), yin - (fj - t), fi, fj
+
+
 @njit(**_OPTS)
 def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bc, ba):
     """SIMD pass: skew, find the simplex of samples ``base..base + cnt``, and the flat
@@ -87,13 +98,7 @@ def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bc, ba):
     b0 = uint64(base)
     st = np.int32(TAB_STRIDE)
     for q in range(cnt):
-        xin = xs[b0 + uint64(q)] * fx + ox
-        s = (xin + yin) * F2
-        fi = np.floor(xin + s)
-        fj = np.floor(yin + s)
-        t = (fi + fj) * G2
-        x0 = xin - (fi - t)
-        y0 = yin - (fj - t)
+        x0, y0, fi, fj = _s2_cell(xs[b0 + uint64(q)] * fx + ox, yin)
         bx[q] = x0
         by[q] = y0
         bc[q] = np.int32(x0 > y0)
@@ -106,13 +111,7 @@ def _s2_locate_b(xs, base, cnt, fx, ox, yin, bx, by, bb):
     the middle corner is (1, 0) into the byte rows of ``bb`` (:func:`simplex_work`)."""
     b0 = uint64(base)
     for q in range(cnt):
-        xin = xs[b0 + uint64(q)] * fx + ox
-        s = (xin + yin) * F2
-        fi = np.floor(xin + s)
-        fj = np.floor(yin + s)
-        t = (fi + fj) * G2
-        x0 = xin - (fi - t)
-        y0 = yin - (fj - t)
+        x0, y0, fi, fj = _s2_cell(xs[b0 + uint64(q)] * fx + ox, yin)
         bx[q] = x0
         by[q] = y0
         bb[_BI, q] = np.uint8(np.int32(fi))  # the low byte: i & 255 (two's complement)
