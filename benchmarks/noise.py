@@ -235,8 +235,8 @@ def main(argv=None) -> int:
         " unless said)"
     )
     print(
-        f"SIMD: sylva = numba/LLVM for {llvm_cpu} (float32 road: 16 float32 lanes where the CPU"
-        " has AVX-512, 8 with AVX2); FastNoise Lite = scalar C"
+        f"SIMD: sylva = numba/LLVM for {llvm_cpu}{_width()} (float32 road: 16 float32 lanes"
+        " where the CPU has AVX-512, 8 with AVX2); FastNoise Lite = scalar C"
         + ("; FastNoise2 = runtime dispatch (level per case below)" if fn2 else
            "; FastNoise2: not measured (set SYLVA_FASTNOISE2_LIB, see the docstring)")
     )
@@ -428,6 +428,19 @@ def _more_rows(args, fn2, ncores, scale) -> None:
         print(line)
     print("(nan: not timed for FastNoise2: it has no torus of simplex noise, and its cell"
           " value is not sylva's cell id)")
+
+
+def _width() -> str:
+    """How wide LLVM vectorises the float32 kernels: 512 bits on AVX-512 CPUs
+    (``sylva.texture._bytelanes.Wide``; ``SYLVA_VECTOR_WIDTH=256`` leaves LLVM's own
+    choice, 256 bits on its Intel AVX-512 models, for comparison)."""
+    from sylva.texture import _bytelanes
+
+    if not _bytelanes.AVX512:
+        return ""
+    if os.environ.get("SYLVA_VECTOR_WIDTH") == "256":
+        return ", LLVM's own vector width (SYLVA_VECTOR_WIDTH=256)"
+    return ", 512-bit vectors"
 
 
 def _llvm_cpu() -> str:

@@ -5,7 +5,7 @@ and table loads) against the float64 one."""
 
 import numpy as np
 import pytest
-from numba import njit, uint64
+from numba import njit, prange, uint64
 
 from sylva import _jit
 from sylva.texture import _bytelanes as bl
@@ -285,3 +285,47 @@ def test_both_point_roads_within_tolerance(monkeypatch, use, shape, kw):
     b = noise_grid(shape, dtype=np.float64, **kw)
     assert np.abs(a.astype(np.float64) - b).max() < gk32.TOLERANCE
     assert b.std() > 0.05
+
+
+# ------------------------------------------------------- the vector width (bl.Wide)
+def _axpy(a, b):
+    for i in range(a.shape[0]):
+        a[i] = a[i] * b[i] + np.float32(1.5)
+
+
+def _axpy_rows(a, b):
+    for r in prange(a.shape[0]):
+        for i in range(a.shape[1]):
+            a[r, i] = a[r, i] * b[r, i] + np.float32(1.5)
+
+
+def _compiled(fn, shape, **opts):
+    kernel = njit(fastmath=True, **opts)(fn)  # a fresh dispatcher: compiled here, uncached
+    a = np.ones(shape, np.float32)
+    kernel(a, a)
+    assert a.flat[0] == np.float32(2.5)
+    return kernel, kernel.signatures[0]
+
+
+_PREFER = '"prefer-vector-width"="512"'
+
+
+def test_wide_kernels_ask_llvm_for_512_bit_vectors():
+    wide, sig = _compiled(_axpy, 64, pipeline_class=bl.Wide)
+    plain, psig = _compiled(_axpy, 64)
+    assert _PREFER in wide.inspect_llvm(sig)
+    assert _PREFER not in plain.inspect_llvm(psig)
+
+
+def test_sylva_vector_width_256_leaves_llvms_width(monkeypatch):
+    monkeypatch.setenv("SYLVA_VECTOR_WIDTH", "256")
+    wide, sig = _compiled(_axpy, 64, pipeline_class=bl.Wide)
+    assert _PREFER not in wide.inspect_llvm(sig)
+
+
+@pytest.mark.skipif(not bl.AVX512, reason="the CPU has no AVX-512")
+def test_wide_loops_run_in_zmm_registers_serial_and_in_prange_bodies():
+    # on Intel's AVX-512 models LLVM's own choice is ymm (256 bits) for these loops
+    for fn, shape, opts in ((_axpy, 64, {}), (_axpy_rows, (4, 64), {"parallel": True})):
+        wide, sig = _compiled(fn, shape, pipeline_class=bl.Wide, **opts)
+        assert "zmm" in wide.inspect_asm(sig), fn.__name__

@@ -19,6 +19,9 @@ machine is never loaded on one without.  Its cache keys on each kernel module's 
 file, not on this one: after editing an intrinsic here, touch the modules that call it
 (``_gridkernels32``, ``_simplex32``, ``_points32``), or their cached kernels keep the old
 code (a wheel install rewrites every file).
+
+:class:`Wide` is the compiler the float32 kernels are built with: it lets LLVM vectorise
+their loops to 512-bit registers on every AVX-512 CPU (LLVM's Intel models prefer 256).
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ import os
 import llvmlite.binding as llvm
 import llvmlite.ir as ir
 from numba import types
+from numba.core.compiler import Compiler
 from numba.extending import intrinsic
 
 #: bytes an intrinsic reads and writes per row (one zmm register)
@@ -57,6 +61,41 @@ VBMI = _host_has_vbmi()
 AVX512 = VBMI or _host_has("avx512f")
 _env = os.environ.get("SYLVA_BYTELANES", "")
 USE = VBMI if _env not in ("0", "1") else _env == "1"
+
+
+#: the function attribute that sets LLVM's vector width for one function (clang's
+#: ``-mprefer-vector-width``); llvmlite's attribute set takes only enum attributes
+_PREFER_512 = '"prefer-vector-width"="512"'
+
+
+class Wide(Compiler):
+    """numba's compiler, but every function it lowers (and the outlined bodies of its
+    ``prange`` loops, which inherit the target context) carries the LLVM attribute
+    ``"prefer-vector-width"="512"``.  LLVM's models of Intel's AVX-512 CPUs (Skylake-SP
+    to Sapphire Rapids) prefer 256-bit vectors, a tuning against the clock drop of early
+    AVX-512 parts, so the loop vectoriser gave the float32 kernels 8 lanes where they are
+    written for 16 (2D simplex, fBm and 3D Worley ran 1.1-1.3x slower on an Intel Xeon
+    VM that LLVM takes for ``rocketlake``); AMD's models already prefer 512, and CPUs without AVX-512 cap the width at
+    their registers.  Per kernel, not numba's process-wide ``NUMBA_CPU_FEATURES``: loops
+    of a few iterations (the float64 Worley road's runs of four samples a cell) are faster
+    at 256 bits, and the user's own numba code keeps its tuning.  Use it as
+    ``@njit(pipeline_class=Wide, ...)``; ``SYLVA_VECTOR_WIDTH=256`` leaves LLVM's width
+    (for comparison; it takes effect when the kernels compile, not on a warm cache)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        if os.environ.get("SYLVA_VECTOR_WIDTH") == "256":
+            return
+        ctx = self.state.targetctx  # this compile's own copy (numba's subtarget)
+        real = ctx.post_lowering
+
+        def post_lowering(mod, library):
+            for fn in mod.functions:
+                if not fn.is_declaration:
+                    set.add(fn.attributes, _PREFER_512)  # past llvmlite's list of names
+            real(mod, library)
+
+        ctx.post_lowering = post_lowering
 
 
 def _load(b, addr):

@@ -4,7 +4,9 @@ The float32 road of :func:`sylva.texture.noise_grid` (``dtype=np.float32``, the 
 the same lattices, hashes and gradients as the float64 road of :mod:`._gridkernels`, but
 float32 arithmetic throughout, every octave fused into one pass per row (the output row
 is the accumulator), and one branch-free loop per row and octave that LLVM vectorises to
-the machine's widest registers (16 float32 lanes with AVX-512, 8 with AVX2): gradients come
+the machine's widest registers (16 float32 lanes with AVX-512, 8 with AVX2; the kernels
+compile with :class:`._bytelanes.Wide`, since LLVM's Intel AVX-512 models would keep
+them at 256 bits): gradients come
 from bit masks or selects instead of tables, floors are float floors, fast-math lets LLVM
 fuse multiply-adds.  The permutation tables stay (so that the values are the float64
 road's within rounding); where the CPU has AVX-512 VBMI their lookups go 64 at a time in
@@ -84,7 +86,8 @@ R3 = _F(0.6)
 S2 = _F(70.0)
 S3 = _F(32.0)
 
-_OPTS = dict(cache=True, fastmath=True, error_model="numpy")
+_OPTS = dict(cache=True, fastmath=True, error_model="numpy", pipeline_class=_bl.Wide)
+_OPTS64 = dict(cache=True, error_model="numpy", pipeline_class=_bl.Wide)  # no fast-math
 _i32 = np.int32
 I0, I1, I2, I4, I8, I12, I14, I15 = (np.int32(v) for v in (0, 1, 2, 4, 8, 12, 14, 15))
 

@@ -50,7 +50,7 @@ TOLERANCE = 2e-4
 
 #: points per block (the buffers stay in L1)
 BLOCK = 256
-_OPTS = dict(cache=True, fastmath=True, error_model="numpy")
+_OPTS = dict(cache=True, fastmath=True, error_model="numpy", pipeline_class=_bl.Wide)
 _F = np.float32
 ZERO = _F(0.0)
 ONE = _F(1.0)
@@ -684,6 +684,11 @@ def grid_rows(r0, r1, points, kind, mode, ndim, torus, xs, ys, zs, ws, out, freq
     wk = work()
     P = np.empty((4, BLOCK))
     acc = np.empty(BLOCK, np.float32)
+    if torus and not points:  # the angles along x are every row's: their cos and sin once
+        cx = np.cos(xs)
+        sx = np.sin(xs)
+    else:
+        cx = sx = xs
     for r in range(r0, r1):
         iy = r % ny
         iz = (r // ny) % nz
@@ -703,8 +708,8 @@ def grid_rows(r0, r1, points, kind, mode, ndim, torus, xs, ys, zs, ws, out, freq
                 cy = math.cos(ys[iy])
                 sy = math.sin(ys[iy])
                 for q in range(m):
-                    P[0, q] = math.cos(xs[x0 + q])
-                    P[1, q] = math.sin(xs[x0 + q])
+                    P[0, q] = cx[x0 + q]
+                    P[1, q] = sx[x0 + q]
                     P[2, q] = cy
                     P[3, q] = sy
             else:

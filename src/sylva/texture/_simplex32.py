@@ -23,6 +23,7 @@ from . import _kernels as k
 from ._gridkernels32 import (
     _F,
     _OPTS,
+    _OPTS64,
     BLOCK,
     CHUNKS,
     F2,
@@ -212,7 +213,7 @@ def _s3_cell64(xin, yin, zin):
     return x0, y0, z0, x0 >= y0, y0 >= z0, x0 >= z0, fi, fj, fk
 
 
-@njit(cache=True, error_model="numpy")  # no fast-math: the float64 road's roundings
+@njit(**_OPTS64)  # no fast-math: the float64 road's roundings
 def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk):
     """SIMD pass, in float64 (``xs``, ``fx`` ... ``zin``): Gustavson's 3D kernel
     (r² = 0.6) jumps by up to 1e-2 across simplex faces, so the simplex must be the one
@@ -246,7 +247,7 @@ def _code3(ca, cb, cc):
                     | i(not (cb & cc)) << np.int32(5))
 
 
-@njit(cache=True, error_model="numpy")  # no fast-math: the float64 road's roundings
+@njit(**_OPTS64)  # no fast-math: the float64 road's roundings
 def _s3_locate_b(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bb):
     """:func:`_s3_locate` for the byte-lane road: the cell and the code of its corners
     (:func:`_code3`) into the byte rows of ``bb`` instead of a table address and ranks."""
@@ -353,7 +354,7 @@ def _s3_eval_b(cnt, bx, by, bz, bb, nb):
         nb[q] = S3 * n
 
 
-@njit(cache=True, error_model="numpy")  # no fast-math: yin, zin as in float64
+@njit(**_OPTS64)  # no fast-math: yin, zin as in float64
 def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, offs, perm,
                   tab, gain, work):
     """Row ``(m, j)`` of 2D or 3D simplex noise, every octave summed into ``row`` (float32;
@@ -415,7 +416,7 @@ def simplex_work(perm, hashed):
             np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), bb, bt, hashed)
 
 
-@njit(cache=True, parallel=True, error_model="numpy")  # no fast-math: yin, zin as in float64
+@njit(parallel=True, **_OPTS64)  # no fast-math: yin, zin as in float64
 def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, tab, norm, gain,
                    hashed):
     """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D or 3D simplex noise (Gustavson's
