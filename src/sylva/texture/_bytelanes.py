@@ -75,8 +75,8 @@ class Wide(Compiler):
     to Sapphire Rapids) prefer 256-bit vectors, a tuning against the clock drop of early
     AVX-512 parts, so the loop vectoriser gave the float32 kernels 8 lanes where they are
     written for 16 (2D simplex, fBm and 3D Worley ran 1.1-1.3x slower on an Intel Xeon
-    VM that LLVM takes for ``rocketlake``); AMD's models already prefer 512, and CPUs without AVX-512 cap the width at
-    their registers.  Per kernel, not numba's process-wide ``NUMBA_CPU_FEATURES``: loops
+    VM that LLVM takes for ``rocketlake``); AMD's models already prefer 512, and CPUs
+    without AVX-512 cap the width at their registers.  Per kernel, not numba's process-wide ``NUMBA_CPU_FEATURES``: loops
     of a few iterations (the float64 Worley road's runs of four samples a cell) are faster
     at 256 bits, and the user's own numba code keeps its tuning.  Use it as
     ``@njit(pipeline_class=Wide, ...)``; ``SYLVA_VECTOR_WIDTH=256`` leaves LLVM's width
