@@ -71,16 +71,17 @@ _PREFER_512 = '"prefer-vector-width"="512"'
 class Wide(Compiler):
     """numba's compiler, but every function it lowers (and the outlined bodies of its
     ``prange`` loops, which inherit the target context) carries the LLVM attribute
-    ``"prefer-vector-width"="512"``.  LLVM's models of Intel's AVX-512 CPUs (Skylake-SP
-    to Sapphire Rapids) prefer 256-bit vectors, a tuning against the clock drop of early
+    ``"prefer-vector-width"="512"``. LLVM's models of Intel's AVX-512 CPUs (Skylake-SP to
+    Sapphire Rapids) prefer 256-bit vectors, a tuning against the clock drop of early
     AVX-512 parts, so the loop vectoriser gave the float32 kernels 8 lanes where they are
-    written for 16 (2D simplex, fBm and 3D Worley ran 1.1-1.3x slower on an Intel Xeon
-    VM that LLVM takes for ``rocketlake``); AMD's models already prefer 512, and CPUs
-    without AVX-512 cap the width at their registers.  Per kernel, not numba's process-wide ``NUMBA_CPU_FEATURES``: loops
-    of a few iterations (the float64 Worley road's runs of four samples a cell) are faster
-    at 256 bits, and the user's own numba code keeps its tuning.  Use it as
-    ``@njit(pipeline_class=Wide, ...)``; ``SYLVA_VECTOR_WIDTH=256`` leaves LLVM's width
-    (for comparison; it takes effect when the kernels compile, not on a warm cache)."""
+    written for 16 (2D simplex, fBm and 3D Worley ran 1.1-1.3x slower on an Intel Xeon VM
+    that LLVM takes for ``rocketlake``); AMD's models already prefer 512, and CPUs without
+    AVX-512 cap the width at their registers. Per kernel, not numba's process-wide
+    ``NUMBA_CPU_FEATURES``: loops of a few iterations (the float64 Worley road's runs of
+    four samples a cell) are faster at 256 bits, and the user's own numba code keeps its
+    tuning. Use it as ``@njit(pipeline_class=Wide, ...)``; ``SYLVA_VECTOR_WIDTH=256`` leaves
+    LLVM's width (for comparison; it takes effect when the kernels compile, not on a warm
+    cache)."""
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
