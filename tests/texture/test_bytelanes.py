@@ -299,7 +299,7 @@ def _axpy_rows(a, b):
             a[r, i] = a[r, i] * b[r, i] + np.float32(1.5)
 
 
-def _compiled(fn, shape, **opts):
+def _fresh(fn, shape, **opts):
     kernel = njit(fastmath=True, **opts)(fn)  # a fresh dispatcher: compiled here, uncached
     a = np.ones(shape, np.float32)
     kernel(a, a)
@@ -311,15 +311,15 @@ _PREFER = '"prefer-vector-width"="512"'
 
 
 def test_wide_kernels_ask_llvm_for_512_bit_vectors():
-    wide, sig = _compiled(_axpy, 64, pipeline_class=bl.Wide)
-    plain, psig = _compiled(_axpy, 64)
+    wide, sig = _fresh(_axpy, 64, pipeline_class=bl.Wide)
+    plain, psig = _fresh(_axpy, 64)
     assert _PREFER in wide.inspect_llvm(sig)
     assert _PREFER not in plain.inspect_llvm(psig)
 
 
 def test_sylva_vector_width_256_leaves_llvms_width(monkeypatch):
     monkeypatch.setenv("SYLVA_VECTOR_WIDTH", "256")
-    wide, sig = _compiled(_axpy, 64, pipeline_class=bl.Wide)
+    wide, sig = _fresh(_axpy, 64, pipeline_class=bl.Wide)
     assert _PREFER not in wide.inspect_llvm(sig)
 
 
@@ -327,5 +327,5 @@ def test_sylva_vector_width_256_leaves_llvms_width(monkeypatch):
 def test_wide_loops_run_in_zmm_registers_serial_and_in_prange_bodies():
     # on Intel's AVX-512 models LLVM's own choice is ymm (256 bits) for these loops
     for fn, shape, opts in ((_axpy, 64, {}), (_axpy_rows, (4, 64), {"parallel": True})):
-        wide, sig = _compiled(fn, shape, pipeline_class=bl.Wide, **opts)
+        wide, sig = _fresh(fn, shape, pipeline_class=bl.Wide, **opts)
         assert "zmm" in wide.inspect_asm(sig), fn.__name__

@@ -69,7 +69,7 @@ def test_float32_road_offsets_tiling_and_periods_match():
     assert np.abs(a - b).max() < TOL
 
 
-@pytest.mark.parametrize("shape", SHAPES, ids=["2d", "3d"])
+@pytest.mark.parametrize("shape", SHAPES + [(2, 3, 5, 72)], ids=["2d", "3d", "4d"])
 @pytest.mark.parametrize(
     "output,metric,fractal,octaves",
     [
@@ -99,6 +99,41 @@ def test_worley_float32_tileable_and_jitter():
     # periodic: shifted by one period (5 cells) along x it is the same image
     c = noise_grid((40, 64), offset=(5.0, 0.0), **kw)
     assert np.abs(c - a).max() < TOL
+
+
+@pytest.mark.parametrize("scale,output", [(200.0, "f1"), (200.0, "f3"), (4.5, "f2")],
+                         ids=["small-cells-f1", "small-cells-f3", "wide-cells-f2"])
+def test_worley_float32_4d_rows(monkeypatch, scale, output):
+    # 4D Worley goes by rows too (27 cells a lattice column): small cells (under half a
+    # sample a cell: run by run) and wide ones (16 samples a cell: blocks against columns)
+    from sylva.texture import _points32, _worley32
+
+    rows = []
+    real = _worley32.worley_grid32
+    monkeypatch.setattr(_worley32, "worley_grid32", lambda *a: rows.append(a[0]) or real(*a))
+    monkeypatch.setattr(_points32, "grid_kernel", None)  # not the points road
+    kw = dict(kind="worley", output=output, octaves=2, scale=scale, seed=4)
+    for shape, extra in (((3, 2, 4, 72), {}), ((3, 4, 72), {"time": 1.7})):
+        a = noise_grid(shape, **kw, **extra)
+        b = noise_grid(shape, dtype=np.float64, **kw, **extra)
+        assert np.abs(a.astype(np.float64) - b).max() < TOL
+        assert b.std() > 0.02 and not np.array_equal(a, b.astype(np.float32))
+    assert rows == [4, 4]
+
+
+def test_worley_float32_4d_tiles_along_every_axis():
+    kw = dict(kind="worley", octaves=2, scale=5.0, tileable=True, jitter=0.8, seed=6)
+    shape = (3, 4, 5, 40)  # (w, z, y, x): 5 cells across x, 5 * 3/40 ... along the others
+    a = noise_grid(shape, **kw)
+    b = noise_grid(shape, dtype=np.float64, **kw)
+    assert np.abs(a - b).max() < TOL
+    cells = [5.0 * n / shape[-1] for n in shape[::-1]]  # x, y, z, w
+    periods = [max(1, round(c)) for c in cells]
+    for axis in range(4):  # one period along each axis: the same grid
+        off = [0.0] * 4
+        off[axis] = float(periods[axis])
+        c = noise_grid(shape, offset=tuple(off), **kw)
+        assert np.abs(c - a).max() < TOL, axis
 
 
 @pytest.mark.parametrize("output", ["f1", "f2-f1"])

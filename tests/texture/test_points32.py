@@ -1,6 +1,7 @@
 """The float32 road of the noise grids beyond ``_gridkernels32`` (``_points32``): 4D grids
 and 3D grids with time, tileable simplex (the 4D torus) and domain warping, of every kind
-(Worley: its jittered grid, F1..F3, combinations, cell id), against the
+(Worley: its jittered grid, F1..F3, combinations, cell id; 4D F1..F3 go by rows, as
+:mod:`._worley32` takes 2D and 3D), against the
 float64 road (bit-exact to the reference values, test_reference_noise): within
 ``_points32.TOLERANCE`` on small grids, and the float32 kernel is the one that ran."""
 
@@ -9,6 +10,7 @@ import pytest
 
 from sylva import _jit
 from sylva.texture import _points32 as p32
+from sylva.texture import _worley32 as w32
 from sylva.texture import noise_grid
 from sylva.texture._gridplan import grid_plan
 
@@ -113,8 +115,14 @@ def test_warp_float32_within_tolerance(monkeypatch, kind, shape, fractal):
 )
 def test_worley_float32_within_tolerance(monkeypatch, shape, extra):
     calls = _spy(monkeypatch, "grid_kernel")
+    rows = []
+    real = w32.worley_grid32
+    monkeypatch.setattr(w32, "worley_grid32", lambda *a: rows.append(a[0]) or real(*a))
     _both(shape, kind="worley", octaves=3, scale=5.0, seed=3, **extra)
-    assert calls and all(c[1] == 4 for c in calls)  # the Worley kind
+    if "warp" in extra or extra.get("output") == "cell":  # points, Worley's kind
+        assert calls and all(c[1] == 4 for c in calls) and not rows
+    else:  # F1..F3 of a 4D grid (3D with time) go by rows, as in 2D and 3D
+        assert rows == [4] and not calls
 
 
 @pytest.mark.parametrize("extra", [{}, {"metric": "euclidean2"}, {"tileable": True}],
@@ -134,7 +142,8 @@ def test_roads():
     assert _road((3, 4, 20), time=0.5) == "grid"
     assert _road((8, 20), kind="simplex", tileable=True) == "torus"
     assert _road((8, 20), warp=0.5, kind="value") == "warp"
-    assert _road((2, 3, 4, 20), kind="worley") == "grid"
+    assert _road((2, 3, 4, 20), kind="worley") is None  # _worley32's rows
+    assert _road((2, 3, 4, 20), kind="worley", output="cell") == "grid"
     # the float64 road stays; 2D/3D grids are _gridkernels32's
     assert _road((2, 3, 4, 20), dtype=np.float64) is None
     assert _road((3, 4, 20)) is None

@@ -32,8 +32,9 @@ AVX-512 VBMI, else one packed table word a sample; 3D located in float64).
 Covered here, 2D and 3D, every fractal sum (fBm, turbulence, ridged) and integer lattice
 periods (``tileable``): value, classic Perlin (its 256 gradients stored into the block by
 the scalar hash pass), improved Perlin, simplex, and Worley F1..F3 and their combinations
-(:mod:`._worley32`).  4D grids (and 3D grids with ``time``), tileable simplex (its 4D
-torus) and domain warping take the float32 road of :mod:`._points32`.  The rest takes the
+(:mod:`._worley32`, which also takes 4D Worley F1..F3 by rows).  Other 4D grids (and 3D
+grids with ``time``), tileable simplex (its 4D torus) and domain warping take the float32
+road of :mod:`._points32`.  The rest takes the
 float64 road and is rounded once: Worley's cell id and Poisson process on 2D and 3D grids,
 and its orders above F3.  The row routines (``row_lattice32``, ``row_simplex32``,
 ``_worley32.row_worley32``) are also the texture graph's.
@@ -836,11 +837,12 @@ def cell_tables(i0, i1, px0, px1):
 
 def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, full):
     """The float32 road of :func:`.noise.noise_grid` (its arguments as it computes them;
-    ``full``: the grid's (nx, ny, nz, nw)), shape (nz, ny, nx), or None where this
-    module has no kernel (the float64 road then runs and rounds)."""
-    if ndim not in (2, 3):
-        return None
-    shape3 = (full[2], full[1], full[0])
+    ``full``: the grid's (nx, ny, nz, nw)), shape (nz, ny, nx) (4D Worley: (nw, nz, ny,
+    nx)), or None where this module has no kernel (:mod:`._points32`'s road, or the
+    float64 road, which then runs and rounds)."""
+    if ndim not in (2, 3) and not (ndim == 4 and setup.kind == k.WORLEY):
+        return None  # 4D lattice and simplex noise: :mod:`._points32`
+    shape3 = (full[2], full[1], full[0]) if ndim < 4 else (full[3], full[2], full[1], full[0])
     t = setup.tables
     a32 = (amps if mode == k.RIDGED else amps * norm).astype(np.float32)
     if setup.kind in (k.VALUE, k.PERLIN, k.IMPROVED):
@@ -876,8 +878,8 @@ def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, 
             return None
 
         out = np.empty(shape3, np.float32)
-        worley_grid32(ndim, mode, axes[0], axes[1], axes[2], out, freqs, a32, offs, pers, wp,
-                      np.float32(norm), np.float32(gain))
+        worley_grid32(ndim, mode, axes[0], axes[1], axes[2], axes[3], out, freqs, a32, offs,
+                      pers, wp, np.float32(norm), np.float32(gain))
         return out
     if setup.kind == k.SIMPLEX and not torus:
         from ._simplex32 import simplex_grid32, simplex_table

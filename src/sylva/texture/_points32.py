@@ -781,6 +781,8 @@ def road(plan, warp) -> str | None:
         return "warp"
     if plan.torus:
         return "torus"
+    if s.kind == k.WORLEY and plan.ndim == 4 and int(s.wpar[1]) != ck.W_CELL:
+        return None  # 4D F1..F3 go by rows (:mod:`._worley32`), as 2D and 3D do
     # 2D and 3D Worley cell id stays on the float64 road: its runs of samples that share a
     # cell (hashed once per column) measured 3-4x this road's per-point candidates there
     return "grid" if plan.ndim == 4 else None

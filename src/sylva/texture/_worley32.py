@@ -5,16 +5,18 @@ jittered point per cell, placed by the 32-bit integer hash of the cell and the s
 the distances in float32, 16 samples at a time in one branch-free loop that LLVM
 vectorises to 16 float32 lanes with AVX-512 (two vectors with AVX2).
 
-A row of samples (fixed y and z) goes by *blocks* of :data:`LANES` samples, each against
-the candidates of every lattice column from one left of its first sample's cell to one
-right of its last's: a superset of each sample's own 3^d cells, so the gap test keeps its
-meaning.  2D takes the three cells of three columns per loop (nine candidates), 3D the nine
-(dz, dy) cells of one column.  Each block's samples are measured from its first sample's
-cell corner, so the float32 offsets carry no large coordinates.
+A row of samples (fixed y, z and w) goes by *blocks* of :data:`LANES` samples, each
+against the candidates of every lattice column from one left of its first sample's cell to
+one right of its last's: a superset of each sample's own 3^d cells, so the gap test keeps
+its meaning.  2D takes the three cells of three columns per loop (nine candidates), 3D the
+nine (dz, dy) cells of one column, 4D the 27 (dw, dz, dy) cells of one column in three
+loops.  Each block's samples are measured from its first sample's cell corner, so the
+float32 offsets carry no large coordinates.
 
-The feature points of a row of cells (one ``(iy, iz)``, every column the grid row spans)
-are hashed once and kept in a small cache of such rows (:data:`NSLOT` slots, direct-mapped
-on ``(iy mod 3, iz mod 3)`` and the columns): the grid rows of one row of cells share them
+The feature points of a row of cells (one ``(iy, iz, iw)``, every column the grid row
+spans) are hashed once and kept in a small cache of such rows (:data:`NSLOT` slots,
+direct-mapped on ``(iy mod 3, iz mod 3, iw mod 3)`` and, in 2D and 3D, the columns): the
+grid rows of one row of cells share them
 (16 grid rows of a cell 16 samples high hash them once), and the next row of cells shares
 two thirds of its 3^d neighbours.  Per grid row only the y/z part of each candidate's
 distance is recomputed (one vectorised pass over the columns).
@@ -46,7 +48,8 @@ from ._gridkernels32 import _OPTS, ZERO, _combine_block, _finish
 _F = np.float32
 INF = _F(1e30)  # "no distance yet": finite, as fast-math assumes no infinities
 LANES = 16  # samples per block (buffers are padded by as many)
-NSLOT = 36  # cached rows of cells: the 9 (dy, dz) neighbours of a row, 4 ways
+NSLOT = 36  # cached rows of cells: 2D and 3D the 9 (dy, dz) neighbours of a row, 4 ways;
+#              4D the 27 (dy, dz, dw), one way
 MIN_SPC = 0.5  # samples per cell from which a row goes by blocks (else run by run)
 WROWS = 32  # grid rows per work item (rows of one row of cells share its cache)
 
@@ -65,11 +68,40 @@ def _d(sq, manhattan, dx, cyz):
 
 
 @njit(**_OPTS)
-def _yz(sq, manhattan, ddy, ddz):
-    """The y/z part of a candidate's distance (``_d`` adds the x part)."""
+def _yz(sq, manhattan, ddy, ddz, ddw):
+    """The y/z/w part of a candidate's distance (``_d`` adds the x part; absolute offsets,
+    zero past the grid's dimensions)."""
     if sq:
-        return ddy * ddy + ddz * ddz
-    return ddy + ddz if manhattan else max(ddy, ddz)
+        return ddy * ddy + ddz * ddz + ddw * ddw
+    return ddy + ddz + ddw if manhattan else max(max(ddy, ddz), ddw)
+
+
+@njit(inline="always", **_OPTS)
+def _ne(ndim):
+    """The (dy[, dz[, dw]]) cells of a lattice column: 3, 9 or 27."""
+    return 27 if ndim >= 4 else (9 if ndim >= 3 else 3)
+
+
+@njit(inline="always", **_OPTS)
+def _cell(ndim, e, icy, icz, icw):
+    """Cell ``e`` of a column's :func:`_ne` (dy fastest, then dz, then dw)."""
+    iz = icz + (e // 3) % 3 - 1 if ndim >= 3 else 0
+    iw = icw + e // 9 - 1 if ndim >= 4 else 0
+    return icy + e % 3 - 1, iz, iw
+
+
+@njit(inline="always", **_OPTS)
+def _feat(hs, ndim, ix, iy, iz, iw, px, py, pz, pw, jitter):
+    """The feature point of cell ``(ix, iy[, iz[, iw]])`` exactly as
+    :func:`._cellkernels.worley` places it (float64)."""
+    if ndim < 4:
+        _, fpx, fpy, fpz = ck._feature(hs, ndim, ix, iy, iz, px, py, pz, jitter)
+        return fpx, fpy, fpz, 0.0
+    h = ck._cell_hash(hs, ndim, ix, iy, iz, iw, px, py, pz, pw)
+    return (ix + 0.5 + jitter * (ck.hash32(h ^ 0x68E31DA4) * ck.INV32 - 0.5),
+            iy + 0.5 + jitter * (ck.hash32(h ^ 0xB5297A4D) * ck.INV32 - 0.5),
+            iz + 0.5 + jitter * (ck.hash32(h ^ 0x1B56C4E9) * ck.INV32 - 0.5),
+            iw + 0.5 + jitter * (ck.hash32(h ^ 0x7F4A7C15) * ck.INV32 - 0.5))
 
 
 @njit(**_OPTS)
@@ -79,17 +111,19 @@ def _keep(d, o1, o2, o3):
 
 
 @njit(inline="always", **_OPTS)
-def _cands(ndim, colx, colyz, cb, kc, k1, lo):
+def _cands(ndim, colx, colyz, cb, kc, k1, lo, e0):
     """Nine candidates (x parts from ``lo``, then y/z parts) from column ``kc`` on (of
-    cells ``cb + k``): 3D the nine (dz, dy) cells of column ``kc``, 2D the three dy cells
-    of columns ``kc .. kc + 2`` (those past ``k1`` repeat it, pushed out to infinity: a
-    repeat changes no F1 but would F2 and F3)."""
+    cells ``cb + k``): 3D the nine (dz, dy) cells of column ``kc`` (4D the nine of rows
+    ``e0 .. e0 + 8``), 2D the three dy cells of columns ``kc .. kc + 2`` (those past ``k1``
+    repeat it, pushed out to infinity: a repeat changes no F1 but would F2 and F3)."""
     if ndim >= 3:
         f = _F(cb + kc - lo)
-        return (f + colx[0, kc], f + colx[1, kc], f + colx[2, kc], f + colx[3, kc],
-                f + colx[4, kc], f + colx[5, kc], f + colx[6, kc], f + colx[7, kc],
-                f + colx[8, kc], colyz[0, kc], colyz[1, kc], colyz[2, kc], colyz[3, kc],
-                colyz[4, kc], colyz[5, kc], colyz[6, kc], colyz[7, kc], colyz[8, kc])
+        return (f + colx[e0, kc], f + colx[e0 + 1, kc], f + colx[e0 + 2, kc],
+                f + colx[e0 + 3, kc], f + colx[e0 + 4, kc], f + colx[e0 + 5, kc],
+                f + colx[e0 + 6, kc], f + colx[e0 + 7, kc], f + colx[e0 + 8, kc],
+                colyz[e0, kc], colyz[e0 + 1, kc], colyz[e0 + 2, kc], colyz[e0 + 3, kc],
+                colyz[e0 + 4, kc], colyz[e0 + 5, kc], colyz[e0 + 6, kc], colyz[e0 + 7, kc],
+                colyz[e0 + 8, kc])
     kb = min(kc + 1, k1)
     kd = min(kc + 2, k1)
     wb = ZERO if kb > kc else INF
@@ -115,6 +149,7 @@ def _blocks(sq, manhattan, needk, ndim, nblk, sched, slo, colx, colyz, xb, xr, f
     # the lane count is a bound, not a literal: a literal 16 is unrolled to scalar code
     nl = min(LANES, xr.shape[0])
     step = 1 if ndim >= 3 else 3
+    ng = 3 if ndim >= 4 else 1  # 4D: a column's 27 cells, nine at a time
     for s in range(nblk):
         ub = uint64(sched[0, s])
         k1 = sched[2, s]
@@ -127,67 +162,72 @@ def _blocks(sq, manhattan, needk, ndim, nblk, sched, slo, colx, colyz, xb, xr, f
             f2[p] = INF
             f3[p] = INF
         for kc in range(sched[1, s], k1 + 1, step):
-            a0, a1, a2, a3, a4, a5, a6, a7, a8, b0, b1, b2, b3, b4, b5, b6, b7, b8 = _cands(
-                ndim, colx, colyz, cb, kc, k1, lo)
-            if needk == 1:
-                for q in range(nl):
-                    p = ub + uint64(q)
-                    x = xr[q]
-                    m0 = min(_d(sq, manhattan, a0 - x, b0), _d(sq, manhattan, a1 - x, b1))
-                    m1 = min(_d(sq, manhattan, a2 - x, b2), _d(sq, manhattan, a3 - x, b3))
-                    m2 = min(_d(sq, manhattan, a4 - x, b4), _d(sq, manhattan, a5 - x, b5))
-                    m3 = min(_d(sq, manhattan, a6 - x, b6), _d(sq, manhattan, a7 - x, b7))
-                    m4 = min(_d(sq, manhattan, a8 - x, b8), f1[p])
-                    f1[p] = min(min(min(m0, m1), min(m2, m3)), m4)
-            else:
-                for q in range(nl):
-                    p = ub + uint64(q)
-                    x = xr[q]
-                    o1, o2, o3 = _keep(_d(sq, manhattan, a0 - x, b0), f1[p], f2[p], f3[p])
-                    o1, o2, o3 = _keep(_d(sq, manhattan, a1 - x, b1), o1, o2, o3)
-                    o1, o2, o3 = _keep(_d(sq, manhattan, a2 - x, b2), o1, o2, o3)
-                    o1, o2, o3 = _keep(_d(sq, manhattan, a3 - x, b3), o1, o2, o3)
-                    o1, o2, o3 = _keep(_d(sq, manhattan, a4 - x, b4), o1, o2, o3)
-                    o1, o2, o3 = _keep(_d(sq, manhattan, a5 - x, b5), o1, o2, o3)
-                    o1, o2, o3 = _keep(_d(sq, manhattan, a6 - x, b6), o1, o2, o3)
-                    o1, o2, o3 = _keep(_d(sq, manhattan, a7 - x, b7), o1, o2, o3)
-                    o1, o2, o3 = _keep(_d(sq, manhattan, a8 - x, b8), o1, o2, o3)
-                    f1[p] = o1
-                    f2[p] = o2
-                    f3[p] = o3
+            for g in range(ng):
+                a0, a1, a2, a3, a4, a5, a6, a7, a8, b0, b1, b2, b3, b4, b5, b6, b7, b8 = (
+                    _cands(ndim, colx, colyz, cb, kc, k1, lo, 9 * g))
+                if needk == 1:
+                    for q in range(nl):
+                        p = ub + uint64(q)
+                        x = xr[q]
+                        m0 = min(_d(sq, manhattan, a0 - x, b0), _d(sq, manhattan, a1 - x, b1))
+                        m1 = min(_d(sq, manhattan, a2 - x, b2), _d(sq, manhattan, a3 - x, b3))
+                        m2 = min(_d(sq, manhattan, a4 - x, b4), _d(sq, manhattan, a5 - x, b5))
+                        m3 = min(_d(sq, manhattan, a6 - x, b6), _d(sq, manhattan, a7 - x, b7))
+                        m4 = min(_d(sq, manhattan, a8 - x, b8), f1[p])
+                        f1[p] = min(min(min(m0, m1), min(m2, m3)), m4)
+                else:
+                    for q in range(nl):
+                        p = ub + uint64(q)
+                        x = xr[q]
+                        o1, o2, o3 = _keep(_d(sq, manhattan, a0 - x, b0), f1[p], f2[p], f3[p])
+                        o1, o2, o3 = _keep(_d(sq, manhattan, a1 - x, b1), o1, o2, o3)
+                        o1, o2, o3 = _keep(_d(sq, manhattan, a2 - x, b2), o1, o2, o3)
+                        o1, o2, o3 = _keep(_d(sq, manhattan, a3 - x, b3), o1, o2, o3)
+                        o1, o2, o3 = _keep(_d(sq, manhattan, a4 - x, b4), o1, o2, o3)
+                        o1, o2, o3 = _keep(_d(sq, manhattan, a5 - x, b5), o1, o2, o3)
+                        o1, o2, o3 = _keep(_d(sq, manhattan, a6 - x, b6), o1, o2, o3)
+                        o1, o2, o3 = _keep(_d(sq, manhattan, a7 - x, b7), o1, o2, o3)
+                        o1, o2, o3 = _keep(_d(sq, manhattan, a8 - x, b8), o1, o2, o3)
+                        f1[p] = o1
+                        f2[p] = o2
+                        f3[p] = o3
 
 
 @njit(inline="always", **_OPTS)
-def _fill(hs, ndim, c0, ncol, iy, iz, px, py, pz, jitter, s, cfx, cfy, cfz):
+def _fill(hs, ndim, c0, ncol, iy, iz, iw, px, py, pz, pw, jitter, s, cfx, cfy, cfz, cfw):
     # the columns in the inner loop: the integer hashes vectorise across columns
     for c in range(ncol):
-        _, fpx, fpy, fpz = ck._feature(hs, ndim, c0 + c, iy, iz, px, py, pz, jitter)
+        fpx, fpy, fpz, fpw = _feat(hs, ndim, c0 + c, iy, iz, iw, px, py, pz, pw, jitter)
         cfx[s, c] = _F(fpx - (c0 + c))
         cfy[s, c] = fpy
         cfz[s, c] = fpz
+        if ndim >= 4:  # (a one-element row otherwise)
+            cfw[s, c] = fpw
 
 
 @njit(**_OPTS)
-def _columns(hs, ndim, c0, ncol, y, z, icy, icz, px, py, pz, jitter, sq, manhattan, colx,
-             colyz, cache):
-    """The candidates of lattice columns ``c0 .. c0 + ncol - 1`` of a row at ``(y, z)``
-    into ``colx, colyz[e, :ncol]`` for its 3 (2D) or 9 (3D) (dz, dy) cells ``e``, the
-    rows of cells' feature points taken from ``cache`` (hashed on a miss)."""
-    keys, cj, cfx, cfy, cfz = cache
-    ne = 9 if ndim >= 3 else 3
-    way = 9 * (ck.hash32(c0 ^ (ncol << 20) ^ hs) & 3)
+def _columns(hs, ndim, c0, ncol, y, z, w, icy, icz, icw, px, py, pz, pw, jitter, sq,
+             manhattan, colx, colyz, cache):
+    """The candidates of lattice columns ``c0 .. c0 + ncol - 1`` of a row at ``(y, z, w)``
+    into ``colx, colyz[e, :ncol]`` for its 3 (2D), 9 (3D) or 27 (4D) (dw, dz, dy) cells
+    ``e``, the rows of cells' feature points taken from ``cache`` (hashed on a miss)."""
+    keys, cj, cfx, cfy, cfz, cfw = cache
+    ne = _ne(ndim)
+    way = 0 if ndim >= 4 else 9 * (ck.hash32(c0 ^ (ncol << 20) ^ hs) & 3)
     for e in range(ne):
-        iy = icy + e % 3 - 1
-        iz = icz + e // 3 - 1 if ndim >= 3 else 0
-        s = way + iy % 3 + 3 * (iz % 3)
+        iy, iz, iw = _cell(ndim, e, icy, icz, icw)
+        s = way + iy % 3 + 3 * (iz % 3) + 9 * (iw % 3)
         hit = (keys[s, 0] == 1 and keys[s, 1] == iy and keys[s, 2] == iz and keys[s, 3] == c0
                and keys[s, 4] == ncol and keys[s, 5] == hs and keys[s, 6] == px
-               and keys[s, 7] == py and keys[s, 8] == pz and cj[s] == jitter)
+               and keys[s, 7] == py and keys[s, 8] == pz and keys[s, 9] == iw
+               and keys[s, 10] == pw and cj[s] == jitter)
         if not hit:
-            if px == 0 and py == 0 and pz == 0:  # no periods: literal zeros, no modulo
-                _fill(hs, ndim, c0, ncol, iy, iz, 0, 0, 0, jitter, s, cfx, cfy, cfz)
+            if px == 0 and py == 0 and pz == 0 and pw == 0:  # no periods: no modulo
+                _fill(hs, ndim, c0, ncol, iy, iz, iw, 0, 0, 0, 0, jitter, s, cfx, cfy, cfz,
+                      cfw)
             else:
-                _fill(hs, ndim, c0, ncol, iy, iz, px, py, pz, jitter, s, cfx, cfy, cfz)
+                _fill(hs, ndim, c0, ncol, iy, iz, iw, px, py, pz, pw, jitter, s, cfx, cfy,
+                      cfz, cfw)
             keys[s, 0] = 1
             keys[s, 1] = iy
             keys[s, 2] = iz
@@ -197,33 +237,37 @@ def _columns(hs, ndim, c0, ncol, y, z, icy, icz, px, py, pz, jitter, sq, manhatt
             keys[s, 6] = px
             keys[s, 7] = py
             keys[s, 8] = pz
+            keys[s, 9] = iw
+            keys[s, 10] = pw
             cj[s] = jitter
         for c in range(ncol):
             ddy = abs(cfy[s, c] - y)
             ddz = abs(cfz[s, c] - z) if ndim >= 3 else 0.0
+            ddw = abs(cfw[s, c] - w) if ndim >= 4 else 0.0
             colx[e, c] = cfx[s, c]
-            colyz[e, c] = _F(_yz(sq, manhattan, ddy, ddz))
+            colyz[e, c] = _F(_yz(sq, manhattan, ddy, ddz, ddw))
 
 
 @njit(**_OPTS)
-def _wincol(hs, ndim, ic, y, z, icy, icz, px, py, pz, jitter, sq, manhattan, colx, colyz, k):
+def _wincol(hs, ndim, ic, y, z, w, icy, icz, icw, px, py, pz, pw, jitter, sq, manhattan,
+            colx, colyz, k):
     """The candidates of lattice column ``ic`` into column ``k`` of ``colx, colyz`` (the
     run-by-run road's window)."""
-    ne = 9 if ndim >= 3 else 3
-    for e in range(ne):
-        iz = icz + e // 3 - 1 if ndim >= 3 else 0
-        _, fpx, fpy, fpz = ck._feature(hs, ndim, ic, icy + e % 3 - 1, iz, px, py, pz, jitter)
+    for e in range(_ne(ndim)):
+        iy, iz, iw = _cell(ndim, e, icy, icz, icw)
+        fpx, fpy, fpz, fpw = _feat(hs, ndim, ic, iy, iz, iw, px, py, pz, pw, jitter)
         ddz = abs(fpz - z) if ndim >= 3 else 0.0
+        ddw = abs(fpw - w) if ndim >= 4 else 0.0
         colx[e, k] = _F(fpx - ic)
-        colyz[e, k] = _F(_yz(sq, manhattan, abs(fpy - y), ddz))
+        colyz[e, k] = _F(_yz(sq, manhattan, abs(fpy - y), ddz, ddw))
 
 
 @njit(**_OPTS)
-def worley_row32(ndim, xs, fx, ox, y, z, px, py, pz, metric, jitter, seed, combo, c1, c2, c3,
-                 work, nb):
+def worley_row32(ndim, xs, fx, ox, y, z, w, px, py, pz, pw, metric, jitter, seed, combo, c1,
+                 c2, c3, work, nb):
     """Worley output ``combo`` (not the cell id) along one grid row into ``nb`` (float32):
-    the samples ``x = xs[i] * fx + ox`` at fixed ``y`` (and ``z`` when ``ndim == 3``);
-    ``work``: :func:`row_work`'s buffers."""
+    the samples ``x = xs[i] * fx + ox`` at fixed ``y`` (and ``z``, ``w`` when ``ndim`` is
+    3 or 4); ``work``: :func:`row_work`'s buffers."""
     xb, f1, f2, f3, xr, colx, colyz, cache, sched, slo = work
     nx = xs.shape[0]
     hs = ck.hash32(seed)
@@ -234,9 +278,13 @@ def worley_row32(ndim, xs, fx, ox, y, z, px, py, pz, metric, jitter, seed, combo
     icy = int(cyf)
     czf = math.floor(z) if ndim >= 3 else 0.0
     icz = int(czf)
+    cwf = math.floor(w) if ndim >= 4 else 0.0
+    icw = int(cwf)
     gyz = min(y - cyf + 1, 2 - (y - cyf))
     if ndim >= 3:
         gyz = min(gyz, min(z - czf + 1, 2 - (z - czf)))
+    if ndim >= 4:
+        gyz = min(gyz, min(w - cwf + 1, 2 - (w - cwf)))
     for i in range(nx):
         xb[i] = xs[i] * fx + ox
     for i in range(nx, nx + LANES):  # blocks past the row repeat its end
@@ -247,8 +295,8 @@ def worley_row32(ndim, xs, fx, ox, y, z, px, py, pz, metric, jitter, seed, combo
         c0f = math.floor(xb[0]) - 1
         c0 = int(c0f)
         ncol = int(math.floor(xb[nx - 1]) - c0f) + 2
-        _columns(hs, ndim, c0, ncol, y, z, icy, icz, px, py, pz, jitter, sq, manhattan, colx,
-                 colyz, cache)
+        _columns(hs, ndim, c0, ncol, y, z, w, icy, icz, icw, px, py, pz, pw, jitter, sq,
+                 manhattan, colx, colyz, cache)
         for base in range(0, nx, LANES):
             lo = math.floor(xb[base])
             sched[0, nblk] = base
@@ -258,7 +306,7 @@ def worley_row32(ndim, xs, fx, ox, y, z, px, py, pz, metric, jitter, seed, combo
             slo[nblk] = lo
             nblk += 1
     else:  # run by run, each run's three columns in colx[:, 3 r .. 3 r + 2]
-        ne = 9 if ndim >= 3 else 3
+        ne = _ne(ndim)
         prev = -(1 << 40)
         k = -3
         a = 0
@@ -276,8 +324,8 @@ def worley_row32(ndim, xs, fx, ox, y, z, px, py, pz, metric, jitter, seed, combo
                         colx[e, k + t] = colx[e, k - 3 + t + sh]
                         colyz[e, k + t] = colyz[e, k - 3 + t + sh]
                 else:
-                    _wincol(hs, ndim, ic + t - 1, y, z, icy, icz, px, py, pz, jitter, sq,
-                            manhattan, colx, colyz, k + t)
+                    _wincol(hs, ndim, ic + t - 1, y, z, w, icy, icz, icw, px, py, pz, pw,
+                            jitter, sq, manhattan, colx, colyz, k + t)
             prev = ic
             for b0 in range(a, b, LANES):
                 sched[0, nblk] = b0
@@ -323,34 +371,33 @@ def worley_row32(ndim, xs, fx, ox, y, z, px, py, pz, metric, jitter, seed, combo
         for i in range(nx):
             nb[i] = ck.combine(combo, f1[i], f2[i], f3[i], ZERO, c1, c2, c3)
     if nbad:
-        pw = px - px  # no period along w (not a literal 0: worley would compile again)
         for i in range(nx):
             x = xb[i]
             t = x - math.floor(x)
             gap = min(min(t + 1.0, 2.0 - t), gyz)
             gap = gap * gap if g2 else gap
             if fk[i] > gap:
-                r1_, r2_, r3_, cid = ck.worley(ndim, x, y, z, 0.0, px, py, pz, pw, metric,
+                r1_, r2_, r3_, cid = ck.worley(ndim, x, y, z, w, px, py, pz, pw, metric,
                                                jitter, seed, needk)
                 nb[i] = ck.combine(combo, r1_, r2_, r3_, cid, c1, c2, c3)
 
 
 @njit(**_OPTS)
-def row_work(nx):
-    """Row buffers of :func:`worley_row32` for rows of ``nx`` samples (and the cache of
-    rows of cells, empty)."""
+def row_work(nx, ne):
+    """Row buffers of :func:`worley_row32` for rows of ``nx`` samples and ``ne`` cells a
+    lattice column (:func:`_ne`; and the cache of rows of cells, empty)."""
     nc = int(nx / MIN_SPC) + 4  # columns of a row that goes by blocks
-    keys = np.zeros((NSLOT, 9), np.int64)
+    keys = np.zeros((NSLOT, 11), np.int64)
     return (
         np.empty(nx + LANES),
         np.empty(nx + LANES, np.float32),
         np.empty(nx + LANES, np.float32),
         np.empty(nx + LANES, np.float32),
         np.empty(LANES, np.float32),
-        np.empty((9, max(nc, 3 * nx)), np.float32),  # (runs: three columns each)
-        np.empty((9, max(nc, 3 * nx)), np.float32),
+        np.empty((ne, max(nc, 3 * nx)), np.float32),  # (runs: three columns each)
+        np.empty((ne, max(nc, 3 * nx)), np.float32),
         (keys, np.empty(NSLOT), np.empty((NSLOT, nc), np.float32), np.empty((NSLOT, nc)),
-         np.empty((NSLOT, nc))),
+         np.empty((NSLOT, nc)), np.empty((NSLOT, nc) if ne > 9 else (1, 1))),
         np.empty((4, nx), np.int64),  # the blocks: first sample, k0, k1, cb
         np.empty(nx),  # their origins
     )
@@ -361,7 +408,16 @@ def row_worley32(ndim, mode, xs, ys, zs, j, m, row, weight, freqs, amps, offs, p
                  gain, work, nb):
     """Row ``(m, j)`` of 2D or 3D Worley noise, every octave summed into ``row`` (float32;
     ridged sums are left unnormalised); ``work``: :func:`row_work`, ``nb`` a float32 row
-    buffer (also the texture graph's row routine)."""
+    buffer (the texture graph's row routine)."""
+    row_worley4(ndim, mode, xs, ys, zs, zs, j, m, 0, row, weight, freqs, amps, offs, pers,
+                wpar, gain, work, nb)
+
+
+@njit(**_OPTS)
+def row_worley4(ndim, mode, xs, ys, zs, ws, j, m, n, row, weight, freqs, amps, offs, pers,
+                wpar, gain, work, nb):
+    """:func:`row_worley32` of 2D to 4D grids: row ``(n, m, j)`` (``ws``, ``n``: the w axis
+    and the row's place on it, read in 4D only)."""
     metric = int(wpar[0])
     combo = int(wpar[1])
     seed = int(wpar[3])
@@ -369,9 +425,9 @@ def row_worley32(ndim, mode, xs, ys, zs, j, m, row, weight, freqs, amps, offs, p
         row[:] = ZERO
     for o in range(freqs.shape[0]):
         worley_row32(ndim, xs, freqs[o, 0], offs[o, 0], ys[j] * freqs[o, 1] + offs[o, 1],
-                     zs[m] * freqs[o, 2] + offs[o, 2], int(pers[o, 0]), int(pers[o, 1]),
-                     int(pers[o, 2]), metric, wpar[2], seed, combo, wpar[4], wpar[5], wpar[6],
-                     work, nb)
+                     zs[m] * freqs[o, 2] + offs[o, 2], ws[n] * freqs[o, 3] + offs[o, 3],
+                     int(pers[o, 0]), int(pers[o, 1]), int(pers[o, 2]), int(pers[o, 3]),
+                     metric, wpar[2], seed, combo, wpar[4], wpar[5], wpar[6], work, nb)
         _combine_block(mode, row, weight, 0, row.shape[0], nb, amps[o], gain, o == 0)
 
 
@@ -382,32 +438,36 @@ def supported(wpar) -> bool:
 
 
 @njit(nogil=True, **_OPTS)
-def worley_rows32(c0, c1, ndim, mode, xs, ys, zs, out, freqs, amps, offs, pers, wpar, norm,
+def worley_rows32(c0, c1, ndim, mode, xs, ys, zs, ws, out, freqs, amps, offs, pers, wpar, norm,
                   gain):
-    """Work items ``c0 .. c1`` (:data:`WROWS` grid rows each) of :func:`worley_grid32`."""
-    nz, ny, nx = out.shape
-    nrows = ny * nz
+    """Work items ``c0 .. c1`` (:data:`WROWS` grid rows each) of :func:`worley_grid32`
+    (``out``: shape (nw, nz, ny, nx))."""
+    nw, nz, ny, nx = out.shape
+    nrows = ny * nz * nw
     for c in range(c0, c1):
         weight = np.empty(nx, np.float32)
         nb = np.empty(nx, np.float32)
-        work = row_work(nx)
+        work = row_work(nx, _ne(ndim))
         for r in range(c * WROWS, min(nrows, (c + 1) * WROWS)):
             j = r % ny
-            m = r // ny
-            row = out[m, j]
-            row_worley32(ndim, mode, xs, ys, zs, j, m, row, weight, freqs, amps, offs, pers,
-                         wpar, gain, work, nb)
+            m = (r // ny) % nz
+            n = r // (ny * nz)
+            row = out[n, m, j]
+            row_worley4(ndim, mode, xs, ys, zs, ws, j, m, n, row, weight, freqs, amps, offs,
+                        pers, wpar, gain, work, nb)
             _finish(mode, row, norm)
 
 
-def worley_grid32(ndim, mode, xs, ys, zs, out, freqs, amps, offs, pers, wpar, norm, gain):
-    """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D or 3D Worley noise (jittered
-    grid, any output but the cell id), every octave summed per row; arguments as for
-    :func:`._gridkernels.worley_grid` (``amps`` already carry ``norm`` unless ridged).
-    The work items of :func:`worley_rows32` run on threads (:func:`._gridplan.run_blocks`:
-    a serial kernel compiles in about half the time of a ``parallel=True`` one, issue 25)."""
+def worley_grid32(ndim, mode, xs, ys, zs, ws, out, freqs, amps, offs, pers, wpar, norm, gain):
+    """Fill ``out`` (float32, shape (nz, ny, nx), or (nw, nz, ny, nx) in 4D) with 2D to 4D
+    Worley noise (jittered grid, any output but the cell id), every octave summed per row;
+    arguments as for :func:`._gridkernels.worley_grid` and the w axis ``ws`` (``amps``
+    already carry ``norm`` unless ridged).  The work items of :func:`worley_rows32` run on
+    threads (:func:`._gridplan.run_blocks`: a serial kernel compiles in about half the time
+    of a ``parallel=True`` one, issue 25)."""
     from ._gridplan import run_blocks
 
-    nz, ny, _ = out.shape
-    run_blocks(worley_rows32, (ny * nz + WROWS - 1) // WROWS,
-               (ndim, mode, xs, ys, zs, out, freqs, amps, offs, pers, wpar, norm, gain))
+    out4 = out if out.ndim == 4 else out.reshape((1,) + out.shape)
+    nw, nz, ny, _ = out4.shape
+    run_blocks(worley_rows32, (ny * nz * nw + WROWS - 1) // WROWS,
+               (ndim, mode, xs, ys, zs, ws, out4, freqs, amps, offs, pers, wpar, norm, gain))

@@ -457,7 +457,7 @@ class _Emit:
         else:
             ax = [self.arg(a) for a in plan.axes[:3]]
             nb = f"nbw{self.n}"
-            self.pre += [f"{wk} = _w32.row_work(nx)", f"{nb} = np.empty(nx, np.float32)"]
+            self.pre += [f"{wk} = _w32.row_work(nx, 9)", f"{nb} = np.empty(nx, np.float32)"]
             self.row.append(
                 f"_w32.row_worley32({self.i(nd)}, {self.i(mode)}, {ax[0]}, {ax[1]}, {ax[2]}, j, "
                 f"m, {acc}, {wt}, "
