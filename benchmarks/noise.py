@@ -21,6 +21,10 @@ the package or in CI).  Build it (about a minute; FastNoise2 v1.1.1 pins FastSIM
         -L build/Release/lib -lFastNoise -Wl,-rpath,/tmp/fn2/build/Release/lib
 
 FastNoise2 runs twice: at the best SIMD level of the CPU (printed) and capped at AVX2.
+An AVX2 build of sylva's kernels on an AVX-512 machine (to compare with the capped
+FastNoise2): ``NUMBA_CPU_NAME=haswell`` and ``NUMBA_CPU_FEATURES`` the host's features with
+every ``avx512*`` / ``avx10*`` one turned off (``-``), ``SYLVA_BYTELANES=0`` and a
+``NUMBA_CACHE_DIR`` of its own.
 FastNoise2 generates the grid itself (``GenUniformGrid2D/3D``, one lattice cell per unit,
 the same step as sylva's grid), single-threaded.  sylva runs both of its roads:
 ``dtype=float32`` (the default: float32 SIMD kernels) and ``dtype=float64`` (the
@@ -444,6 +448,8 @@ def _width() -> str:
 
 
 def _llvm_cpu() -> str:
+    if os.environ.get("NUMBA_CPU_NAME"):  # a build for another CPU (an AVX2 build here)
+        return os.environ["NUMBA_CPU_NAME"] + " (NUMBA_CPU_NAME)"
     try:
         import llvmlite.binding as llvm
 

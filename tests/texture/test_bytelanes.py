@@ -3,6 +3,11 @@ CPU has them, scalar loads elsewhere) against the chained table lookups of Gusta
 simplex and Perlin's improved-noise reference code, and both float32 roads (byte lanes
 and table loads) against the float64 one."""
 
+import os
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 from numba import njit, prange, uint64
@@ -329,3 +334,36 @@ def test_wide_loops_run_in_zmm_registers_serial_and_in_prange_bodies():
     for fn, shape, opts in ((_axpy, 64, {}), (_axpy_rows, (4, 64), {"parallel": True})):
         wide, sig = _fresh(fn, shape, pipeline_class=bl.Wide, **opts)
         assert "zmm" in wide.inspect_asm(sig), fn.__name__
+
+
+_OTHER_CPU = """
+import sys
+import numpy as np
+sys.path.insert(0, sys.argv[1])
+from sylva.texture import _bytelanes as bl
+from tests.texture import test_bytelanes as t
+assert not bl.VBMI and not bl.AVX512, (bl.VBMI, bl.AVX512)
+perm, perm12, tab = t._tables(5)
+rows = t._rows(5, 3)
+t._hash_caller(3)(tab, rows)  # compiled for haswell: scalar loads, no byte permutes
+for corner, ref in enumerate(t._reference(3, perm, perm12, rows)):
+    np.testing.assert_array_equal(rows[4 + corner], ref)
+print("ok")
+"""
+
+
+def test_a_build_for_a_cpu_without_avx512_emits_none_of_its_instructions(tmp_path):
+    # NUMBA_CPU_NAME / NUMBA_CPU_FEATURES build numba's code for another CPU (a cache for
+    # other machines, an AVX2 build measured here): the intrinsics follow those features,
+    # not the host's (an AVX-512 intrinsic in a haswell build fails to compile)
+    import llvmlite.binding as llvm
+
+    feats = [("-" if k.startswith(("avx512", "avx10", "evex512", "amx")) else
+              "+" if v else "-") + k for k, v in llvm.get_host_cpu_features().items()]  # fmt: skip
+    root = Path(__file__).resolve().parents[2]
+    env = dict(os.environ, NUMBA_CPU_NAME="haswell", NUMBA_CPU_FEATURES=",".join(feats),
+               NUMBA_CACHE_DIR=str(tmp_path), SYLVA_BYTELANES="0",
+               PYTHONPATH=str(Path(bl.__file__).parents[2]))  # fmt: skip
+    run = subprocess.run([sys.executable, "-c", _OTHER_CPU, str(root)], env=env, cwd=root,
+                         capture_output=True, text=True, timeout=300)  # fmt: skip
+    assert run.returncode == 0 and run.stdout.strip() == "ok", run.stderr[-2000:]

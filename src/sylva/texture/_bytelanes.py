@@ -43,6 +43,14 @@ _V = ir.VectorType(_I8, LANES)
 
 
 def _host_has(*features: str) -> bool:
+    """Whether the CPU that numba compiles for has ``features``: the host's, or those of
+    ``NUMBA_CPU_FEATURES`` where it is set (a cache built for other CPUs, or an AVX2
+    build measured on an AVX-512 machine): the intrinsics must not emit instructions that
+    the target lacks."""
+    env = os.environ.get("NUMBA_CPU_FEATURES")
+    if env:
+        on = {f[1:] for f in env.split(",") if f.startswith("+")}
+        return all(f in on for f in features)
     try:
         feats = llvm.get_host_cpu_features()
     except RuntimeError:  # no feature list from this host
