@@ -562,11 +562,12 @@ def _cell_lanes(value, span, us, nl, cf, ce, cid, xf, xu, cc, nb, uo):
 
 
 @njit(**_OPTS)
-def _cell_eval16(base, cnt, cid, xf, xu, cc, e0, nb):
+def _cell_eval16(base, cnt, cid, xf, xu, cc, e0, nb, ob):
     """:func:`_cell_eval` by 16-lane permutes (:func:`._bytelanes.cell_lerp16`, AVX-512):
     any 16 samples lie in at most 16 cells (``cid`` grows by at most one a sample), so
     every whole vector goes in one step, whatever the cells' width; the row's last
-    partial vector sample by sample."""
+    partial vector sample by sample.  Sample ``p`` goes to ``nb[p - ob]`` (``ob = base``:
+    a block buffer; 0: the row itself)."""
     end = base + cnt
     st = uint64(cc.shape[1] * 4)
     c0 = cc.ctypes.data
@@ -579,23 +580,23 @@ def _cell_eval16(base, cnt, cid, xf, xu, cc, e0, nb):
         cf = cid[uint64(s)]
         o = uint64(s) * uint64(4)
         _bl.cell_lerp16(c0 + uint64(cf - e0) * uint64(4), st, pc + o, cf, px + o, pu + o,
-                        po + uint64(s - base) * uint64(4))
+                        po + uint64(s - ob) * uint64(4))
         s += LANES
     for p in range(s, end):
         c = uint64(cid[p] - e0)
         x = xf[p]
         a = cc[0, c] * x + cc[1, c]
         b = cc[2, c] * (x - ONE) + cc[3, c]
-        nb[p - base] = _lerp(xu[p], a, b)
+        nb[p - ob] = _lerp(xu[p], a, b)
 
 
 @njit(**_OPTS)
-def _cell_eval(kind, base, cnt, nx, cid, xf, xu, cc, e0, nb):
+def _cell_eval(kind, base, cnt, ob, cid, xf, xu, cc, e0, nb):
     """SIMD pass: samples ``base .. base + cnt`` (``base`` a multiple of :data:`LANES`)
     from their cells' coefficients (``cc``: those of cells ``e0 ..``; ``cid``: each
     column's cell) into ``nb``: runs of whole :data:`LANES`-lane vectors whose samples lie
     in :data:`KMAX` cells, each lane's coefficients by selects over those cells, loaded
-    once per run.  ``nx`` is unused (kept for the callers' one signature)."""
+    once per run.  Sample ``p`` goes to ``nb[p - ob]`` (as :func:`_cell_eval16`)."""
     end = base + cnt
     s = base
     while s < end:
@@ -610,7 +611,7 @@ def _cell_eval(kind, base, cnt, nx, cid, xf, xu, cc, e0, nb):
         # a literal span (the chain unrolls); one copy for every kind (value noise has
         # p0 = p1 = 0) keeps compile time down
         _cell_lanes(False, KMAX, us, e - s, cf, uint64(cf - e0), cid, xf, xu, cc, nb,
-                    uint64(s - base))
+                    uint64(s - ob))
         s = e
 
 
@@ -657,12 +658,22 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
                 key[o, 3] = z1
             _cell_coef(kind, ndim, nc, yf[o, j], yv[o, j], zf[o, m], zw[o, m], cv[ci], cg[ci],
                        cc)
+            if o == 0 and mode == k.FBM:  # the first fBm octave: straight into the row
+                amp = amps[0]  # (a sample is linear in its cell's coefficients)
+                for r in range(4):
+                    for c in range(nc):
+                        cc[r, c] *= amp
+                if lanes:
+                    _cell_eval16(0, nx, cid[o], xf[o], xu[o], cc, 0, row, 0)
+                else:
+                    _cell_eval(kind, 0, nx, 0, cid[o], xf[o], xu[o], cc, 0, row)
+                continue
             for b in range(0, nx, BLOCK):
                 cnt = min(BLOCK, nx - b)
                 if lanes:
-                    _cell_eval16(b, cnt, cid[o], xf[o], xu[o], cc, 0, nb)
+                    _cell_eval16(b, cnt, cid[o], xf[o], xu[o], cc, 0, nb, b)
                 else:
-                    _cell_eval(kind, b, cnt, nx, cid[o], xf[o], xu[o], cc, 0, nb)
+                    _cell_eval(kind, b, cnt, b, cid[o], xf[o], xu[o], cc, 0, nb)
                 _combine_block(mode, row, weight, b, cnt, nb, amps[o], gain, o == 0)
             continue
         for base in range(0, nx, BLOCK):  # the sample road: each block's samples hashed
