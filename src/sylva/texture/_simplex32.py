@@ -132,7 +132,7 @@ def _s2_hash_b(cnt, bt, bb):
 
 
 @njit(**_OPTS)
-def _s2_eval_b(cnt, bx, by, bb, nb):
+def _s2_eval_b(cnt, bx, by, bb, nb, ob, amp):
     """:func:`_s2_eval` with the corners' gradient indices from the byte rows ``G``."""
     for q in range(cnt):
         x0 = bx[q]
@@ -151,7 +151,7 @@ def _s2_eval_b(cnt, bx, by, bb, nb):
         n = t0 * t0 * _g12_2(_i32(bb[_BG, q]), x0, y0)
         n += t1 * t1 * _g12_2(_i32(bb[_BG + 1, q]), x1, y1)
         n += t2 * t2 * _g12_2(_i32(bb[_BG + 2, q]), x2, y2)
-        nb[q] = S2 * n
+        nb[ob + uint64(q)] = amp * (S2 * n)
 
 
 @njit(**_OPTS)
@@ -163,9 +163,10 @@ def _gather(cnt, tab, ba, bw):
 
 
 @njit(**_OPTS)
-def _s2_eval(cnt, bx, by, bc, bw, nb):
+def _s2_eval(cnt, bx, by, bc, bw, nb, ob, amp):
     """SIMD pass: the three corner contributions, gradient indices from the packed cell
-    corners, the gradients' dot products by selects (:func:`_g12_2`)."""
+    corners, the gradients' dot products by selects (:func:`_g12_2`), times ``amp`` into
+    ``nb[ob:]`` (the block buffer with ``amp`` 1, or the first fBm octave's row)."""
     for q in range(cnt):
         x0 = bx[q]
         y0 = by[q]
@@ -190,7 +191,7 @@ def _s2_eval(cnt, bx, by, bc, bw, nb):
         n = t0 * t0 * _g12_2(a, x0, y0)
         n += t1 * t1 * _g12_2(b, x1, y1)
         n += t2 * t2 * _g12_2(d, x2, y2)
-        nb[q] = S2 * n
+        nb[ob + uint64(q)] = amp * (S2 * n)
 
 
 @njit(inline="always", cache=True, error_model="numpy")
@@ -303,7 +304,7 @@ def _corner3(w0, w1, i, j, k):
 
 
 @njit(**_OPTS)
-def _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb):
+def _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb, ob, amp):
     """SIMD pass: the four corner contributions (float32, 16 lanes)."""
     for q in range(cnt):
         i1, j1, k1, i2, j2, k2 = _ranks3(bf[0, q], bf[1, q])
@@ -316,7 +317,7 @@ def _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb):
         n += _c3(_corner3(a, b, i1, j1, k1), x0 - i1 + G3, y0 - j1 + G3, z0 - k1 + G3)
         n += _c3(_corner3(a, b, i2, j2, k2), x0 - i2 + G3X2, y0 - j2 + G3X2, z0 - k2 + G3X2)
         n += _c3(np.int32(b >> np.int32(12)), x0 + G3X3, y0 + G3X3, z0 + G3X3)
-        nb[q] = S3 * n
+        nb[ob + uint64(q)] = amp * (S3 * n)
 
 
 
@@ -337,7 +338,7 @@ def _obit(c, n):
 
 
 @njit(**_OPTS)
-def _s3_eval_b(cnt, bx, by, bz, bb, nb):
+def _s3_eval_b(cnt, bx, by, bz, bb, nb, ob, amp):
     """:func:`_s3_eval` with the corners' gradient indices from the byte rows ``G`` and
     their offsets from the code row (:func:`_code3`)."""
     for q in range(cnt):
@@ -351,7 +352,7 @@ def _s3_eval_b(cnt, bx, by, bz, bb, nb):
         n += _c3(_i32(bb[_BG + 1, q]), x0 - i1 + G3, y0 - j1 + G3, z0 - k1 + G3)
         n += _c3(_i32(bb[_BG + 2, q]), x0 - i2 + G3X2, y0 - j2 + G3X2, z0 - k2 + G3X2)
         n += _c3(_i32(bb[_BG + 3, q]), x0 + G3X3, y0 + G3X3, z0 + G3X3)
-        nb[q] = S3 * n
+        nb[ob + uint64(q)] = amp * (S3 * n)
 
 
 @njit(**_OPTS64)  # no fast-math: yin, zin as in float64
@@ -375,16 +376,21 @@ def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, 
         fx32 = _F(fx)
         ox32 = _F(ox)
         yin32 = _F(yin)
+        # the first fBm octave goes straight into the row (as _combine_block would put it)
+        direct = o == 0 and mode == k.FBM
+        amp = amps[o] if direct else ONE
         for base in range(0, nx, BLOCK):
             cnt = min(BLOCK, nx - base)
+            out = row if direct else nb
+            ob = uint64(base) if direct else uint64(0)
             if ndim == 2 and hashed:
                 _s2_locate_b(xs32, base, cnt, fx32, ox32, yin32, bx, by, bb)
                 _s2_hash_b(cnt, bt, bb)
-                _s2_eval_b(cnt, bx, by, bb, nb)
+                _s2_eval_b(cnt, bx, by, bb, out, ob, amp)
             elif ndim == 2:
                 _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bc, ba)
                 _gather(cnt, tf, ba, w0)
-                _s2_eval(cnt, bx, by, bc, w0, nb)
+                _s2_eval(cnt, bx, by, bc, w0, out, ob, amp)
             else:
                 if hashed:
                     _s3_locate_b(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bb)
@@ -392,11 +398,12 @@ def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, 
                     _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk)
                 if hashed:
                     _s3_hash_b(cnt, bt, bb)
-                    _s3_eval_b(cnt, bx, by, bz, bb, nb)
+                    _s3_eval_b(cnt, bx, by, bz, bb, out, ob, amp)
                 else:
                     _s3_gather(cnt, tf, perm, ba, bk, w0, w1)
-                    _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb)
-            _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
+                    _s3_eval(cnt, bx, by, bz, bf, w0, w1, out, ob, amp)
+            if not direct:
+                _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
 
 
 @njit(cache=True)
