@@ -620,80 +620,104 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
                   gain, work):
     """Row ``(m, j)`` of 2D or 3D value, classic or improved noise, every octave summed
     into ``row`` (float32; ridged sums are left unnormalised); ``work`` is
-    :func:`row_work`'s block buffers (also the texture graph's row routine)."""
+    :func:`row_work`'s block buffers (the texture graph's row routine)."""
+    _lat_rows(kind, mode, ndim, xt, yt, zt, row.reshape((1, 1, row.shape[0])), 0, 1, j, m,
+              weight, amps, perm, vals, grad, gain, work, ONE)
+
+
+@njit(**_OPTS)
+def _lat_rows(kind, mode, ndim, xt, yt, zt, out, r0, r1, jfix, mfix, weight, amps, perm, vals,
+              grad, gain, work, norm):
+    """Rows ``r0 .. r1`` of ``out`` (shape (nz, ny, nx); row ``r`` is ``(r // ny, r % ny)``)
+    in one call, the tables and buffers taken out of their tuples once (a call per row, its
+    dozens of arrays passed field by field, cost ~0.5 µs, more than a 1024-sample row's
+    own work); with ``jfix >= 0`` the one row ``out[0, 0]`` at lattice row ``(mfix, jfix)``
+    (:func:`row_lattice32`, left unnormalised).  Ridged rows of a grid are normalised."""
     hb, vb, gb, nb, th, tv, tg, cc, cv, cg, coct, key, lb, bt, btok, lanes = work
+    px0, px1, xf, xu, cid, cp0, cp1, kspan = xt
+    yi0, yi1, yf, yv = yt
+    zi0, zi1, zf, zw = zt
     kmax = KPERM if lanes else KMAX
     hashed = lanes and kind == k.IMPROVED
     if hashed and btok[0] == 0:
         for a in range(256):
             bt[a] = perm[a]
         btok[0] = 1
-    nx = row.shape[0]
-    if amps.shape[0] == 0:  # no octave (the first octave sets the row, no clearing pass)
-        row[:] = ZERO
-    px0, px1, xf, xu, cid, cp0, cp1, kspan = xt
-    yi0, yi1, yf, yv = yt
-    zi0, zi1, zf, zw = zt
-    for o in range(px0.shape[0]):
-        y0 = uint64(yi0[o, j])
-        y1 = uint64(yi1[o, j])
-        z0 = uint64(zi0[o, m]) if ndim == 3 else uint64(0)
-        z1 = uint64(zi1[o, m]) if ndim == 3 else uint64(0)
-        cells = kspan[o] <= kmax  # the cell road: corners hashed once per cell
-        rowtab = not cells and ndim == 2 and nx > 128 and not hashed
-        if rowtab:
-            _row_tables(kind, perm, vals, grad, y0, y1, th, tv, tg)
-        if cells:  # the cell road: every cell of the row at once
-            nc = cid[o, nx - 1] + 1
-            ci = coct[o]
-            if (key[o, 0] != y0 or key[o, 1] != y1 or key[o, 2] != z0
-                    or key[o, 3] != z1):  # not the lattice rows of the last row: hash
-                _lat_hash(kind, ndim, 0, nc, cp0[o], cp1[o], perm, vals, grad, y0, y1, z0,
-                          z1, hb, cv[ci], cg[ci])
-                if kind == k.IMPROVED:  # gradients from the hashes, as classic Perlin's
-                    _grads16(ndim, nc, hb, cg[ci])
-                key[o, 0] = y0
-                key[o, 1] = y1
-                key[o, 2] = z0
-                key[o, 3] = z1
-            _cell_coef(kind, ndim, nc, yf[o, j], yv[o, j], zf[o, m], zw[o, m], cv[ci], cg[ci],
-                       cc)
-            if o == 0 and mode == k.FBM:  # the first fBm octave: straight into the row
-                amp = amps[0]  # (a sample is linear in its cell's coefficients)
-                for r in range(4):
-                    for c in range(nc):
-                        cc[r, c] *= amp
-                if lanes:
-                    _cell_eval16(0, nx, cid[o], xf[o], xu[o], cc, 0, row, 0)
-                else:
-                    _cell_eval(kind, 0, nx, 0, cid[o], xf[o], xu[o], cc, 0, row)
+    ny = out.shape[1]
+    for r in range(r0, r1):
+        if jfix >= 0:
+            j = jfix
+            m = mfix
+            row = out[0, 0]
+        else:
+            j = r % ny
+            m = r // ny
+            row = out[m, j]
+        nx = row.shape[0]
+        if amps.shape[0] == 0:  # no octave (the first octave sets the row, no clearing pass)
+            row[:] = ZERO
+        for o in range(px0.shape[0]):
+            y0 = uint64(yi0[o, j])
+            y1 = uint64(yi1[o, j])
+            z0 = uint64(zi0[o, m]) if ndim == 3 else uint64(0)
+            z1 = uint64(zi1[o, m]) if ndim == 3 else uint64(0)
+            cells = kspan[o] <= kmax  # the cell road: corners hashed once per cell
+            rowtab = not cells and ndim == 2 and nx > 128 and not hashed
+            if rowtab:
+                _row_tables(kind, perm, vals, grad, y0, y1, th, tv, tg)
+            if cells:  # the cell road: every cell of the row at once
+                nc = cid[o, nx - 1] + 1
+                ci = coct[o]
+                if (key[o, 0] != y0 or key[o, 1] != y1 or key[o, 2] != z0
+                        or key[o, 3] != z1):  # not the lattice rows of the last row: hash
+                    _lat_hash(kind, ndim, 0, nc, cp0[o], cp1[o], perm, vals, grad, y0, y1, z0,
+                              z1, hb, cv[ci], cg[ci])
+                    if kind == k.IMPROVED:  # gradients from the hashes, as classic Perlin's
+                        _grads16(ndim, nc, hb, cg[ci])
+                    key[o, 0] = y0
+                    key[o, 1] = y1
+                    key[o, 2] = z0
+                    key[o, 3] = z1
+                _cell_coef(kind, ndim, nc, yf[o, j], yv[o, j], zf[o, m], zw[o, m], cv[ci], cg[ci],
+                           cc)
+                if o == 0 and mode == k.FBM:  # the first fBm octave: straight into the row
+                    amp = amps[0]  # (a sample is linear in its cell's coefficients)
+                    for e in range(4):
+                        for c in range(nc):
+                            cc[e, c] *= amp
+                    if lanes:
+                        _cell_eval16(0, nx, cid[o], xf[o], xu[o], cc, 0, row, 0)
+                    else:
+                        _cell_eval(kind, 0, nx, 0, cid[o], xf[o], xu[o], cc, 0, row)
+                    continue
+                for b in range(0, nx, BLOCK):
+                    cnt = min(BLOCK, nx - b)
+                    if lanes:
+                        _cell_eval16(b, cnt, cid[o], xf[o], xu[o], cc, 0, nb, b)
+                    else:
+                        _cell_eval(kind, b, cnt, b, cid[o], xf[o], xu[o], cc, 0, nb)
+                    _combine_block(mode, row, weight, b, cnt, nb, amps[o], gain, o == 0)
                 continue
-            for b in range(0, nx, BLOCK):
-                cnt = min(BLOCK, nx - b)
-                if lanes:
-                    _cell_eval16(b, cnt, cid[o], xf[o], xu[o], cc, 0, nb, b)
+            for base in range(0, nx, BLOCK):  # the sample road: each block's samples hashed
+                cnt = min(BLOCK, nx - base)
+                if hashed and ndim == 3:  # in byte lanes; the corners' hashes: rows 2..9 of lb
+                    _lat_hash_b(base, cnt, px0[o], px1[o], bt, lb, y0, y1, z0, z1)
+                    _lat_eval_b3(base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m], zw[o, m],
+                                 lb, nb)
+                    _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
+                    continue
+                if hashed:  # 2D in byte lanes, into hb's packed word
+                    _lat_hash2_b(base, cnt, px0[o], px1[o], bt, lb, y0, y1, hb)
+                elif rowtab:
+                    _lat_hash2(kind, base, cnt, px0[o], px1[o], th, tv, tg, hb, vb, gb)
                 else:
-                    _cell_eval(kind, b, cnt, b, cid[o], xf[o], xu[o], cc, 0, nb)
-                _combine_block(mode, row, weight, b, cnt, nb, amps[o], gain, o == 0)
-            continue
-        for base in range(0, nx, BLOCK):  # the sample road: each block's samples hashed
-            cnt = min(BLOCK, nx - base)
-            if hashed and ndim == 3:  # in byte lanes; the corners' hashes: rows 2..9 of lb
-                _lat_hash_b(base, cnt, px0[o], px1[o], bt, lb, y0, y1, z0, z1)
-                _lat_eval_b3(base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m], zw[o, m],
-                             lb, nb)
+                    _lat_hash(kind, ndim, base, cnt, px0[o], px1[o], perm, vals, grad, y0, y1, z0,
+                              z1, hb, vb, gb)
+                _lat_eval(kind, ndim, base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m],
+                          zw[o, m], hb, vb, gb, nb)
                 _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
-                continue
-            if hashed:  # 2D in byte lanes, into hb's packed word
-                _lat_hash2_b(base, cnt, px0[o], px1[o], bt, lb, y0, y1, hb)
-            elif rowtab:
-                _lat_hash2(kind, base, cnt, px0[o], px1[o], th, tv, tg, hb, vb, gb)
-            else:
-                _lat_hash(kind, ndim, base, cnt, px0[o], px1[o], perm, vals, grad, y0, y1, z0,
-                          z1, hb, vb, gb)
-            _lat_eval(kind, ndim, base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m],
-                      zw[o, m], hb, vb, gb, nb)
-            _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
+        if jfix < 0:
+            _finish(mode, row, norm)
 
 
 @njit(**_OPTS)
@@ -758,13 +782,8 @@ def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, grad, no
     for c in prange(nch):
         weight = np.empty(nx, np.float32)
         work = row_work(xt, hashed)
-        for r in range(c * nrows // nch, (c + 1) * nrows // nch):
-            j = r % ny
-            m = r // ny
-            row = out[m, j]
-            row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, vals,
-                          grad, gain, work)
-            _finish(mode, row, norm)
+        _lat_rows(kind, mode, ndim, xt, yt, zt, out, c * nrows // nch, (c + 1) * nrows // nch,
+                  -1, -1, weight, amps, perm, vals, grad, gain, work, norm)
 
 
 def lattice_tables32(axis_tab, perm, is_x):
