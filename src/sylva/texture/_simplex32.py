@@ -359,51 +359,73 @@ def _s3_eval_b(cnt, bx, by, bz, bb, nb, ob, amp):
 def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, offs, perm,
                   tab, gain, work):
     """Row ``(m, j)`` of 2D or 3D simplex noise, every octave summed into ``row`` (float32;
-    ridged sums are left unnormalised); ``work``: :func:`simplex_work` (also the texture
-    graph's row routine).  Blocks of :data:`BLOCK` samples go in passes: locate (SIMD; 3D
-    in float64), one table load a sample and z plane (scalar; 3D with ``hashed``: the
-    chained lookups in byte lanes), corner sums (SIMD)."""
+    ridged sums are left unnormalised); ``work``: :func:`simplex_work` (the texture graph's
+    row routine).  Blocks of :data:`BLOCK` samples go in passes: locate (SIMD; 3D in
+    float64), one table load a sample and z plane (scalar; 3D with ``hashed``: the chained
+    lookups in byte lanes), corner sums (SIMD)."""
+    _simplex_rows(ndim, mode, xs, xs32, ys, zs, row.reshape((1, 1, row.shape[0])), 0, 1, j,
+                  m, weight, freqs, amps, offs, perm, tab, gain, work, ONE)
+
+
+@njit(**_OPTS64)  # no fast-math: yin, zin as in float64
+def _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, r0, r1, jfix, mfix, weight, freqs, amps,
+                  offs, perm, tab, gain, work, norm):
+    """Rows ``r0 .. r1`` of ``out`` in one call (as :func:`._gridkernels32._lat_rows`: a
+    call per row cost more than a short row's work), or with ``jfix >= 0`` the one row
+    ``out[0, 0]`` at ``(mfix, jfix)``, left unnormalised."""
     bx, by, bz, nb, bf, ba, bk, bc, w0, w1, bb, bt, hashed = work
     tf = tab.reshape(tab.size)
-    nx = row.shape[0]
-    if amps.shape[0] == 0:  # no octave (the first octave sets the row, no clearing pass)
-        row[:] = ZERO
-    for o in range(freqs.shape[0]):
-        fx = freqs[o, 0]
-        ox = offs[o, 0]
-        yin = ys[j] * freqs[o, 1] + offs[o, 1]
-        zin = zs[m] * freqs[o, 2] + offs[o, 2]
-        fx32 = _F(fx)
-        ox32 = _F(ox)
-        yin32 = _F(yin)
-        # the first fBm octave goes straight into the row (as _combine_block would put it)
-        direct = o == 0 and mode == k.FBM
-        amp = amps[o] if direct else ONE
-        for base in range(0, nx, BLOCK):
-            cnt = min(BLOCK, nx - base)
-            out = row if direct else nb
-            ob = uint64(base) if direct else uint64(0)
-            if ndim == 2 and hashed:
-                _s2_locate_b(xs32, base, cnt, fx32, ox32, yin32, bx, by, bb)
-                _s2_hash_b(cnt, bt, bb)
-                _s2_eval_b(cnt, bx, by, bb, out, ob, amp)
-            elif ndim == 2:
-                _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bc, ba)
-                _gather(cnt, tf, ba, w0)
-                _s2_eval(cnt, bx, by, bc, w0, out, ob, amp)
-            else:
-                if hashed:
-                    _s3_locate_b(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bb)
+    ny = out.shape[1]
+    for r in range(r0, r1):
+        if jfix >= 0:
+            j = jfix
+            m = mfix
+            row = out[0, 0]
+        else:
+            j = r % ny
+            m = r // ny
+            row = out[m, j]
+        nx = row.shape[0]
+        if amps.shape[0] == 0:  # no octave (the first octave sets the row, no clearing pass)
+            row[:] = ZERO
+        for o in range(freqs.shape[0]):
+            fx = freqs[o, 0]
+            ox = offs[o, 0]
+            yin = ys[j] * freqs[o, 1] + offs[o, 1]
+            zin = zs[m] * freqs[o, 2] + offs[o, 2]
+            fx32 = _F(fx)
+            ox32 = _F(ox)
+            yin32 = _F(yin)
+            # the first fBm octave goes straight into the row (as _combine_block would put it)
+            direct = o == 0 and mode == k.FBM
+            amp = amps[o] if direct else ONE
+            for base in range(0, nx, BLOCK):
+                cnt = min(BLOCK, nx - base)
+                dst = row if direct else nb
+                ob = uint64(base) if direct else uint64(0)
+                if ndim == 2 and hashed:
+                    _s2_locate_b(xs32, base, cnt, fx32, ox32, yin32, bx, by, bb)
+                    _s2_hash_b(cnt, bt, bb)
+                    _s2_eval_b(cnt, bx, by, bb, dst, ob, amp)
+                elif ndim == 2:
+                    _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bc, ba)
+                    _gather(cnt, tf, ba, w0)
+                    _s2_eval(cnt, bx, by, bc, w0, dst, ob, amp)
                 else:
-                    _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk)
-                if hashed:
-                    _s3_hash_b(cnt, bt, bb)
-                    _s3_eval_b(cnt, bx, by, bz, bb, out, ob, amp)
-                else:
-                    _s3_gather(cnt, tf, perm, ba, bk, w0, w1)
-                    _s3_eval(cnt, bx, by, bz, bf, w0, w1, out, ob, amp)
-            if not direct:
-                _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
+                    if hashed:
+                        _s3_locate_b(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bb)
+                    else:
+                        _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk)
+                    if hashed:
+                        _s3_hash_b(cnt, bt, bb)
+                        _s3_eval_b(cnt, bx, by, bz, bb, dst, ob, amp)
+                    else:
+                        _s3_gather(cnt, tf, perm, ba, bk, w0, w1)
+                        _s3_eval(cnt, bx, by, bz, bf, w0, w1, dst, ob, amp)
+                if not direct:
+                    _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
+        if jfix < 0:
+            _finish(mode, row, norm)
 
 
 @njit(cache=True)
@@ -437,13 +459,9 @@ def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, t
     for c in prange(nch):
         weight = np.empty(nx, np.float32)
         work = simplex_work(perm, hashed)
-        for r in range(c * nrows // nch, (c + 1) * nrows // nch):
-            j = r % ny
-            m = r // ny
-            row = out[m, j]
-            row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, offs,
-                          perm, tab, gain, work)
-            _finish(mode, row, norm)
+        _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, c * nrows // nch,
+                      (c + 1) * nrows // nch, -1, -1, weight, freqs, amps, offs, perm, tab,
+                      gain, work, norm)
 
 
 def simplex_table(seed, perm, perm12):
