@@ -621,8 +621,9 @@ def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, v
     """Row ``(m, j)`` of 2D or 3D value, classic or improved noise, every octave summed
     into ``row`` (float32; ridged sums are left unnormalised); ``work`` is
     :func:`row_work`'s block buffers (the texture graph's row routine)."""
-    _lat_rows(kind, mode, ndim, xt, yt, zt, row.reshape((1, 1, row.shape[0])), 0, 1, j, m,
-              weight, amps, perm, vals, grad, gain, work, ONE)
+    # typed ints, not constants: numba would compile a copy per literal value
+    _lat_rows(kind, mode, ndim, xt, yt, zt, row.reshape((1, 1, row.shape[0])), np.int64(0),
+              np.int64(1), j, m, weight, amps, perm, vals, grad, gain, work, ONE)
 
 
 @njit(**_OPTS)
@@ -632,7 +633,9 @@ def _lat_rows(kind, mode, ndim, xt, yt, zt, out, r0, r1, jfix, mfix, weight, amp
     in one call, the tables and buffers taken out of their tuples once (a call per row, its
     dozens of arrays passed field by field, cost ~0.5 µs, more than a 1024-sample row's
     own work); with ``jfix >= 0`` the one row ``out[0, 0]`` at lattice row ``(mfix, jfix)``
-    (:func:`row_lattice32`, left unnormalised).  Ridged rows of a grid are normalised."""
+    (:func:`row_lattice32`), with ``jfix == -2`` rows ``r0 .. r1`` of an image ``mfix`` rows
+    high into ``out[0, :r1 - r0]`` (the texture graph's blocks of rows): both left
+    unnormalised.  Rows of a grid (``jfix == -1``) are normalised (ridged)."""
     hb, vb, gb, nb, th, tv, tg, cc, cv, cg, coct, key, lb, bt, btok, lanes = work
     px0, px1, xf, xu, cid, cp0, cp1, kspan = xt
     yi0, yi1, yf, yv = yt
@@ -649,6 +652,10 @@ def _lat_rows(kind, mode, ndim, xt, yt, zt, out, r0, r1, jfix, mfix, weight, amp
             j = jfix
             m = mfix
             row = out[0, 0]
+        elif jfix == -2:  # a block of rows of the image into out[0, :r1 - r0]
+            j = r % mfix
+            m = r // mfix
+            row = out[0, r - r0]
         else:
             j = r % ny
             m = r // ny
@@ -716,7 +723,7 @@ def _lat_rows(kind, mode, ndim, xt, yt, zt, out, r0, r1, jfix, mfix, weight, amp
                 _lat_eval(kind, ndim, base, cnt, xf[o], xu[o], yf[o, j], yv[o, j], zf[o, m],
                           zw[o, m], hb, vb, gb, nb)
                 _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
-        if jfix < 0:
+        if jfix == -1:
             _finish(mode, row, norm)
 
 
@@ -783,7 +790,7 @@ def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, grad, no
         weight = np.empty(nx, np.float32)
         work = row_work(xt, hashed)
         _lat_rows(kind, mode, ndim, xt, yt, zt, out, c * nrows // nch, (c + 1) * nrows // nch,
-                  -1, -1, weight, amps, perm, vals, grad, gain, work, norm)
+                  np.int64(-1), np.int64(-1), weight, amps, perm, vals, grad, gain, work, norm)
 
 
 def lattice_tables32(axis_tab, perm, is_x):

@@ -363,8 +363,9 @@ def row_simplex32(ndim, mode, xs, xs32, ys, zs, j, m, row, weight, freqs, amps, 
     row routine).  Blocks of :data:`BLOCK` samples go in passes: locate (SIMD; 3D in
     float64), one table load a sample and z plane (scalar; 3D with ``hashed``: the chained
     lookups in byte lanes), corner sums (SIMD)."""
-    _simplex_rows(ndim, mode, xs, xs32, ys, zs, row.reshape((1, 1, row.shape[0])), 0, 1, j,
-                  m, weight, freqs, amps, offs, perm, tab, gain, work, ONE)
+    _simplex_rows(ndim, mode, xs, xs32, ys, zs, row.reshape((1, 1, row.shape[0])),
+                  np.int64(0), np.int64(1), j, m, weight, freqs, amps, offs, perm, tab, gain,
+                  work, ONE)
 
 
 @njit(**_OPTS64)  # no fast-math: yin, zin as in float64
@@ -372,7 +373,8 @@ def _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, r0, r1, jfix, mfix, weight,
                   offs, perm, tab, gain, work, norm):
     """Rows ``r0 .. r1`` of ``out`` in one call (as :func:`._gridkernels32._lat_rows`: a
     call per row cost more than a short row's work), or with ``jfix >= 0`` the one row
-    ``out[0, 0]`` at ``(mfix, jfix)``, left unnormalised."""
+    ``out[0, 0]`` at ``(mfix, jfix)``, or with ``jfix == -2`` a block of image rows (``mfix``
+    rows high) into ``out[0, :r1 - r0]``: both left unnormalised."""
     bx, by, bz, nb, bf, ba, bk, bc, w0, w1, bb, bt, hashed = work
     tf = tab.reshape(tab.size)
     ny = out.shape[1]
@@ -381,6 +383,10 @@ def _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, r0, r1, jfix, mfix, weight,
             j = jfix
             m = mfix
             row = out[0, 0]
+        elif jfix == -2:  # a block of rows of the image into out[0, :r1 - r0]
+            j = r % mfix
+            m = r // mfix
+            row = out[0, r - r0]
         else:
             j = r % ny
             m = r // ny
@@ -424,7 +430,7 @@ def _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, r0, r1, jfix, mfix, weight,
                         _s3_eval(cnt, bx, by, bz, bf, w0, w1, dst, ob, amp)
                 if not direct:
                     _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
-        if jfix < 0:
+        if jfix == -1:
             _finish(mode, row, norm)
 
 
@@ -460,8 +466,8 @@ def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, t
         weight = np.empty(nx, np.float32)
         work = simplex_work(perm, hashed)
         _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, c * nrows // nch,
-                      (c + 1) * nrows // nch, -1, -1, weight, freqs, amps, offs, perm, tab,
-                      gain, work, norm)
+                      (c + 1) * nrows // nch, np.int64(-1), np.int64(-1), weight, freqs, amps,
+                      offs, perm, tab, gain, work, norm)
 
 
 def simplex_table(seed, perm, perm12):

@@ -184,7 +184,7 @@ class _Emit:
         self.ny, self.nx = shape[-2], shape[-1]
         self.args = []
         self.P = []
-        self.pre, self.row, self.body, self.funcs = [], [], [], []
+        self.pre, self.block, self.row, self.body, self.funcs = [], [], [], [], []
         self.memo = {}
         self.n = 0
         self.dtype = dtype
@@ -429,7 +429,7 @@ class _Emit:
         norm = self.p(plan.norm)
         self.n += 1
         acc, wt, wk = f"acc{self.n}", f"wt{self.n}", f"wk{self.n}"
-        self.pre += [f"{acc} = np.empty(nx, np.float32)", f"{wt} = np.empty(nx, np.float32)"]
+        self.pre.append(f"{wt} = np.empty(nx, np.float32)")
         col = [np.ascontiguousarray(plan.freqs[:, a]) for a in range(4)]
         if lattice:
             tabs = [_gk32.lattice_tables32(_gk.axis_tables(
@@ -439,25 +439,33 @@ class _Emit:
             xt, yt = self.arg(tabs[0]), self.arg(tabs[1])
             zt = self.arg(tabs[2]) if nd == 3 else yt
             self.pre.append(f"{wk} = _gk32.row_work({xt}, {self.b(_gk32._bl.USE)})")
-            self.row.append(
-                f"_gk32.row_lattice32({self.i(s.kind)}, {self.i(mode)}, {self.i(nd)}, {xt}, "
-                f"{yt}, {zt}, j, m, {acc}, "
+            # a block of rows in one call (a call per row cost more than a short row)
+            self.pre.append(f"{acc} = np.empty((1, {_gk.ROWS}, nx), np.float32)")
+            self.block.append(
+                f"_gk32._lat_rows({self.i(s.kind)}, {self.i(mode)}, {self.i(nd)}, {xt}, "
+                f"{yt}, {zt}, {acc}, rb0, rb1, {self.i(-2)}, ny, "
                 f"{wt}, {amps}, {self.arg(t.perm)}, {self.arg(t.values.astype(f32))}, "
-                f"{self.arg(t.gradients[nd - 2].astype(f32))}, {gain}, {wk})")
+                f"{self.arg(t.gradients[nd - 2].astype(f32))}, {gain}, {wk}, "
+                f"{self.arg(f32(1.0))})")
+            return self.var(f"{acc}[0, r - rb0, i] * {norm}")
         elif s.kind == _k.SIMPLEX:
             ax = [self.arg(a) for a in plan.axes[:3]]
             self.pre.append(f"{wk} = _s32.simplex_work({self.arg(t.perm)}, "
                             f"{self.b(_gk32._bl.USE)})")
             tab = _s32.simplex_table(t.seed, t.perm, t.perm12)
-            self.row.append(
-                f"_s32.row_simplex32({self.i(nd)}, {self.i(mode)}, {ax[0]}, "
+            self.pre.append(f"{acc} = np.empty((1, {_gk.ROWS}, nx), np.float32)")
+            self.block.append(
+                f"_s32._simplex_rows({self.i(nd)}, {self.i(mode)}, {ax[0]}, "
                 f"{self.arg(plan.axes[0].astype(f32))}"
-                f", {ax[1]}, {ax[2]}, j, m, {acc}, {wt}, {self.arg(plan.freqs)}, {amps}, "
-                f"{self.arg(plan.offs)}, {self.arg(t.perm)}, {self.arg(tab)}, {gain}, {wk})")
+                f", {ax[1]}, {ax[2]}, {acc}, rb0, rb1, {self.i(-2)}, ny, {wt}, "
+                f"{self.arg(plan.freqs)}, {amps}, {self.arg(plan.offs)}, {self.arg(t.perm)}, "
+                f"{self.arg(tab)}, {gain}, {wk}, {self.arg(f32(1.0))})")
+            return self.var(f"{acc}[0, r - rb0, i] * {norm}")
         else:
             ax = [self.arg(a) for a in plan.axes[:3]]
             nb = f"nbw{self.n}"
-            self.pre += [f"{wk} = _w32.row_work(nx, 9)", f"{nb} = np.empty(nx, np.float32)"]
+            self.pre += [f"{wk} = _w32.row_work(nx, 9)", f"{nb} = np.empty(nx, np.float32)",
+                         f"{acc} = np.empty(nx, np.float32)"]
             self.row.append(
                 f"_w32.row_worley32({self.i(nd)}, {self.i(mode)}, {ax[0]}, {ax[1]}, {ax[2]}, j, "
                 f"m, {acc}, {wt}, "
@@ -640,11 +648,14 @@ class _Emit:
                  f"    hb = np.empty((8, {_gk.BLOCK}), np.int64)",
                  f"    nb = np.empty({_gk.BLOCK})",
                  *("    " + s for s in self.pre),
-                 f"    for r in range(c0 * {_gk.ROWS}, min(nrows, c1 * {_gk.ROWS})):",
-                 "        j = r % ny", "        m = r // ny",
-                 *("        " + s for s in self.row),
-                 "        for i in range(nx):",
-                 *(ind[4:] + s for s in self.body), *(ind[4:] + s for s in store), ""]
+                 "    for cb in range(c0, c1):",
+                 f"        rb0 = cb * {_gk.ROWS}", f"        rb1 = min(nrows, rb0 + {_gk.ROWS})",
+                 *("        " + s for s in self.block),  # float32 lattice, simplex: blocks
+                 "        for r in range(rb0, rb1):",
+                 "            j = r % ny", "            m = r // ny",
+                 *("            " + s for s in self.row),
+                 "            for i in range(nx):",
+                 *(ind + s for s in self.body), *(ind + s for s in store), ""]
         return "\n".join(lines)
 
 
