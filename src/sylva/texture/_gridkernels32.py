@@ -36,8 +36,11 @@ the scalar hash pass), improved Perlin, simplex, and Worley F1..F3 and their com
 grids with ``time``), tileable simplex (its 4D torus) and domain warping take the float32
 road of :mod:`._points32`.  The rest takes the
 float64 road and is rounded once: Worley's cell id and Poisson process on 2D and 3D grids,
-and its orders above F3.  The row routines (``row_lattice32``, ``row_simplex32``,
-``_worley32.row_worley32``) are also the texture graph's.
+and its orders above F3.  A work item's rows go in one call (:func:`_lat_rows`,
+``_simplex32._simplex_rows``, ``_worley32._worley_rows``: a call per row cost more than a
+short row's work); the texture graph runs its lattice and simplex generators through them a
+block of rows at a time, its Worley generators row by row (``_worley32.row_worley32``;
+:func:`row_lattice32` and ``row_simplex32`` are the one-row forms).
 
 Results differ from the float64 road by float32 rounding only: the difference is below
 ``TOLERANCE`` (absolute, on values normalised to about [-1, 1]); see
