@@ -618,6 +618,20 @@ def _cell_eval(kind, base, cnt, ob, cid, xf, xu, cc, e0, nb):
         s = e
 
 
+@njit(inline="always", **_OPTS)
+def _pick_row(out, r, r0, jfix, mfix):
+    """Row ``r`` of a work item of :func:`_lat_rows` (and ``_simplex32._simplex_rows``): its
+    lattice row ``(j, m)`` and the row it fills — ``out[r // ny, r % ny]`` of a grid
+    (``jfix == -1``), ``out[0, r - r0]`` of a block of an image ``mfix`` rows high
+    (``jfix == -2``), or the one row ``out[0, 0]`` at ``(mfix, jfix)`` (``jfix >= 0``)."""
+    if jfix >= 0:
+        return jfix, mfix, out[0, 0]
+    if jfix == -2:
+        return r % mfix, r // mfix, out[0, r - r0]
+    ny = out.shape[1]
+    return r % ny, r // ny, out[r // ny, r % ny]
+
+
 @njit(**_OPTS)
 def row_lattice32(kind, mode, ndim, xt, yt, zt, j, m, row, weight, amps, perm, vals, grad,
                   gain, work):
@@ -649,20 +663,8 @@ def _lat_rows(kind, mode, ndim, xt, yt, zt, out, r0, r1, jfix, mfix, weight, amp
         for a in range(256):
             bt[a] = perm[a]
         btok[0] = 1
-    ny = out.shape[1]
     for r in range(r0, r1):
-        if jfix >= 0:
-            j = jfix
-            m = mfix
-            row = out[0, 0]
-        elif jfix == -2:  # a block of rows of the image into out[0, :r1 - r0]
-            j = r % mfix
-            m = r // mfix
-            row = out[0, r - r0]
-        else:
-            j = r % ny
-            m = r // ny
-            row = out[m, j]
+        j, m, row = _pick_row(out, r, r0, jfix, mfix)
         nx = row.shape[0]
         if amps.shape[0] == 0:  # no octave (the first octave sets the row, no clearing pass)
             row[:] = ZERO

@@ -48,6 +48,7 @@ from ._gridkernels32 import (
     _combine_block,
     _finish,
     _i32,
+    _pick_row,
 )
 
 
@@ -377,20 +378,8 @@ def _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, r0, r1, jfix, mfix, weight,
     rows high) into ``out[0, :r1 - r0]``: both left unnormalised."""
     bx, by, bz, nb, bf, ba, bk, bc, w0, w1, bb, bt, hashed = work
     tf = tab.reshape(tab.size)
-    ny = out.shape[1]
     for r in range(r0, r1):
-        if jfix >= 0:
-            j = jfix
-            m = mfix
-            row = out[0, 0]
-        elif jfix == -2:  # a block of rows of the image into out[0, :r1 - r0]
-            j = r % mfix
-            m = r // mfix
-            row = out[0, r - r0]
-        else:
-            j = r % ny
-            m = r // ny
-            row = out[m, j]
+        j, m, row = _pick_row(out, r, r0, jfix, mfix)
         nx = row.shape[0]
         if amps.shape[0] == 0:  # no octave (the first octave sets the row, no clearing pass)
             row[:] = ZERO
