@@ -241,3 +241,29 @@ def test_x_tables_in_one_pass_equal_the_numpy_tables(n, octaves, period, interp)
     for g, w in zip(got, want):
         assert g.dtype == w.dtype and g.shape == w.shape
         np.testing.assert_array_equal(g, w)
+
+
+@pytest.mark.parametrize("kind", ["value", "perlin", "improved"])
+@pytest.mark.parametrize("fractal,tile", [("fbm", False), ("ridged", True), ("turbulence", False)])
+def test_lattice_sample_road_row_tables_3d(kind, fractal, tile):
+    # octaves too fine for the cell road on rows of 300 samples: 3D improved and value
+    # noise look their corners up in row tables (every perm[x0] of the row's lattice rows
+    # y0, y1, z0, z1, built once a row and octave: two lookups a sample instead of
+    # fourteen chained ones); classic Perlin keeps its chains.  Each equals the float64
+    # road, which hashes every sample, with and without tiling, over several rows and slices
+    shape = (3, 5, 300)
+    kw = dict(kind=kind, fractal=fractal, octaves=3, scale=(170.0, 2.5, 1.5),
+              offset=(0.3, -1.2, 2.6), tileable=tile, seed=7)
+    a = noise_grid(shape, **kw)
+    b = noise_grid(shape, dtype=np.float64, **kw)
+    assert np.abs(a.astype(np.float64) - b).max() < TOL
+    assert b.std() > 0.05
+    from sylva.texture import _gridkernels as gk
+    from sylva.texture.noise import _setup
+
+    st = _setup(kind, 7, None, "f1", "euclidean", 1.0)
+    xs = np.arange(shape[-1]) * (170.0 / shape[-1])
+    freqs = 2.0 ** np.arange(3)
+    tab = gk.axis_tables(xs, freqs, np.zeros(3), np.zeros(3), st.interp)
+    kspan = gk32.lattice_tables32(tab, st.tables.perm, True)[7]
+    assert (kspan > gk32.KMAX).all()  # every octave by samples

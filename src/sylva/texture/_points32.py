@@ -73,10 +73,11 @@ _TD = (0.3872983346207417, -0.5477225575051661, 0.4472135954999579, 0.5916079783
 def _g16(h, x, y, z):
     """``GRAD16[h & 15] . (x, y, z)`` by selects: improved noise's gradients, and simplex's
     (``GRAD3[g]`` for ``g < 12`` is ``GRAD16[g]``)."""
-    h = h & 15
-    u = x if h < 8 else y
-    v = y if h < 4 else (x if (h == 12) | (h == 14) else z)
-    return (-u if h & 1 else u) + (-v if h & 2 else v)
+    i32 = np.int32
+    h = i32(h & i32(15))  # int32 throughout (numba widens int32 & 15 to int64)
+    u = x if h < i32(8) else y
+    v = y if h < i32(4) else (x if i32(h & i32(13)) == i32(12) else z)  # h is 12 or 14
+    return (-u if i32(h & i32(1)) != i32(0) else u) + (-v if i32(h & i32(2)) != i32(0) else v)
 
 
 @njit(inline="always", **_OPTS)
