@@ -54,6 +54,7 @@ KERNEL_MODULES = {
     "sylva.texture._gridkernels": "noise",
     "sylva.texture._gridkernels32": "noise",
     "sylva.texture._simplex32": "noise",
+    "sylva.texture._lattice4_32": "noise",
     "sylva.texture._cellkernels": "noise",
     "sylva.texture._sampling": "texture",
     "sylva.texture._raster": "texture",

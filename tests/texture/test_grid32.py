@@ -267,3 +267,32 @@ def test_lattice_sample_road_row_tables_3d(kind, fractal, tile):
     tab = gk.axis_tables(xs, freqs, np.zeros(3), np.zeros(3), st.interp)
     kspan = gk32.lattice_tables32(tab, st.tables.perm, True)[7]
     assert (kspan > gk32.KMAX).all()  # every octave by samples
+
+
+@pytest.mark.parametrize("kind", ["value", "perlin", "improved"])
+@pytest.mark.parametrize(
+    "shape,kw",
+    [((3, 4, 6, 120), dict(octaves=4, scale=(8.0, 2.0, 1.5, 1.2))),  # cells, then samples
+     ((2, 3, 4, 300), dict(octaves=2, scale=(150.0, 2.0, 1.5, 1.0), fractal="ridged")),
+     ((2, 3, 5, 64), dict(octaves=3, scale=(6.0, 3.0, 2.0, 2.0), tileable=True,
+                          fractal="turbulence")),
+     ((3, 7, 90), dict(octaves=3, scale=(5.0, 2.0, 1.5), time=0.7))],
+    ids=["cells-samples", "samples-ridged", "tileable", "3d+time"],
+)
+def test_lattice_4d_rows_within_tolerance(monkeypatch, kind, shape, kw):
+    # 4D lattice noise by rows (_lattice4_32): a row's cells hashed once (four or more
+    # samples a cell) or every sample its own cell, the sixteen corners' gradients blended
+    # along y, z, w into a cell's four coefficients; against the float64 road, which
+    # locates and hashes every sample
+    from sylva.texture import _lattice4_32 as l4
+
+    ran = []
+    real_grid = l4.grid4
+    monkeypatch.setattr(l4, "grid4", lambda *a: ran.append(1) or real_grid(*a))
+    kw = dict(kind=kind, seed=9, offset=(0.3, -1.1, 2.2, 0.6), **kw)
+    a = noise_grid(shape, **kw)
+    b = noise_grid(shape, dtype=np.float64, **kw)
+    assert ran and a.dtype == np.float32 and a.shape == b.shape
+    assert np.abs(a.astype(np.float64) - b).max() < TOL
+    assert abs(float(a.std()) - b.std()) < TOL and b.std() > 0.03
+    assert not np.array_equal(a, b.astype(np.float32))  # float32 arithmetic

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from sylva import _jit
+from sylva.texture import _lattice4_32 as l4
 from sylva.texture import _points32 as p32
 from sylva.texture import _worley32 as w32
 from sylva.texture import noise_grid
@@ -69,8 +70,15 @@ def test_4d_grid_float32_within_tolerance(monkeypatch, kind, shape, extra):
     if kind == "simplex" and "tileable" in extra:
         extra = {"fractal": "ridged"}  # simplex tiles 2D images only (its torus)
     calls = _spy(monkeypatch, "grid_kernel")
+    rows = []
+    real = l4.grid4
+    monkeypatch.setattr(l4, "grid4", lambda *a: rows.append(a[0].kind) or real(*a))
     _both(shape, kind=kind, octaves=4, scale=5.0, seed=3, **extra)
-    assert calls and all(c == (False, p32.KINDS[KINDS.index(kind)]) for c in calls)
+    if kind == "simplex":
+        assert calls and all(c == (False, p32.KINDS[KINDS.index(kind)]) for c in calls)
+        assert not rows
+    else:  # 4D lattice noise goes by rows (_lattice4_32), not by points
+        assert not calls and rows == [p32.KINDS[KINDS.index(kind)]]
 
 
 @pytest.mark.parametrize("fractal", ["fbm", "turbulence"])
@@ -138,8 +146,11 @@ def test_worley_cell_id_float32_is_the_float64_cell(extra):
 
 
 def test_roads():
-    assert _road((2, 3, 4, 20)) == "grid"
-    assert _road((3, 4, 20), time=0.5) == "grid"
+    assert _road((2, 3, 4, 20), kind="simplex") == "grid"
+    assert _road((3, 4, 20), kind="simplex", time=0.5) == "grid"
+    for kind in ("value", "perlin", "improved"):  # by rows: _lattice4_32
+        assert _road((2, 3, 4, 20), kind=kind) is None
+        assert _road((3, 4, 20), kind=kind, time=0.5) is None
     assert _road((8, 20), kind="simplex", tileable=True) == "torus"
     assert _road((8, 20), warp=0.5, kind="value") == "warp"
     assert _road((2, 3, 4, 20), kind="worley") is None  # _worley32's rows

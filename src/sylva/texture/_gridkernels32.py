@@ -22,25 +22,24 @@ samples take their cell's coefficients by select chains over ``KMAX`` cells (SIM
 set-up of the chains for each run of whole 16-lane vectors inside those cells, as a literal
 trip count of 16 is unrolled to scalar code), or with AVX-512 by one permute per
 coefficient row for each 16-lane vector (:func:`_cell_eval16`).  Finer octaves keep the
-per-sample road: on rows longer than 128 samples (3D value noise: 256) row tables of the corner hashes (for
-every ``perm[x]``: 2D, and 3D improved and value noise — two lookups a sample instead of
-fourteen chained ones; 3D improved noise 1.4-1.7x over 6 octaves on znver3), then SIMD;
-improved noise's corner gradient indices travel packed, four (2D) or eight (3D) nibbles
-in one int32.  Its gradient selects test ``h & 13 == 12`` for "h is 12 or 14": the ``|``
-of two compares made LLVM pack and unpack masks (the 3D corner pass 4.4 -> 2.5 ns a
-sample).  Integer work inside the SIMD
-loops is int32 throughout (numba widens ``int32 & 15`` to int64, which cuts the lanes to
-4).
+per-sample road: on rows longer than 128 samples (3D value noise: 256) row tables of the
+corner hashes (for every ``perm[x]``: 2D, and 3D improved and value noise — two lookups a
+sample instead of fourteen chained ones; 3D improved noise 1.4-1.7x over 6 octaves on
+znver3), then SIMD; improved noise's corner gradient indices travel packed, four (2D) or
+eight (3D) nibbles in one int32.  Its gradient selects test ``h & 13 == 12`` for "h is
+12 or 14": the ``|`` of two compares made LLVM pack and unpack masks (the 3D corner pass
+4.4 -> 2.5 ns a sample).  Integer work inside the SIMD loops is int32 throughout (numba
+widens ``int32 & 15`` to int64, which cuts the lanes to 4).
 Simplex noise is :mod:`._simplex32` (its corners hashed in byte lanes where the CPU has
 AVX-512 VBMI, else one packed table word a sample; 3D located in float64).
 
 Covered here, 2D and 3D, every fractal sum (fBm, turbulence, ridged) and integer lattice
 periods (``tileable``): value, classic Perlin (its 256 gradients stored into the block by
 the scalar hash pass), improved Perlin, simplex, and Worley F1..F3 and their combinations
-(:mod:`._worley32`, which also takes 4D Worley F1..F3 by rows).  Other 4D grids (and 3D
-grids with ``time``), tileable simplex (its 4D torus) and domain warping take the float32
-road of :mod:`._points32`.  The rest takes the
-float64 road and is rounded once: Worley's cell id and Poisson process on 2D and 3D grids,
+(:mod:`._worley32`, which also takes 4D Worley F1..F3 by rows).  4D lattice grids (and 3D
+grids with ``time``) go by rows too (:mod:`._lattice4_32`); 4D simplex, tileable simplex
+(its 4D torus) and domain warping take the float32 road of :mod:`._points32`.  The rest
+takes the float64 road and is rounded once: Worley's cell id and Poisson process on 2D and 3D grids,
 and its orders above F3.  A work item's rows go in one call (:func:`_lat_rows`,
 ``_simplex32._simplex_rows``, ``_worley32._worley_rows``: a call per row cost more than a
 short row's work); the texture graph runs its lattice and simplex generators through them a
@@ -54,9 +53,12 @@ Results differ from the float64 road by float32 rounding only: the difference is
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit, prange, uint64
 
+from .. import _jit
 from . import _bytelanes as _bl
 from . import _kernels as k
 from ._gridkernels import BLOCK, axis_tables
@@ -953,8 +955,16 @@ def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, 
     ``full``: the grid's (nx, ny, nz, nw)), shape (nz, ny, nx) (4D Worley: (nw, nz, ny,
     nx)), or None where this module has no kernel (:mod:`._points32`'s road, or the
     float64 road, which then runs and rounds)."""
-    if ndim not in (2, 3) and not (ndim == 4 and setup.kind == k.WORLEY):
-        return None  # 4D lattice and simplex noise: :mod:`._points32`
+    lattice = setup.kind in (k.VALUE, k.PERLIN, k.IMPROVED)
+    if ndim not in (2, 3) and not (ndim == 4 and (setup.kind == k.WORLEY or lattice)):
+        return None  # 4D simplex noise: :mod:`._points32`
+    if ndim == 4 and lattice:
+        from ._gridplan import SCALAR_WORK
+        from ._lattice4_32 import grid4, rows4
+
+        if _jit.cold(rows4, math.prod(full), SCALAR_WORK):
+            return None  # small work while the kernel is not compiled: the float64 road
+        return grid4(setup, axes, freqs, amps, offs, pers, mode, norm, gain, full)
     shape3 = (full[2], full[1], full[0]) if ndim < 4 else (full[3], full[2], full[1], full[0])
     t = setup.tables
     a32 = (amps if mode == k.RIDGED else amps * norm).astype(np.float32)

@@ -30,8 +30,9 @@ process).  The same seed gives the same texture on every machine.
 
 Output is float32 unless ``dtype=np.float64``; noise is computed in float64 (bit-exact), but
 float32 :func:`noise_grid` grids in float32 SIMD kernels, within an absolute 2e-4 of the
-float64 road (on values normalised to about [-1, 1]): 2D and 3D grids of every kind
-(``_gridkernels32.TOLERANCE``), and 4D grids (or 3D with ``time``), tileable simplex and
+float64 road (on values normalised to about [-1, 1]): 2D and 3D grids of every kind, and
+4D lattice grids (``_gridkernels32.TOLERANCE``), and 4D simplex and Worley grids (or 3D
+with ``time``), tileable simplex and
 domain-warped grids (``_points32.TOLERANCE``; only a warped 3D or 4D simplex sample that
 rounding moves across a simplex face, where that kernel jumps, can differ by more; one
 octave of 4D Worley cell id is the float64 road's value, ties apart).  Worley's 2D and 3D
