@@ -67,6 +67,8 @@ def _host_has_vbmi() -> bool:
 VBMI = _host_has_vbmi()
 #: AVX-512F (16-lane float permutes, :func:`cell_lerp16`): every VBMI CPU has it
 AVX512 = VBMI or _host_has("avx512f")
+#: AVX2 (8-lane float permutes, ``vpermps``: :func:`cell_lerp8`)
+AVX2 = AVX512 or _host_has("avx2")
 _env = os.environ.get("SYLVA_BYTELANES", "")
 USE = VBMI if _env not in ("0", "1") else _env == "1"
 
@@ -286,6 +288,57 @@ def cell_lerp16(typingctx, cc, stride, cid, cf, xf, xu, out):
         r = b.fadd(a, b.fmul(u, b.fsub(e, a, flags=_CONTRACT), flags=_CONTRACT),
                    flags=_CONTRACT)
         b.store(r, b.inttoptr(pout, _VF.as_pointer()), align=4)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+_VF8 = ir.VectorType(_F32, 8)
+_VI8 = ir.VectorType(_I32, 8)
+
+
+@intrinsic
+def cell_lerp8(typingctx, cc, stride, cid, cf, xf, xu, out):
+    """:func:`cell_lerp16` for 8 samples by AVX2's ``vpermps`` (8-lane float permutes):
+    every ``cid[q] - cf`` must lie in 0..7 (so it does for any 8 samples of a row, whose
+    cell grows by at most one a sample).  Where the target lacks AVX2 it compiles to
+    lane-by-lane extracts (the kernels do not call it there)."""
+    sig = types.void(types.uintp, types.uintp, types.uintp, types.int64, types.uintp,
+                     types.uintp, types.uintp)  # fmt: skip
+
+    def codegen(context, b, signature, args):
+        c0a, st, pcid, cf, pxf, pxu, pout = args
+
+        def ld(addr, ty):
+            return b.load(b.inttoptr(addr, ty.as_pointer()), align=4)
+
+        cfv = b.trunc(cf, _I32)
+        vcf = b.shuffle_vector(
+            b.insert_element(ir.Constant(_VI8, ir.Undefined), cfv, ir.Constant(_I32, 0)),
+            ir.Constant(_VI8, ir.Undefined), ir.Constant(_VI8, [0] * 8))
+        idx = b.sub(ld(pcid, _VI8), vcf)
+        rows = [ld(b.add(c0a, b.mul(st, ir.Constant(st.type, r))), _VF8) for r in range(4)]
+        if AVX2:
+            fn = b.module.declare_intrinsic(
+                "llvm.x86.avx2.permps", fnty=ir.FunctionType(_VF8, [_VF8, _VI8]))
+            c = [b.call(fn, [row, idx]) for row in rows]
+        else:
+            c = []
+            for row in rows:
+                res = ir.Constant(_VF8, ir.Undefined)
+                for q in range(8):
+                    e = b.extract_element(idx, ir.Constant(_I32, q))
+                    res = b.insert_element(res, b.extract_element(row, e), ir.Constant(_I32, q))
+                c.append(res)
+        x = ld(pxf, _VF8)
+        u = ld(pxu, _VF8)
+        one = ir.Constant(_VF8, [1.0] * 8)
+        a = b.fadd(b.fmul(c[0], x, flags=_CONTRACT), c[1], flags=_CONTRACT)
+        x1 = b.fsub(x, one, flags=_CONTRACT)
+        e = b.fadd(b.fmul(c[2], x1, flags=_CONTRACT), c[3], flags=_CONTRACT)
+        r = b.fadd(a, b.fmul(u, b.fsub(e, a, flags=_CONTRACT), flags=_CONTRACT),
+                   flags=_CONTRACT)
+        b.store(r, b.inttoptr(pout, _VF8.as_pointer()), align=4)
         return context.get_dummy_value()
 
     return sig, codegen

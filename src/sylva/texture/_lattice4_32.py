@@ -6,7 +6,7 @@ fractal sum and integer period, by rows as the 2D and 3D lattice noises go: a ro
 ``y, z, w`` fixed, so the noise along it is, inside each lattice cell,
 ``lerp(u, p0 x + q0, p1 (x - 1) + q1)`` — the four coefficients of a cell are the
 blends over ``y, z, w`` of its sixteen corners' gradients (or values).  An octave with
-about four samples a cell or more (:data:`._gridkernels32.KMAX`) hashes each cell of the
+about four samples a cell or more (two with AVX2's permutes: :data:`_KCELL`) hashes each cell of the
 row once (the float64 road's chain ``perm[perm[perm[perm[w] + x] + y] + z]``, scalar;
 kept for the next rows in the same lattice rows), reduces it to its coefficients (SIMD
 across cells) and evaluates its samples by :func:`._gridkernels32._cell_eval`'s select
@@ -26,12 +26,14 @@ from . import _kernels as k
 from ._gridkernels import axis_tables
 from ._gridkernels32 import (
     _OPTS,
+    _PERM8,
     BLOCK,
     I0,
     I1,
     I2,
     I4,
     KMAX,
+    KPERM,
     NOKEY,
     ONE,
     ZERO,
@@ -44,6 +46,9 @@ from ._gridkernels32 import (
     x_tables32,
 )
 
+#: the cell road takes an octave whose 16-sample blocks span at most this many cells (as
+#: :func:`._gridkernels32._lat_rows`: down to two samples a cell with AVX2's permutes)
+_KCELL = KPERM if _PERM8 else KMAX
 _I3 = np.int32(3)
 _I31 = np.int32(31)
 #: ``perm`` for :func:`._gridkernels32.x_tables32`: the x tables hold the lattice indices
@@ -181,7 +186,7 @@ def work4(xt):
     ncell = 1
     nco = 0
     for o in range(no):
-        if kspan[o] <= KMAX and nx > 0:
+        if kspan[o] <= _KCELL and nx > 0:
             coct[o] = nco
             nco += 1
             ncell = max(ncell, cid[o, nx - 1] + 1)
@@ -233,7 +238,7 @@ def rows4(r0, r1, kind, mode, xt, yt, zt, wt, out, amps, perm, vals, grad, norm,
             pw1 = uint64(perm[w1])
             fy, cy, fz, cz, fw, cw = yf[o, j], yv[o, j], zf[o, m], zs[o, m], wf[o, n], ws[o, n]
             first = o == 0
-            if kspan[o] <= KMAX:  # by cells: each cell of the row hashed once
+            if kspan[o] <= _KCELL:  # by cells: each cell of the row hashed once
                 nc = cid[o, nx - 1] + 1
                 ci = coct[o]
                 if (key[o, 0] != y0 or key[o, 1] != y1 or key[o, 2] != z0 or key[o, 3] != z1
