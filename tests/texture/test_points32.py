@@ -9,6 +9,8 @@ import numpy as np
 import pytest
 
 from sylva import _jit
+from sylva.texture import _gridkernels32 as gk32
+from sylva.texture import _kernels as k
 from sylva.texture import _lattice4_32 as l4
 from sylva.texture import _points32 as p32
 from sylva.texture import _worley32 as w32
@@ -106,9 +108,15 @@ def test_tileable_simplex_float32(monkeypatch, extra):
 )
 def test_warp_float32_within_tolerance(monkeypatch, kind, shape, fractal):
     calls = _spy(monkeypatch, "grid_kernel")
+    fields = []
+    real = gk32.grid32
+    monkeypatch.setattr(gk32, "grid32", lambda *a: fields.append(a[7]) or real(*a))
     _both(shape, kind=kind, fractal=fractal, octaves=3, scale=5.0, seed=2, warp=0.8)
-    # the warp field of each axis, then the warped noise, on rows of points
-    assert calls == [(True, p32.KINDS[KINDS.index(kind)])] * (len(shape) + 1)
+    # the warp field of each axis is fBm on the grid's own points: the grid roads take it
+    # (but 4D simplex, which has none), then the warped noise goes on rows of points
+    on_grid = not (kind == "simplex" and len(shape) == 4)
+    assert fields == [k.FBM] * len(shape)
+    assert calls == [(True, p32.KINDS[KINDS.index(kind)])] * (1 + len(shape) * (not on_grid))
 
 
 @pytest.mark.parametrize(
@@ -127,7 +135,9 @@ def test_worley_float32_within_tolerance(monkeypatch, shape, extra):
     real = w32.worley_grid32
     monkeypatch.setattr(w32, "worley_grid32", lambda *a: rows.append(a[0]) or real(*a))
     _both(shape, kind="worley", octaves=3, scale=5.0, seed=3, **extra)
-    if "warp" in extra or extra.get("output") == "cell":  # points, Worley's kind
+    if "warp" in extra:  # the warp fields (F1..F3) by rows on the grid, then the points
+        assert calls == [(True, 4)] and rows == [len(shape)] * len(shape)
+    elif extra.get("output") == "cell":  # points, Worley's kind
         assert calls and all(c[1] == 4 for c in calls) and not rows
     else:  # F1..F3 of a 4D grid (3D with time) go by rows, as in 2D and 3D
         assert rows == [4] and not calls

@@ -820,6 +820,26 @@ def road(plan, warp) -> str | None:
     return "grid" if plan.ndim == 4 else None
 
 
+def _field(ws, plan, axes, pts, n):
+    """One warp field (fBm of the kind with the setup ``ws``) at the grid's own points,
+    flat as ``pts``.  Those are a regular grid, so the grid roads of
+    :mod:`._gridkernels32` take it where they have a kernel (2D and 3D of every kind, 4D
+    lattice noise; while they are not compiled, small work stays here): a warped 2D
+    improved grid then costs one pass of points instead of three."""
+    from . import _gridkernels32 as gk32
+    from ._gridplan import SCALAR_WORK
+
+    ndim = plan.ndim
+    if not _jit.cold(gk32.lattice_grid32, n, SCALAR_WORK):
+        full = tuple(len(a) for a in axes[:4])
+        g = gk32.grid32(ws, ndim, axes, plan.freqs, plan.amps, plan.offs, plan.pers, k.FBM,
+                        plan.norm, plan.gain, False, full)
+        if g is not None:
+            return g.reshape(-1)
+    wtail, wa32 = _tables(ws, ndim, k.FBM, plan.amps, plan.norm, plan.gain)
+    return _points(ws.kind, k.FBM, ndim, pts, plan.freqs, wa32, plan.offs, plan.pers, wtail)
+
+
 def grid32(plan, warp, setup):
     """The float32 road of :func:`.noise.noise_grid` for ``plan`` (4D grids, tileable
     simplex, domain warping; ``setup(seed)``: the noise set-up of another seed, for the
@@ -853,8 +873,7 @@ def grid32(plan, warp, setup):
     warped = []
     for a in range(ndim):  # the warp fields: fBm of the kind, with the axis's seed
         ws = setup(base + 7919 * (a + 1))  # the float64 road's seeds
-        wtail, wa32 = _tables(ws, ndim, k.FBM, plan.amps, plan.norm, plan.gain)
-        d = _points(ws.kind, k.FBM, ndim, pts, freqs, wa32, offs, pers, wtail)
+        d = _field(ws, plan, axes, pts, n)
         warped.append(pts[a] + float(warp) * d.astype(np.float64))
     warped += pts[ndim:]
     out = _points(s.kind, mode, ndim, warped, freqs, a32, offs, pers, tail)
