@@ -239,9 +239,55 @@ def lattice2_hash(typingctx, tab, rows, stride, y0, y1):
 
 
 _F32 = ir.FloatType()
-_VF = ir.VectorType(_F32, 16)
-_VI = ir.VectorType(_I32, 16)
 _CONTRACT = ("contract",)
+
+
+def _cell_lerp_codegen(lanes, permute, name):
+    """IR of :func:`cell_lerp16` / :func:`cell_lerp8`: ``lanes`` samples, the cells'
+    coefficients by ``permute`` (whether the target has the instruction ``name``) or by
+    lane-by-lane extracts (they compile everywhere; the kernels do not call them there)."""
+    vf = ir.VectorType(_F32, lanes)
+    vi = ir.VectorType(_I32, lanes)
+
+    def codegen(context, b, signature, args):
+        c0a, st, pcid, cf, pxf, pxu, pout = args
+
+        def ld(addr, ty):
+            return b.load(b.inttoptr(addr, ty.as_pointer()), align=4)
+
+        cfv = b.trunc(cf, _I32)
+        vcf = b.shuffle_vector(
+            b.insert_element(ir.Constant(vi, ir.Undefined), cfv, ir.Constant(_I32, 0)),
+            ir.Constant(vi, ir.Undefined), ir.Constant(vi, [0] * lanes))
+        idx = b.sub(ld(pcid, vi), vcf)
+        rows = [ld(b.add(c0a, b.mul(st, ir.Constant(st.type, r))), vf) for r in range(4)]
+        if permute:
+            fn = b.module.declare_intrinsic(name, fnty=ir.FunctionType(vf, [vf, vi]))
+            c = [b.call(fn, [row, idx]) for row in rows]
+        else:
+            c = []
+            for row in rows:
+                res = ir.Constant(vf, ir.Undefined)
+                for q in range(lanes):
+                    e = b.extract_element(idx, ir.Constant(_I32, q))
+                    res = b.insert_element(res, b.extract_element(row, e), ir.Constant(_I32, q))
+                c.append(res)
+        x = ld(pxf, vf)
+        u = ld(pxu, vf)
+        one = ir.Constant(vf, [1.0] * lanes)
+        a = b.fadd(b.fmul(c[0], x, flags=_CONTRACT), c[1], flags=_CONTRACT)
+        x1 = b.fsub(x, one, flags=_CONTRACT)
+        e = b.fadd(b.fmul(c[2], x1, flags=_CONTRACT), c[3], flags=_CONTRACT)
+        r = b.fadd(a, b.fmul(u, b.fsub(e, a, flags=_CONTRACT), flags=_CONTRACT),
+                   flags=_CONTRACT)
+        b.store(r, b.inttoptr(pout, vf.as_pointer()), align=4)
+        return context.get_dummy_value()
+
+    return codegen
+
+
+_CELL_SIG = types.void(types.uintp, types.uintp, types.uintp, types.int64, types.uintp,
+                       types.uintp, types.uintp)
 
 
 @intrinsic
@@ -252,96 +298,15 @@ def cell_lerp16(typingctx, cc, stride, cid, cf, xf, xu, out):
     (AVX-512F) instead of select chains, and writes ``lerp(u, p0 x + q0, p1 (x - 1) +
     q1)`` (``x = xf[q]``, ``u = xu[q]``) to ``out``.  ``cid``, ``xf``, ``xu``, ``out``:
     addresses of 16 int32 / float32; every ``cid[q] - cf`` must lie in 0..15."""
-    sig = types.void(types.uintp, types.uintp, types.uintp, types.int64, types.uintp,
-                     types.uintp, types.uintp)  # fmt: skip
-
-    def codegen(context, b, signature, args):
-        c0a, st, pcid, cf, pxf, pxu, pout = args
-
-        def ld(addr, ty):
-            return b.load(b.inttoptr(addr, ty.as_pointer()), align=4)
-
-        cfv = b.trunc(cf, _I32)
-        vcf = b.shuffle_vector(
-            b.insert_element(ir.Constant(_VI, ir.Undefined), cfv, ir.Constant(_I32, 0)),
-            ir.Constant(_VI, ir.Undefined), ir.Constant(_VI, [0] * 16))
-        idx = b.sub(ld(pcid, _VI), vcf)
-        rows = [ld(b.add(c0a, b.mul(st, ir.Constant(st.type, r))), _VF) for r in range(4)]
-        if AVX512:
-            fn = b.module.declare_intrinsic(
-                "llvm.x86.avx512.permvar.sf.512", fnty=ir.FunctionType(_VF, [_VF, _VI]))
-            c = [b.call(fn, [row, idx]) for row in rows]
-        else:  # compiles everywhere; the kernels take the select chains there
-            c = []
-            for row in rows:
-                res = ir.Constant(_VF, ir.Undefined)
-                for q in range(16):
-                    e = b.extract_element(idx, ir.Constant(_I32, q))
-                    res = b.insert_element(res, b.extract_element(row, e), ir.Constant(_I32, q))
-                c.append(res)
-        x = ld(pxf, _VF)
-        u = ld(pxu, _VF)
-        one = ir.Constant(_VF, [1.0] * 16)
-        a = b.fadd(b.fmul(c[0], x, flags=_CONTRACT), c[1], flags=_CONTRACT)
-        x1 = b.fsub(x, one, flags=_CONTRACT)
-        e = b.fadd(b.fmul(c[2], x1, flags=_CONTRACT), c[3], flags=_CONTRACT)
-        r = b.fadd(a, b.fmul(u, b.fsub(e, a, flags=_CONTRACT), flags=_CONTRACT),
-                   flags=_CONTRACT)
-        b.store(r, b.inttoptr(pout, _VF.as_pointer()), align=4)
-        return context.get_dummy_value()
-
-    return sig, codegen
-
-
-_VF8 = ir.VectorType(_F32, 8)
-_VI8 = ir.VectorType(_I32, 8)
+    return _CELL_SIG, _cell_lerp_codegen(16, AVX512, "llvm.x86.avx512.permvar.sf.512")
 
 
 @intrinsic
 def cell_lerp8(typingctx, cc, stride, cid, cf, xf, xu, out):
     """:func:`cell_lerp16` for 8 samples by AVX2's ``vpermps`` (8-lane float permutes):
     every ``cid[q] - cf`` must lie in 0..7 (so it does for any 8 samples of a row, whose
-    cell grows by at most one a sample).  Where the target lacks AVX2 it compiles to
-    lane-by-lane extracts (the kernels do not call it there)."""
-    sig = types.void(types.uintp, types.uintp, types.uintp, types.int64, types.uintp,
-                     types.uintp, types.uintp)  # fmt: skip
-
-    def codegen(context, b, signature, args):
-        c0a, st, pcid, cf, pxf, pxu, pout = args
-
-        def ld(addr, ty):
-            return b.load(b.inttoptr(addr, ty.as_pointer()), align=4)
-
-        cfv = b.trunc(cf, _I32)
-        vcf = b.shuffle_vector(
-            b.insert_element(ir.Constant(_VI8, ir.Undefined), cfv, ir.Constant(_I32, 0)),
-            ir.Constant(_VI8, ir.Undefined), ir.Constant(_VI8, [0] * 8))
-        idx = b.sub(ld(pcid, _VI8), vcf)
-        rows = [ld(b.add(c0a, b.mul(st, ir.Constant(st.type, r))), _VF8) for r in range(4)]
-        if AVX2:
-            fn = b.module.declare_intrinsic(
-                "llvm.x86.avx2.permps", fnty=ir.FunctionType(_VF8, [_VF8, _VI8]))
-            c = [b.call(fn, [row, idx]) for row in rows]
-        else:
-            c = []
-            for row in rows:
-                res = ir.Constant(_VF8, ir.Undefined)
-                for q in range(8):
-                    e = b.extract_element(idx, ir.Constant(_I32, q))
-                    res = b.insert_element(res, b.extract_element(row, e), ir.Constant(_I32, q))
-                c.append(res)
-        x = ld(pxf, _VF8)
-        u = ld(pxu, _VF8)
-        one = ir.Constant(_VF8, [1.0] * 8)
-        a = b.fadd(b.fmul(c[0], x, flags=_CONTRACT), c[1], flags=_CONTRACT)
-        x1 = b.fsub(x, one, flags=_CONTRACT)
-        e = b.fadd(b.fmul(c[2], x1, flags=_CONTRACT), c[3], flags=_CONTRACT)
-        r = b.fadd(a, b.fmul(u, b.fsub(e, a, flags=_CONTRACT), flags=_CONTRACT),
-                   flags=_CONTRACT)
-        b.store(r, b.inttoptr(pout, _VF8.as_pointer()), align=4)
-        return context.get_dummy_value()
-
-    return sig, codegen
+    cell grows by at most one a sample)."""
+    return _CELL_SIG, _cell_lerp_codegen(8, AVX2, "llvm.x86.avx2.permps")
 
 
 def _chain_codegen(order, extra):

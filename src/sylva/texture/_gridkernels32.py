@@ -834,13 +834,10 @@ def _lat_rows(kind, mode, ndim, xt, yt, zt, out, r0, r1, jfix, mfix, weight, amp
 
 
 @njit(**_OPTS)
-def row_work(xt, hashed):
-    """Block buffers of :func:`row_lattice32` for the x tables ``xt`` (one set per work
-    item: the cell road keeps each octave's cell corners, ``cv``/``cg``, for the next row
-    in the same lattice rows, ``key`` their ``(y0, y1, z0, z1)``); ``hashed``: the
-    AVX-512 roads of :mod:`._bytelanes` — improved noise hashes its samples in byte lanes
-    (``lb``, and ``bt``: perm as bytes once the first row has filled it) and the cell
-    road picks its cells' coefficients by permutes, down to :data:`KPERM`."""
+def cell_octaves(xt, kcell):
+    """The octaves of the x tables ``xt`` that go by cells (their 16-sample blocks span at
+    most ``kcell`` cells): ``coct`` (each octave's ordinal among them, or -1), their count
+    and the most cells a row of them has (at least 1)."""
     cid = xt[4]
     kspan = xt[7]
     no, nx = cid.shape
@@ -848,10 +845,23 @@ def row_work(xt, hashed):
     ncell = 1
     nco = 0
     for o in range(no):
-        if kspan[o] <= (KPERM if hashed or _PERM8 else KMAX) and nx > 0:
+        if kspan[o] <= kcell and nx > 0:
             coct[o] = nco
             nco += 1
             ncell = max(ncell, cid[o, nx - 1] + 1)
+    return coct, nco, ncell
+
+
+@njit(**_OPTS)
+def row_work(xt, hashed):
+    """Block buffers of :func:`row_lattice32` for the x tables ``xt`` (one set per work
+    item: the cell road keeps each octave's cell corners, ``cv``/``cg``, for the next row
+    in the same lattice rows, ``key`` their ``(y0, y1, z0, z1)``); ``hashed``: the
+    AVX-512 roads of :mod:`._bytelanes` — improved noise hashes its samples in byte lanes
+    (``lb``, and ``bt``: perm as bytes once the first row has filled it) and the cell
+    road picks its cells' coefficients by permutes, down to :data:`KPERM`."""
+    coct, nco, ncell = cell_octaves(xt, KPERM if hashed or _PERM8 else KMAX)
+    no = coct.shape[0]
     nh = max(BLOCK, ncell)
     return (
         np.empty((8, nh), np.int32),

@@ -42,6 +42,7 @@ from ._gridkernels32 import (
     _finish,
     _i32,
     _lerp,
+    cell_octaves,
     lattice_tables32,
     x_tables32,
 )
@@ -179,17 +180,8 @@ def work4(xt):
     """The buffers of :func:`rows4` for the x tables ``xt`` (one set per work item; the
     cell road keeps each octave's hashed cells for the next row in the same lattice rows,
     ``key`` their ``(y0, y1, z0, z1, w0, w1)``)."""
-    cid = xt[4]
-    kspan = xt[7]
-    no, nx = cid.shape
-    coct = np.full(no, -1, np.int32)
-    ncell = 1
-    nco = 0
-    for o in range(no):
-        if kspan[o] <= _KCELL and nx > 0:
-            coct[o] = nco
-            nco += 1
-            ncell = max(ncell, cid[o, nx - 1] + 1)
+    coct, nco, ncell = cell_octaves(xt, _KCELL)
+    no = coct.shape[0]
     n = max(BLOCK, ncell)
     m = max(nco, 1)
     b = _pad(BLOCK)
