@@ -43,6 +43,21 @@ def test_float32_road_within_tolerance_of_float64(shape, kind, fractal, octaves)
     assert b.std() > 0.05  # a real pattern, not a constant
 
 
+@pytest.mark.parametrize(
+    "offset",
+    [(3e9, 1.5, 2.5), (0.5, -3e9, 2.5), (0.5, 1.5, 7e9), (2.0**26 + 0.3, 0.7, -1.2)],
+    ids=["x", "y", "z", "octaves-cross"],
+)
+def test_3d_simplex_far_from_the_origin(offset):
+    # the 3D locate converts cells to int32 below 2^29 and takes the float64 road's exact
+    # "& 255" beyond (in the last case the finer of six octaves cross the bound)
+    kw = dict(kind="simplex", octaves=6, scale=24.0, seed=5, offset=offset)
+    a = noise_grid((3, 5, 300), **kw)
+    b = noise_grid((3, 5, 300), dtype=np.float64, **kw)
+    assert np.abs(a.astype(np.float64) - b).max() < TOL
+    assert b.std() > 0.05
+
+
 def test_float32_road_is_the_default_and_float64_keeps_its_road(monkeypatch):
     calls = []
     real = gk32.lattice_grid32

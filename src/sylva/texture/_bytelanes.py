@@ -397,3 +397,55 @@ def _splat8(b, v):
     vec = b.insert_element(ir.Constant(_V, ir.Undefined), x, ir.Constant(_I32, 0))
     return b.shuffle_vector(vec, ir.Constant(_V, ir.Undefined),
                             ir.Constant(ir.VectorType(_I32, LANES), [0] * LANES))
+
+
+# -- bit helpers for float32 lanes ---------------------------------------------------------
+# Scalar intrinsics that LLVM's loop vectoriser widens to one instruction a lane vector:
+# numba has no bit casts between float32 and int32, and it types int32 shifts as int64
+# (half the lanes), so a sign flip cost a negation and a select, a variable shift a
+# select chain.
+
+
+def _i32_binop(op):
+    def binop(typingctx, a, n):
+        sig = types.int32(types.int32, types.int32)
+
+        def codegen(context, b, signature, args):
+            return op(b, args[0], b.and_(args[1], ir.Constant(_I32, 31)))
+
+        return sig, codegen
+
+    return binop
+
+
+_F32 = ir.FloatType()
+
+#: ``a >> n`` (logical, int32, n taken mod 32): ``vpsrlvd`` / ``vpsrld``
+srl32 = intrinsic(_i32_binop(lambda b, a, n: b.lshr(a, n)))
+#: ``a >> n`` (arithmetic, int32, n mod 32)
+sar32 = intrinsic(_i32_binop(lambda b, a, n: b.ashr(a, n)))
+#: ``a << n`` (int32, n mod 32)
+shl32 = intrinsic(_i32_binop(lambda b, a, n: b.shl(a, n)))
+
+
+@intrinsic
+def xorf(typingctx, x, bits):
+    """float32 ``x`` with its bits xor ``bits``: ``-x`` where ``bits`` is the sign bit,
+    ``x`` where 0 (one ``vxorps``)."""
+    sig = types.float32(types.float32, types.int32)
+
+    def codegen(context, b, signature, args):
+        return b.bitcast(b.xor(b.bitcast(args[0], _I32), args[1]), _F32)
+
+    return sig, codegen
+
+
+@intrinsic
+def andf(typingctx, x, mask):
+    """float32 ``x`` where ``mask`` is -1, 0.0 where 0 (one ``vandps``)."""
+    sig = types.float32(types.float32, types.int32)
+
+    def codegen(context, b, signature, args):
+        return b.bitcast(b.and_(b.bitcast(args[0], _I32), args[1]), _F32)
+
+    return sig, codegen

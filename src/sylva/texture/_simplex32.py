@@ -42,8 +42,6 @@ from ._gridkernels32 import (
     R3,
     S2,
     S3,
-    THREE,
-    TWO,
     ZERO,
     _combine_block,
     _finish,
@@ -51,30 +49,43 @@ from ._gridkernels32 import (
     _pick_row,
 )
 
+_C28 = np.int32(28)
+_C30 = np.int32(30)
+_C31 = np.int32(31)
+_SIGN = np.int32(-(2**31))
+_M1 = np.int32(-1)
+_N16 = np.int32(16)
+#: coordinates beyond this take the exact ``& 255`` of the float64 road (floor-based)
+#: instead of an int32 conversion: ``floor(x + s)`` stays within int32 below it
+_BIG = 2.0**29
+
 
 @njit(inline="always", **_OPTS)
 def _g12(g, x, y, z):
-    """``GRAD3[g] . (x, y, z)`` for g in 0..11 (Gustavson's twelve edge gradients, the
-    first twelve of Perlin's improved-noise ``grad``: ``±u ± v`` with u = x for g < 8 else
-    y, v = y for g < 4 else z): two selects and two sign flips on int32 lanes instead of
-    three component selects and multiplies (the 3D simplex corner pass 5.9 -> 3.7 ns a
-    sample on znver3)."""
-    u = x if g < I8 else y
-    v = y if g < I4 else z
-    return (-u if _i32(g & I1) != I0 else u) + (-v if _i32(g & I2) != I0 else v)
+    """``GRAD3[g] . (x, y, z)`` for g in 0..11 (int32; Gustavson's twelve edge gradients,
+    the first twelve of Perlin's improved-noise ``grad``: ``±u ± v`` with u = x for g < 8
+    else y, v = y for g < 4 else z): two selects (bit 3 by its sign after a shift), and
+    the signs, bits 0 and 1, xor-ed into the float bits (:func:`._bytelanes.xorf`) instead
+    of a negation and a select each."""
+    u = y if _bl.shl32(g, _C28) < I0 else x
+    v = z if g >= I4 else y
+    return _bl.xorf(u, _bl.shl32(g, _C31)) + _bl.xorf(v, _i32(_bl.shl32(g, _C30) & _SIGN))
 
 
 @njit(inline="always", **_OPTS)
 def _g12_2(g, x, y):
     """:func:`_g12` with z = 0 (2D simplex: ``GRAD3[g, :2] . (x, y)``)."""
-    u = x if g < I8 else y
-    v = y if g < I4 else ZERO
-    return (-u if _i32(g & I1) != I0 else u) + (-v if _i32(g & I2) != I0 else v)
+    u = y if _bl.shl32(g, _C28) < I0 else x
+    v = ZERO if g >= I4 else y
+    return _bl.xorf(u, _bl.shl32(g, _C31)) + _bl.xorf(v, _i32(_bl.shl32(g, _C30) & _SIGN))
 
 
 #: row stride of :func:`simplex_table` (``tab[i * TAB_STRIDE + m]``)
-TAB_STRIDE = 512
+TAB_STRIDE = 256
 _N15 = np.int32(15)
+_N255 = np.int32(255)
+_N65535 = np.int32(65535)
+_ROW = np.int32(0xFF00)  # bits 8..15 of a packed word: the table row i & 255
 # rows of the byte-lane work buffer ``bb`` (:func:`simplex_work`): the cell's i, j, k & 255,
 # the code of the middle corners' offsets (3D: :func:`_code3`; 2D: the middle corner is
 # (1, 0)), the corners' gradient indices (:func:`._bytelanes.simplex3_hash`, ``simplex2_hash``)
@@ -94,17 +105,15 @@ def _s2_cell(xin, yin):
 
 
 @njit(**_OPTS)
-def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, bc, ba):
+def _s2_locate(xs, base, cnt, fx, ox, yin, bx, by, ba):
     """SIMD pass: skew, find the simplex of samples ``base..base + cnt``, and the flat
     address of its cell's packed corners in :func:`simplex_table` (``ba``)."""
     b0 = uint64(base)
-    st = np.int32(TAB_STRIDE)
     for q in range(cnt):
         x0, y0, fi, fj = _s2_cell(xs[b0 + uint64(q)] * fx + ox, yin)
         bx[q] = x0
         by[q] = y0
-        bc[q] = np.int32(x0 > y0)
-        ba[q] = (np.int32(fi) & 255) * st + (np.int32(fj) & 255)
+        ba[q] = _i32(_i32(_i32(np.int32(fi) & _N255) << I8) | _i32(np.int32(fj) & _N255))
 
 
 @njit(**_OPTS)
@@ -158,24 +167,23 @@ def _s2_eval_b(cnt, bx, by, bb, nb, ob, amp):
 @njit(**_OPTS)
 def _gather(cnt, tab, ba, bw):
     """Scalar pass: one load a sample, ``bw = tab[ba]`` (LLVM emits no vector gathers for
-    this CPU, and ``vpgatherdd`` measured only ~10% faster here)."""
+    this CPU, and ``vpgatherdd`` measured slower than these loads on znver3)."""
     for q in range(cnt):
-        bw[q] = tab[uint64(ba[q])]
+        bw[q] = np.int32(tab[uint64(ba[q])])
 
 
 @njit(**_OPTS)
-def _s2_eval(cnt, bx, by, bc, bw, nb, ob, amp):
+def _s2_eval(cnt, bx, by, bw, nb, ob, amp):
     """SIMD pass: the three corner contributions, gradient indices from the packed cell
     corners, the gradients' dot products by selects (:func:`_g12_2`), times ``amp`` into
     ``nb[ob:]`` (the block buffer with ``amp`` 1, or the first fBm octave's row)."""
     for q in range(cnt):
         x0 = bx[q]
         y0 = by[q]
-        c = bc[q]
         w = bw[q]
-        i1 = _F(c)
-        x1 = x0 - i1 + G2
-        y1 = y0 - (ONE - i1) + G2
+        m = _i32(-np.int32(x0 > y0))  # the middle corner is (1, 0)
+        x1 = x0 - _bl.andf(ONE, m) + G2
+        y1 = y0 - _bl.andf(ONE, _i32(m ^ _M1)) + G2
         x2 = x0 + G2X2
         y2 = y0 + G2X2
         t0 = max(R2 - x0 * x0 - y0 * y0, ZERO)
@@ -184,20 +192,12 @@ def _s2_eval(cnt, bx, by, bc, bw, nb, ob, amp):
         t0 *= t0
         t1 *= t1
         t2 *= t2
-        a = np.int32(w & _N15)
-        # corner (1, 0) is nibble 2, (0, 1) nibble 1 (constant shifts and a select: a
-        # variable shift would be int64 in numba, half the lanes)
-        b = np.int32(((w >> np.int32(8)) if c else (w >> np.int32(4))) & _N15)
-        d = np.int32(w >> np.int32(12))
-        n = t0 * t0 * _g12_2(a, x0, y0)
+        # corner (1, 0) is nibble 2, (0, 1) nibble 1: one variable shift (vpsrlvd)
+        b = _i32(_bl.srl32(w, _i32(I4 + _i32(m & I4))) & _N15)
+        n = t0 * t0 * _g12_2(_i32(w & _N15), x0, y0)
         n += t1 * t1 * _g12_2(b, x1, y1)
-        n += t2 * t2 * _g12_2(d, x2, y2)
+        n += t2 * t2 * _g12_2(_bl.srl32(w, np.int32(12)), x2, y2)
         nb[ob + uint64(q)] = amp * (S2 * n)
-
-
-@njit(inline="always", cache=True, error_model="numpy")
-def _bit(cond):
-    return 1.0 if cond else 0.0
 
 
 @njit(inline="always", cache=True, error_model="numpy")
@@ -215,33 +215,40 @@ def _s3_cell64(xin, yin, zin):
     return x0, y0, z0, x0 >= y0, y0 >= z0, x0 >= z0, fi, fj, fk
 
 
+@njit(inline="always", cache=True, error_model="numpy")
+def _low8(f, big):
+    """``int(f) & 255`` of an integral float64: by an int32 conversion, or where the
+    coordinates may leave int32 (``big``) exactly, as the float64 road takes it."""
+    if big:
+        f = f - 256.0 * np.floor(f * (1.0 / 256.0))
+    return _i32(np.int32(f) & _N255)
+
+
 @njit(**_OPTS64)  # no fast-math: the float64 road's roundings
-def _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk):
-    """SIMD pass, in float64 (``xs``, ``fx`` ... ``zin``): Gustavson's 3D kernel
-    (r² = 0.6) jumps by up to 1e-2 across simplex faces, so the simplex must be the one
-    the float64 road picks.  Into float32 rows: the offsets ``x0, y0, z0`` (rounded) and
-    the ranks ``rx, ry`` of ``x0, y0`` among the three (``bf``; Gustavson's six-way
-    choice, as :func:`._kernels.simplex3`); the cell's :func:`simplex_table` address but
-    for ``perm[k]`` into ``ba``, ``k & 255`` into ``bk``."""
+def _s3_locate(xo, base, cnt, yin, zin, big, bx, by, bz, ba):
+    """SIMD pass, in float64 (``xo``: the octave's x coordinates, ``yin``, ``zin``):
+    Gustavson's 3D kernel (r² = 0.6) jumps by up to 1e-2 across simplex faces, so the
+    simplex must be the one the float64 road picks.  Into float32 rows: the offsets
+    ``x0, y0, z0`` (rounded); into ``ba`` one word: ``i & 255`` in bits 8..15, ``j & 255``
+    in 0..7 (the cell's :func:`simplex_table` row and column but for ``perm[k]``),
+    ``k & 255`` in 16..23 and the comparisons ``x0 >= y0``, ``y0 >= z0``, ``x0 >= z0`` of
+    Gustavson's six-way choice in bits 24, 25, 26 (one store, not six)."""
     b0 = uint64(base)
     for q in range(cnt):
-        x0, y0, z0, ca, cb, cc, fi, fj, fk = _s3_cell64(xs[b0 + uint64(q)] * fx + ox, yin, zin)
+        x0, y0, z0, ca, cb, cc, fi, fj, fk = _s3_cell64(xo[b0 + uint64(q)], yin, zin)
         bx[q] = x0
         by[q] = y0
         bz[q] = z0
-        bf[0, q] = _bit(ca) + _bit(cc)
-        bf[1, q] = 1.0 - _bit(ca) + _bit(cb)
-        ii = fi - 256.0 * np.floor(fi * (1.0 / 256.0))  # i & 255, exactly
-        jj = fj - 256.0 * np.floor(fj * (1.0 / 256.0))
-        ba[q] = np.int32(ii * TAB_STRIDE + jj)
-        bk[q] = np.int32(fk - 256.0 * np.floor(fk * (1.0 / 256.0)))
+        c = (np.int64(ca) << 24) | (np.int64(cb) << 25) | (np.int64(cc) << 26)
+        ba[q] = (np.int32(c) | (_low8(fi, big) << I8) | _low8(fj, big)
+                 | (_low8(fk, big) << np.int32(16)))
 
 
 @njit(inline="always", **_OPTS)
 def _code3(ca, cb, cc):
     """Corners 1 and 2's offsets ``i1 | j1 << 1 | k1 << 2 | i2 << 3 | j2 << 4 | k2 << 5``
     from the comparisons ``x0 >= y0``, ``y0 >= z0``, ``x0 >= z0``: Gustavson's six-way
-    choice, as :func:`_ranks3` from the ranks.  Bitwise, not ``and`` / ``or``:
+    choice, as :func:`_s3_eval` takes it from the comparisons.  Bitwise, not ``and`` / ``or``:
     short-circuits are branches, which LLVM does not vectorise."""
     i = _i32
     return np.uint8(i(ca & cc) | i(cb & (not ca)) << I1 | i(not (cb | cc)) << I2
@@ -250,12 +257,12 @@ def _code3(ca, cb, cc):
 
 
 @njit(**_OPTS64)  # no fast-math: the float64 road's roundings
-def _s3_locate_b(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bb):
+def _s3_locate_b(xo, base, cnt, yin, zin, bx, by, bz, bb):
     """:func:`_s3_locate` for the byte-lane road: the cell and the code of its corners
-    (:func:`_code3`) into the byte rows of ``bb`` instead of a table address and ranks."""
+    (:func:`_code3`) into the byte rows of ``bb`` instead of one packed word."""
     b0 = uint64(base)
     for q in range(cnt):
-        x0, y0, z0, ca, cb, cc, fi, fj, fk = _s3_cell64(xs[b0 + uint64(q)] * fx + ox, yin, zin)
+        x0, y0, z0, ca, cb, cc, fi, fj, fk = _s3_cell64(xo[b0 + uint64(q)], yin, zin)
         bx[q] = x0
         by[q] = y0
         bz[q] = z0
@@ -266,24 +273,18 @@ def _s3_locate_b(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bb):
 
 
 @njit(**_OPTS)
-def _s3_gather(cnt, tab, perm, ba, bk, w0, w1):
-    """Scalar pass: the packed corners of the cell's two z planes, rows ``j + perm[k]``
-    and ``j + perm[k + 1]`` of :func:`simplex_table`."""
-    one = uint64(1)
+def _s3_gather(cnt, tab, pk, ba, bw):
+    """Scalar pass: the packed corners of the cell's two z planes, columns
+    ``j + perm[k]`` and ``j + perm[k + 1]`` (mod 256) of row ``i`` of :func:`simplex_table`,
+    in one word (plane k + 1 in the high half); ``pk[k]``: ``perm[k] | perm[k + 1] << 16``."""
     for q in range(cnt):
-        kk = uint64(bk[q])
-        a = uint64(ba[q])
-        w0[q] = tab[a + uint64(perm[kk])]
-        w1[q] = tab[a + uint64(perm[kk + one])]
-
-
-@njit(inline="always", **_OPTS)
-def _ranks3(rx, ry):
-    """Corners 1 and 2's offsets ``(i1, j1, k1, i2, j2, k2)`` from the ranks (float32)."""
-    rz = THREE - rx - ry
-    return (ONE if rx >= TWO else ZERO, ONE if ry >= TWO else ZERO,
-            ONE if rz >= TWO else ZERO, ONE if rx >= ONE else ZERO,
-            ONE if ry >= ONE else ZERO, ONE if rz >= ONE else ZERO)
+        a = ba[q]
+        p = pk[uint64(_i32(a >> _N16) & _N255)]
+        row = _i32(a & _ROW)
+        c0 = _i32(_i32(a + _i32(p & _N65535)) & _N255)
+        c1 = _i32(_i32(a + _i32(p >> _N16)) & _N255)
+        bw[q] = _i32(np.int32(tab[uint64(row | c0)])
+                     | _i32(np.int32(tab[uint64(row | c1)]) << _N16))
 
 
 @njit(inline="always", **_OPTS)
@@ -294,32 +295,38 @@ def _c3(g, x, y, z):
     return t * t * _g12(g, x, y, z)
 
 
-@njit(inline="always", **_OPTS)
-def _corner3(w0, w1, i, j, k):
-    """The gradient index of corner ``(i, j, k)`` (float32 0/1) of the cell: nibble
-    ``2 i + j`` of its z plane's packed corners (constant shifts and selects)."""
-    w = w1 if k > ZERO else w0
-    w = np.int32(w >> np.int32(8)) if i > ZERO else w  # int32 again: 16 lanes
-    w = np.int32(w >> np.int32(4)) if j > ZERO else w
-    return np.int32(w & _N15)
-
-
 @njit(**_OPTS)
-def _s3_eval(cnt, bx, by, bz, bf, w0, w1, nb, ob, amp):
-    """SIMD pass: the four corner contributions (float32, 16 lanes)."""
+def _s3_eval(cnt, bx, by, bz, ba, bw, nb, ob, amp):
+    """SIMD pass: the four corner contributions (float32, 8 or 16 lanes).  Corners 1 and
+    2 from the comparisons in ``ba`` (Gustavson's six-way choice as masks: an offset is
+    ``andf(1, mask)``, a gradient index a variable shift of the word ``bw`` by
+    ``16 k + 8 i + 4 j``)."""
     for q in range(cnt):
-        i1, j1, k1, i2, j2, k2 = _ranks3(bf[0, q], bf[1, q])
-        a = w0[q]
-        b = w1[q]
+        c = ba[q]
+        ma = _bl.sar32(_bl.shl32(c, np.int32(7)), _C31)  # x0 >= y0
+        mb = _bl.sar32(_bl.shl32(c, np.int32(6)), _C31)  # y0 >= z0
+        mc = _bl.sar32(_bl.shl32(c, np.int32(5)), _C31)  # x0 >= z0
+        na = _i32(ma ^ _M1)
+        mi1 = _i32(ma & mc)
+        mj1 = _i32(mb & na)
+        mk1 = _i32(_i32(mb | mc) ^ _M1)
+        mi2 = _i32(ma | mc)
+        mj2 = _i32(mb | na)
+        mk2 = _i32(_i32(mb & mc) ^ _M1)
+        s1 = _i32(_i32(_i32(mi1 & I8) | _i32(mj1 & I4)) | _i32(mk1 & _N16))
+        s2 = _i32(_i32(_i32(mi2 & I8) | _i32(mj2 & I4)) | _i32(mk2 & _N16))
+        w = bw[q]
         x0 = bx[q]
         y0 = by[q]
         z0 = bz[q]
-        n = _c3(np.int32(a & _N15), x0, y0, z0)
-        n += _c3(_corner3(a, b, i1, j1, k1), x0 - i1 + G3, y0 - j1 + G3, z0 - k1 + G3)
-        n += _c3(_corner3(a, b, i2, j2, k2), x0 - i2 + G3X2, y0 - j2 + G3X2, z0 - k2 + G3X2)
-        n += _c3(np.int32(b >> np.int32(12)), x0 + G3X3, y0 + G3X3, z0 + G3X3)
+        f = _bl.andf
+        n = _c3(_i32(w & _N15), x0, y0, z0)
+        n += _c3(_i32(_bl.srl32(w, s1) & _N15), x0 - f(ONE, mi1) + G3, y0 - f(ONE, mj1) + G3,
+                 z0 - f(ONE, mk1) + G3)
+        n += _c3(_i32(_bl.srl32(w, s2) & _N15), x0 - f(ONE, mi2) + G3X2,
+                 y0 - f(ONE, mj2) + G3X2, z0 - f(ONE, mk2) + G3X2)
+        n += _c3(_bl.srl32(w, _C28), x0 + G3X3, y0 + G3X3, z0 + G3X3)
         nb[ob + uint64(q)] = amp * (S3 * n)
-
 
 
 @njit(**_OPTS)
@@ -376,8 +383,15 @@ def _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, r0, r1, jfix, mfix, weight,
     call per row cost more than a short row's work), or with ``jfix >= 0`` the one row
     ``out[0, 0]`` at ``(mfix, jfix)``, or with ``jfix == -2`` a block of image rows (``mfix``
     rows high) into ``out[0, :r1 - r0]``: both left unnormalised."""
-    bx, by, bz, nb, bf, ba, bk, bc, w0, w1, bb, bt, hashed = work
-    tf = tab.reshape(tab.size)
+    bx, by, bz, nb, ba, bw, pk, bb, bt, hashed = work
+    nf = freqs.shape[0]
+    xo = np.empty((nf if ndim == 3 else 0, xs.shape[0]))  # 3D: each octave's x (float64)
+    xbig = np.zeros(nf, np.bool_)
+    for o in range(xo.shape[0]):
+        _x_octave(xs, freqs[o, 0], offs[o, 0], xo[o])
+        for q in range(xs.shape[0]):
+            if not abs(xo[o, q]) < _BIG:
+                xbig[o] = True
     for r in range(r0, r1):
         j, m, row = _pick_row(out, r, r0, jfix, mfix)
         nx = row.shape[0]
@@ -391,6 +405,7 @@ def _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, r0, r1, jfix, mfix, weight,
             fx32 = _F(fx)
             ox32 = _F(ox)
             yin32 = _F(yin)
+            big = xbig[o] or not (abs(yin) < _BIG and abs(zin) < _BIG)
             # the first fBm octave goes straight into the row (as _combine_block would put it)
             direct = o == 0 and mode == k.FBM
             amp = amps[o] if direct else ONE
@@ -403,24 +418,29 @@ def _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, r0, r1, jfix, mfix, weight,
                     _s2_hash_b(cnt, bt, bb)
                     _s2_eval_b(cnt, bx, by, bb, dst, ob, amp)
                 elif ndim == 2:
-                    _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, bc, ba)
-                    _gather(cnt, tf, ba, w0)
-                    _s2_eval(cnt, bx, by, bc, w0, dst, ob, amp)
+                    _s2_locate(xs32, base, cnt, fx32, ox32, yin32, bx, by, ba)
+                    _gather(cnt, tab, ba, bw)
+                    _s2_eval(cnt, bx, by, bw, dst, ob, amp)
+                elif hashed:
+                    _s3_locate_b(xo[o], base, cnt, yin, zin, bx, by, bz, bb)
+                    _s3_hash_b(cnt, bt, bb)
+                    _s3_eval_b(cnt, bx, by, bz, bb, dst, ob, amp)
                 else:
-                    if hashed:
-                        _s3_locate_b(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bb)
-                    else:
-                        _s3_locate(xs, base, cnt, fx, ox, yin, zin, bx, by, bz, bf, ba, bk)
-                    if hashed:
-                        _s3_hash_b(cnt, bt, bb)
-                        _s3_eval_b(cnt, bx, by, bz, bb, dst, ob, amp)
-                    else:
-                        _s3_gather(cnt, tf, perm, ba, bk, w0, w1)
-                        _s3_eval(cnt, bx, by, bz, bf, w0, w1, dst, ob, amp)
+                    _s3_locate(xo[o], base, cnt, yin, zin, big, bx, by, bz, ba)
+                    _s3_gather(cnt, tab, pk, ba, bw)
+                    _s3_eval(cnt, bx, by, bz, ba, bw, dst, ob, amp)
                 if not direct:
                     _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
         if jfix == -1:
             _finish(mode, row, norm)
+
+
+@njit(**_OPTS64)  # no fast-math: the float64 road's roundings
+def _x_octave(xs, fx, ox, xo):
+    """``xo = xs * fx + ox`` in float64, as the float64 road takes an octave's x (once a
+    call, not once a row)."""
+    for q in range(xs.shape[0]):
+        xo[q] = xs[q] * fx + ox
 
 
 @njit(cache=True)
@@ -432,12 +452,13 @@ def simplex_work(perm, hashed):
     i = np.int32
     bb = np.zeros((_BROWS, BLOCK), np.uint8)  # BLOCK: a multiple of the 64 byte lanes
     bt = np.empty(512, np.uint8)
+    pk = np.empty(256, i)  # a cell's two z planes: perm[k] | perm[k + 1] << 16
     for m in range(256):
         bt[m] = perm[m]
         bt[256 + m] = perm[m] % 12
+        pk[m] = perm[m] | (perm[m + 1] << 16)
     return (np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f),
-            np.empty((2, BLOCK), f), np.empty(BLOCK, i), np.empty(BLOCK, i),
-            np.empty(BLOCK, i), np.empty(BLOCK, i), np.empty(BLOCK, i), bb, bt, hashed)
+            np.empty(BLOCK, i), np.empty(BLOCK, i), pk, bb, bt, hashed)
 
 
 @njit(parallel=True, **_OPTS64)  # no fast-math: yin, zin as in float64
@@ -460,19 +481,19 @@ def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, t
 
 
 def simplex_table(seed, perm, perm12):
-    """The packed corner gradients of simplex noise (cached per seed): ``tab[i, m]``
-    (int32, i in 0..255, m in 0..511, C order: flat address ``i * TAB_STRIDE + m``) holds
-    ``g(i + di, m + dj) = perm12[i + di + perm[m + dj]]`` in nibble ``2 di + dj``.  With
-    ``m = j`` in 2D and ``m = j + perm[k]`` in 3D one load gives the four corners of a
-    cell's (z) plane: Gustavson's chained lookups ``perm12[i + perm[j + perm[k]]]``, as
-    the float64 road's, once a sample and plane."""
+    """The packed corner gradients of simplex noise (cached per seed): ``tab[i * 256 + m]``
+    (uint16, i and m in 0..255; 128 KB) holds ``g(i + di, m + dj) = perm12[i + di +
+    perm[m + dj]]`` in nibble ``2 di + dj``.  With ``m = j`` in 2D and
+    ``m = (j + perm[k]) & 255`` in 3D (the permutation is doubled, so ``perm[m + dj]``
+    repeats every 256) one load gives the four corners of a cell's (z) plane:
+    Gustavson's chained lookups ``perm12[i + perm[j + perm[k]]]``, as the float64 road's,
+    once a sample and plane."""
     tab = _TABS.get(seed)
     if tab is None:
-        g = perm12[np.arange(257)[:, None] + perm[np.arange(TAB_STRIDE)][None, :]]
+        g = perm12[np.arange(257)[:, None] + perm[np.arange(257)][None, :]]
         g = g.astype(np.int32)
-        tab = np.zeros((256, TAB_STRIDE), np.int32)
-        tab[:, :-1] = (g[:-1, :-1] | (g[:-1, 1:] << 4) | (g[1:, :-1] << 8)
-                       | (g[1:, 1:] << 12))
+        tab = (g[:-1, :-1] | (g[:-1, 1:] << 4) | (g[1:, :-1] << 8) | (g[1:, 1:] << 12))
+        tab = np.ascontiguousarray(tab.astype(np.uint16).reshape(256 * TAB_STRIDE))
         if len(_TABS) > 16:
             _TABS.clear()
         _TABS[seed] = tab
