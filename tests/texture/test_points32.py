@@ -13,6 +13,7 @@ from sylva.texture import _gridkernels32 as gk32
 from sylva.texture import _kernels as k
 from sylva.texture import _lattice4_32 as l4
 from sylva.texture import _points32 as p32
+from sylva.texture import _simplex32 as s32
 from sylva.texture import _worley32 as w32
 from sylva.texture import noise_grid
 from sylva.texture._gridplan import grid_plan
@@ -73,14 +74,12 @@ def test_4d_grid_float32_within_tolerance(monkeypatch, kind, shape, extra):
         extra = {"fractal": "ridged"}  # simplex tiles 2D images only (its torus)
     calls = _spy(monkeypatch, "grid_kernel")
     rows = []
-    real = l4.grid4
-    monkeypatch.setattr(l4, "grid4", lambda *a: rows.append(a[0].kind) or real(*a))
+    for mod, name in ((l4, "grid4"), (s32, "grid4s")):
+        real = getattr(mod, name)
+        monkeypatch.setattr(mod, name, lambda *a, real=real: rows.append(a[0].kind) or real(*a))
     _both(shape, kind=kind, octaves=4, scale=5.0, seed=3, **extra)
-    if kind == "simplex":
-        assert calls and all(c == (False, p32.KINDS[KINDS.index(kind)]) for c in calls)
-        assert not rows
-    else:  # 4D lattice noise goes by rows (_lattice4_32), not by points
-        assert not calls and rows == [p32.KINDS[KINDS.index(kind)]]
+    # 4D lattice and simplex noise go by rows (_lattice4_32, _simplex32), not by points
+    assert not calls and rows == [p32.KINDS[KINDS.index(kind)]]
 
 
 @pytest.mark.parametrize("fractal", ["fbm", "turbulence"])
@@ -112,11 +111,10 @@ def test_warp_float32_within_tolerance(monkeypatch, kind, shape, fractal):
     real = gk32.grid32
     monkeypatch.setattr(gk32, "grid32", lambda *a: fields.append(a[7]) or real(*a))
     _both(shape, kind=kind, fractal=fractal, octaves=3, scale=5.0, seed=2, warp=0.8)
-    # the warp field of each axis is fBm on the grid's own points: the grid roads take it
-    # (but 4D simplex, which has none), then the warped noise goes on rows of points
-    on_grid = not (kind == "simplex" and len(shape) == 4)
+    # the warp field of each axis is fBm on the grid's own points: the grid roads take it,
+    # then the warped noise goes on rows of points
     assert fields == [k.FBM] * len(shape)
-    assert calls == [(True, p32.KINDS[KINDS.index(kind)])] * (1 + len(shape) * (not on_grid))
+    assert calls == [(True, p32.KINDS[KINDS.index(kind)])]
 
 
 @pytest.mark.parametrize(
@@ -156,9 +154,7 @@ def test_worley_cell_id_float32_is_the_float64_cell(extra):
 
 
 def test_roads():
-    assert _road((2, 3, 4, 20), kind="simplex") == "grid"
-    assert _road((3, 4, 20), kind="simplex", time=0.5) == "grid"
-    for kind in ("value", "perlin", "improved"):  # by rows: _lattice4_32
+    for kind in ("value", "perlin", "improved", "simplex"):  # by rows: _lattice4_32, _simplex32
         assert _road((2, 3, 4, 20), kind=kind) is None
         assert _road((3, 4, 20), kind=kind, time=0.5) is None
     assert _road((8, 20), kind="simplex", tileable=True) == "torus"

@@ -37,8 +37,9 @@ Covered here, 2D and 3D, every fractal sum (fBm, turbulence, ridged) and integer
 periods (``tileable``): value, classic Perlin (its 256 gradients stored into the block by
 the scalar hash pass), improved Perlin, simplex, and Worley F1..F3 and their combinations
 (:mod:`._worley32`, which also takes 4D Worley F1..F3 by rows).  4D lattice grids (and 3D
-grids with ``time``) go by rows too (:mod:`._lattice4_32`); 4D simplex, tileable simplex
-(its 4D torus) and domain warping take the float32 road of :mod:`._points32`.  The rest
+grids with ``time``) go by rows too (:mod:`._lattice4_32`), as 4D simplex does
+(``_simplex32.rows4s``); tileable simplex (its 4D torus) and domain warping take the
+float32 road of :mod:`._points32`.  The rest
 takes the float64 road and is rounded once: Worley's cell id and Poisson process on 2D and 3D grids,
 and its orders above F3.  A work item's rows go in one call (:func:`_lat_rows`,
 ``_simplex32._simplex_rows``, ``_worley32._worley_rows``: a call per row cost more than a
@@ -995,7 +996,14 @@ def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, 
     float64 road, which then runs and rounds)."""
     lattice = setup.kind in (k.VALUE, k.PERLIN, k.IMPROVED)
     if ndim not in (2, 3) and not (ndim == 4 and (setup.kind == k.WORLEY or lattice)):
-        return None  # 4D simplex noise: :mod:`._points32`
+        if ndim != 4 or setup.kind != k.SIMPLEX or torus:
+            return None
+        from ._gridplan import SCALAR_WORK
+        from ._simplex32 import grid4s, rows4s
+
+        if _jit.cold(rows4s, math.prod(full), SCALAR_WORK):
+            return None  # small work while the kernel is not compiled: the float64 road
+        return grid4s(setup, axes, freqs, amps, offs, mode, norm, gain, full)
     if ndim == 4 and lattice:
         from ._gridplan import SCALAR_WORK
         from ._lattice4_32 import grid4, rows4

@@ -1,8 +1,8 @@
 """The float32 road of the noise grids that :mod:`._gridkernels32` does not cover: 4D
-simplex grids and 4D Worley cell id (and 3D grids with ``time``; 4D value, classic and
-improved noise go by rows, :mod:`._lattice4_32`, as 4D Worley F1..F3 do), tileable simplex
-(its flat 4D torus) and domain warping, of every kind (private; see
-:func:`sylva.texture.noise_grid`).
+Worley cell id (and 3D grids with ``time``; 4D value, classic and improved noise go by
+rows, :mod:`._lattice4_32`, as 4D simplex, :func:`._simplex32.rows4s`, and 4D Worley
+F1..F3 do), tileable simplex (its flat 4D torus) and domain warping, of every kind
+(private; see :func:`sylva.texture.noise_grid`).
 
 One kernel, :func:`_block`, takes the fractal sum of value, classic Perlin, improved
 Perlin, simplex or Worley noise, in 2D, 3D or 4D, at a block of :data:`BLOCK` points, octave
@@ -813,8 +813,9 @@ def road(plan, warp) -> str | None:
         return "torus"
     if s.kind == k.WORLEY and plan.ndim == 4 and int(s.wpar[1]) != ck.W_CELL:
         return None  # 4D F1..F3 go by rows (:mod:`._worley32`), as 2D and 3D do
-    if s.kind in (k.VALUE, k.PERLIN, k.IMPROVED):
-        return None  # 4D lattice noise goes by rows too (:mod:`._lattice4_32`)
+    if s.kind in (k.VALUE, k.PERLIN, k.IMPROVED, k.SIMPLEX):
+        return None  # 4D lattice and simplex noise go by rows too (:mod:`._lattice4_32`,
+        # :func:`._simplex32.rows4s`)
     # 2D and 3D Worley cell id stays on the float64 road: its runs of samples that share a
     # cell (hashed once per column) measured 3-4x this road's per-point candidates there
     return "grid" if plan.ndim == 4 else None
@@ -887,9 +888,11 @@ def warm() -> None:
     from .noise import noise_grid
 
     with _jit.compiled():
+        # 4D simplex and lattice noise: their rows (:func:`._simplex32.rows4s`,
+        # :mod:`._lattice4_32`, one kernel for every lattice kind)
         noise_grid((1, 1, 2, 8), kind="simplex", octaves=2, dtype=np.float32)
-        # 4D lattice noise: its rows (:mod:`._lattice4_32`), one kernel for every kind
         noise_grid((1, 1, 2, 24), kind="value", octaves=2, dtype=np.float32)
-        # a warped grid whose warp fields stay on points (4D simplex: no grid road), so
-        # that this group does not compile the texture group's 2D grid kernels as well
+        # a warped 4D grid, so that this group does not compile the texture group's 2D grid
+        # kernels as well: its warp fields go by the 4D simplex rows (or, while the texture
+        # group's kernels are cold, on points), the warped noise on points
         noise_grid((1, 1, 2, 8), kind="simplex", octaves=2, warp=0.5, dtype=np.float32)

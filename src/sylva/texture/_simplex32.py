@@ -5,8 +5,9 @@ Simplex noise hashes its corners in byte lanes where the CPU has AVX-512 VBMI
 (:mod:`._bytelanes`: Gustavson's chained lookups for 64 samples in a few byte permutes);
 elsewhere it needs one load a sample (2D) or z plane (3D): :func:`simplex_table` packs
 the gradient indices of a cell's four (x, y) corners in one word (the chained lookups
-precomputed), the SIMD corner pass takes its corners' nibbles out.  3D locates in float64
-(its kernel jumps across simplex faces) and does the rest in float32 lanes.  (Tried and
+precomputed), the SIMD corner pass takes its corners' nibbles out.  3D and 4D locate in
+float64 (their kernels jump across simplex faces) and do the rest in float32 lanes; 4D
+grids go by rows too (:func:`rows4s`, x along the row).  (Tried and
 dropped: locating 3D in float32 lanes from split coordinates, exactly but for the
 fractions' rounding and again in float64 near a face — no faster than float64, twice the
 operations at twice the lanes.)  :func:`row_simplex32` is also the texture graph's row
@@ -501,3 +502,229 @@ def simplex_table(seed, perm, perm12):
 
 
 _TABS: dict = {}
+
+
+# -- 4D simplex noise by rows ---------------------------------------------------------------
+# As 3D: x along the row, y, z and w fixed, so a sample is located in float64 (the 4D
+# kernel, r² = 0.6, jumps across simplex faces too) and the rest is float32.  The chained
+# lookups ``perm[i + perm[j + perm[k + perm[l]]]] & 31`` of the hypercube's sixteen corners
+# take seven loads a sample (:func:`_s4_gather`: two of :func:`simplex_work`'s pair table,
+# four of :func:`simplex4_table`) instead of the five corners' twenty chained ones.
+
+_G4 = _F(k.G4)
+_G4X2 = _F(2.0 * k.G4)
+_G4X3 = _F(3.0 * k.G4)
+_G4X4 = _F(4.0 * k.G4 - 1.0)
+_R4 = _F(0.6)
+_S4 = _F(27.0)
+_N31 = np.int32(31)
+_C29 = np.int32(29)
+_N10 = np.int32(10)
+I3 = np.int32(3)
+_N5 = np.int32(5)
+
+
+@njit(inline="always", **_OPTS)
+def _g32(h, x, y, z, w):
+    """``GRAD4[h] . (x, y, z, w)`` for h in 0..31 (int32; Gustavson's 32 gradients): the
+    axis ``h >> 3`` is left out, the other three, in order, take the signs of bits 2, 1, 0
+    (xor-ed into the float bits, :func:`._bytelanes.xorf`)."""
+    s = _i32(h >> np.int32(3))
+    a = y if s == I0 else x
+    b = z if s <= I1 else y
+    c = z if s == np.int32(3) else w
+    sg = _SIGN
+    return (_bl.xorf(a, _i32(_bl.shl32(h, _C29) & sg))
+            + _bl.xorf(b, _i32(_bl.shl32(h, _C30) & sg)) + _bl.xorf(c, _bl.shl32(h, _C31)))
+
+
+@njit(**_OPTS64)  # no fast-math: the float64 road's roundings
+def _s4_locate(xo, base, cnt, yin, zin, win, big, bx, by, bz, bw, ba, bc):
+    """SIMD pass, in float64 as :func:`._kernels.simplex4`: the offsets ``x0 .. w0``
+    (float32 rows), the cell ``i, j, k, l & 255`` in one word (``j`` in bits 0..7, ``i``
+    in 8..15, ``k`` in 16..23, ``l`` in 24..31: :func:`_s4_gather`'s table row and
+    column) into ``ba``, and the six comparisons of the rank ordering, ``x0 > y0``,
+    ``x0 > z0``, ``x0 > w0``, ``y0 > z0``, ``y0 > w0``, ``z0 > w0``, as bits 0..5 of
+    ``bc``."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        x = xo[b0 + uint64(q)]
+        s = (x + yin + zin + win) * k.F4
+        fi = np.floor(x + s)
+        fj = np.floor(yin + s)
+        fk = np.floor(zin + s)
+        fl = np.floor(win + s)
+        t = (fi + fj + fk + fl) * k.G4
+        x0 = x - (fi - t)
+        y0 = yin - (fj - t)
+        z0 = zin - (fk - t)
+        w0 = win - (fl - t)
+        bx[q] = x0
+        by[q] = y0
+        bz[q] = z0
+        bw[q] = w0
+        bc[q] = np.int32(np.int64(x0 > y0) | (np.int64(x0 > z0) << 1) | (np.int64(x0 > w0) << 2)
+                          | (np.int64(y0 > z0) << 3) | (np.int64(y0 > w0) << 4)
+                          | (np.int64(z0 > w0) << 5))
+        ba[q] = (_low8(fj, big) | (_low8(fi, big) << I8) | (_low8(fk, big) << np.int32(16))
+                 | (_low8(fl, big) << np.int32(24)))
+
+
+@njit(**_OPTS)
+def _s4_gather(cnt, tab, pk, ba, hw):
+    """Scalar pass: the gradient indices of the cell's sixteen corners, four words a
+    sample: ``hw[k1 + 2 l1]`` holds corners ``(i1, j1, k1, l1)`` in bits ``5 (2 i1 + j1)``
+    (:func:`simplex4_table` row ``i``, column ``(j + perm[k + k1 + perm[l + l1]]) & 255``;
+    ``pk``: :func:`simplex_work`'s ``perm[m] | perm[m + 1] << 16``)."""
+    for q in range(cnt):
+        a = ba[q]
+        row = _i32(a & _ROW)
+        kk = _i32(_i32(a >> _N16) & _N255)
+        pl = pk[uint64(_i32(a >> np.int32(24)) & _N255)]  # perm[l], perm[l + 1]
+        p0 = pk[uint64(_i32(kk + _i32(pl & _N65535)) & _N255)]  # l1 = 0: k1 = 0, 1
+        p1 = pk[uint64(_i32(kk + _i32(pl >> _N16)) & _N255)]  # l1 = 1
+        hw[0, q] = tab[uint64(row | _i32(_i32(a + _i32(p0 & _N65535)) & _N255))]
+        hw[1, q] = tab[uint64(row | _i32(_i32(a + _i32(p0 >> _N16)) & _N255))]
+        hw[2, q] = tab[uint64(row | _i32(_i32(a + _i32(p1 & _N65535)) & _N255))]
+        hw[3, q] = tab[uint64(row | _i32(_i32(a + _i32(p1 >> _N16)) & _N255))]
+
+
+@njit(inline="always", **_OPTS)
+def _c4(g, x, y, z, w):
+    t = max(_R4 - x * x - y * y - z * z - w * w, ZERO)
+    t *= t
+    return t * t * _g32(g, x, y, z, w)
+
+
+@njit(inline="always", **_OPTS)
+def _h4(h0, h1, h2, h3, mi, mj, mk, ml):
+    """The gradient index of the corner offset by the masks ``mi .. ml`` (-1 or 0): word
+    ``k + 2 l`` of :func:`_s4_gather` (loaded: selecting loads of rows would be gathers),
+    field ``2 i + j``."""
+    lo = h1 if mk != I0 else h0
+    hi = h3 if mk != I0 else h2
+    v = hi if ml != I0 else lo
+    return _i32(_bl.srl32(v, _i32(_i32(mi & _N10) | _i32(mj & _N5))) & _N31)
+
+
+@njit(inline="always", **_OPTS)
+def _mid4(h0, h1, h2, h3, rx, ry, rz, rw, lim, off, x0, y0, z0, w0):
+    """Corner ``4 - lim`` (1, 2 or 3): offset by 1 along the axes of rank >= ``lim``."""
+    f = _bl.andf
+    mi = _i32(-np.int32(rx >= lim))
+    mj = _i32(-np.int32(ry >= lim))
+    mk = _i32(-np.int32(rz >= lim))
+    ml = _i32(-np.int32(rw >= lim))
+    return _c4(_h4(h0, h1, h2, h3, mi, mj, mk, ml), x0 - f(ONE, mi) + off, y0 - f(ONE, mj) + off,
+               z0 - f(ONE, mk) + off, w0 - f(ONE, ml) + off)
+
+
+@njit(**_OPTS)
+def _s4_eval(cnt, bx, by, bz, bw, bc, hw, nb, ob, amp):
+    """SIMD pass: the five corner contributions (float32).  The ranks of ``x0 .. w0`` from
+    the comparisons (Gustavson's rank ordering), corner ``c`` offset by 1 along the axes
+    of rank at least ``4 - c``."""
+    for q in range(cnt):
+        c = bc[q]
+        a = _i32(c & I1)
+        b = _i32(_bl.srl32(c, I1) & I1)
+        e3 = _i32(_bl.srl32(c, I2) & I1)
+        d = _i32(_bl.srl32(c, np.int32(3)) & I1)
+        e = _i32(_bl.srl32(c, I4) & I1)
+        g = _i32(_bl.srl32(c, np.int32(5)) & I1)
+        rx = _i32(_i32(a + b) + e3)
+        ry = _i32(_i32(_i32(I1 - a) + d) + e)
+        rz = _i32(_i32(_i32(I2 - b) - d) + g)
+        rw = _i32(_i32(_i32(np.int32(3) - e3) - e) - g)
+        x0 = bx[q]
+        y0 = by[q]
+        z0 = bz[q]
+        w0 = bw[q]
+        h0 = hw[0, q]
+        h1 = hw[1, q]
+        h2 = hw[2, q]
+        h3 = hw[3, q]
+        n = _c4(_i32(h0 & _N31), x0, y0, z0, w0)
+        n += _mid4(h0, h1, h2, h3, rx, ry, rz, rw, I3, _G4, x0, y0, z0, w0)
+        n += _mid4(h0, h1, h2, h3, rx, ry, rz, rw, I2, _G4X2, x0, y0, z0, w0)
+        n += _mid4(h0, h1, h2, h3, rx, ry, rz, rw, I1, _G4X3, x0, y0, z0, w0)
+        n += _c4(_i32(_bl.srl32(h3, np.int32(15)) & _N31), x0 + _G4X4, y0 + _G4X4,
+                 z0 + _G4X4, w0 + _G4X4)
+        nb[ob + uint64(q)] = amp * (_S4 * n)
+
+
+@njit(nogil=True, **_OPTS64)  # no fast-math: y, z, w as in float64
+def rows4s(r0, r1, mode, xs, ys, zs, ws, out, freqs, amps, offs, perm, tab, norm, gain):
+    """Rows ``r0 .. r1`` of ``out`` (float32, shape (nw, nz, ny, nx); row ``r`` is
+    ``(r // (ny nz), r // ny % nz, r % ny)``) of 4D simplex noise, every octave summed
+    into the row (as :func:`._lattice4_32.rows4`; ``amps`` carry ``norm`` unless ``mode``
+    is ridged; ``tab``: :func:`simplex4_table`)."""
+    bx, by, bz, nb, ba, bw1, pk, bb, bt, hashed = simplex_work(perm, False)
+    bw = np.empty(BLOCK, np.float32)
+    bc = np.empty(BLOCK, np.int32)
+    hw = np.empty((4, BLOCK + 16), np.int32)  # rows off each other's L1 sets
+    nw, nz, ny, nx = out.shape
+    weight = np.empty(nx, np.float32)
+    nf = freqs.shape[0]
+    xo = np.empty((nf, nx))
+    xbig = np.zeros(nf, np.bool_)
+    for o in range(nf):
+        _x_octave(xs, freqs[o, 0], offs[o, 0], xo[o])
+        for q in range(nx):
+            if not abs(xo[o, q]) < _BIG:
+                xbig[o] = True
+    for r in range(r0, r1):
+        j = r % ny
+        m = (r // ny) % nz
+        n = r // (ny * nz)
+        row = out[n, m, j]
+        for o in range(nf):
+            yin = ys[j] * freqs[o, 1] + offs[o, 1]
+            zin = zs[m] * freqs[o, 2] + offs[o, 2]
+            win = ws[n] * freqs[o, 3] + offs[o, 3]
+            big = xbig[o] or not (abs(yin) < _BIG and abs(zin) < _BIG and abs(win) < _BIG)
+            direct = o == 0 and mode == k.FBM
+            amp = amps[o] if direct else ONE
+            for base in range(0, nx, BLOCK):
+                cnt = min(BLOCK, nx - base)
+                dst = row if direct else nb
+                ob = uint64(base) if direct else uint64(0)
+                _s4_locate(xo[o], base, cnt, yin, zin, win, big, bx, by, bz, bw, ba, bc)
+                _s4_gather(cnt, tab, pk, ba, hw)
+                _s4_eval(cnt, bx, by, bz, bw, bc, hw, dst, ob, amp)
+                if not direct:
+                    _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
+        _finish(mode, row, norm)
+
+
+def simplex4_table(seed, perm):
+    """The packed corner gradients of 4D simplex noise (cached per seed):
+    ``tab[i * 256 + m]`` (int32, i and m in 0..255; 256 KB) holds
+    ``perm[i + di + perm[m + dj]] & 31`` in bits ``5 (2 di + dj)``: with
+    ``m = (j + perm[k + k1 + perm[l + l1]]) & 255`` the four corners ``(di, dj)`` of the
+    cell's ``(k1, l1)`` plane (the float64 road's chain, :func:`._kernels.simplex4`)."""
+    key = ("4d", seed)
+    tab = _TABS.get(key)
+    if tab is None:
+        g = (perm[np.arange(257)[:, None] + perm[np.arange(257)][None, :]] & 31).astype(np.int32)
+        tab = g[:-1, :-1] | (g[:-1, 1:] << 5) | (g[1:, :-1] << 10) | (g[1:, 1:] << 15)
+        tab = np.ascontiguousarray(tab.astype(np.int32).reshape(256 * TAB_STRIDE))
+        if len(_TABS) > 16:
+            _TABS.clear()
+        _TABS[key] = tab
+    return tab
+
+
+def grid4s(setup, axes, freqs, amps, offs, mode, norm, gain, full):
+    """The float32 4D simplex grid (shape (nw, nz, ny, nx); ``full``: (nx, ny, nz, nw)), as
+    :func:`._gridkernels32.grid32` takes its arguments."""
+    from ._gridplan import run_blocks
+
+    t = setup.tables
+    a32 = (amps if mode == k.RIDGED else amps * norm).astype(np.float32)
+    out = np.empty((full[3], full[2], full[1], full[0]), np.float32)
+    ax = [np.ascontiguousarray(a, np.float64) for a in axes[:4]]
+    run_blocks(rows4s, full[1] * full[2] * full[3],
+               (mode, *ax, out, np.ascontiguousarray(freqs), a32, np.ascontiguousarray(offs),
+                t.perm, simplex4_table(t.seed, t.perm), np.float32(norm), np.float32(gain)))
+    return out

@@ -31,7 +31,7 @@ process).  The same seed gives the same texture on every machine.
 Output is float32 unless ``dtype=np.float64``; noise is computed in float64 (bit-exact), but
 float32 :func:`noise_grid` grids in float32 SIMD kernels, within an absolute 2e-4 of the
 float64 road (on values normalised to about [-1, 1]): 2D and 3D grids of every kind, and
-4D lattice grids (``_gridkernels32.TOLERANCE``), and 4D simplex and Worley grids (or 3D
+4D lattice and simplex grids (``_gridkernels32.TOLERANCE``), and 4D Worley grids (or 3D
 with ``time``), tileable simplex and
 domain-warped grids (``_points32.TOLERANCE``; only a warped 3D or 4D simplex sample that
 rounding moves across a simplex face, where that kernel jumps, can differ by more; one
