@@ -103,6 +103,8 @@ _OPTS = dict(cache=True, fastmath=True, error_model="numpy", pipeline_class=_bl.
 _OPTS64 = dict(cache=True, error_model="numpy", pipeline_class=_bl.Wide)  # no fast-math
 _i32 = np.int32
 I0, I1, I2, I4, I8, I12, I13, I15 = (np.int32(v) for v in (0, 1, 2, 4, 8, 12, 13, 15))
+_C28, _C30, _C31 = np.int32(28), np.int32(30), np.int32(31)
+_SIGN = np.int32(-(2**31))  # the float32 sign bit
 
 
 @njit(inline="always", **_OPTS)
@@ -116,18 +118,19 @@ def _g16(h, x, y, z):
     ``grad``; no table).  Every integer operation is int32 (:func:`_i32`): numba widens
     ``int32 & 15`` to int64, and LLVM then ran the whole loop 4 lanes wide instead of 16."""
     h = _i32(h & I15)
-    u = x if h < I8 else y
+    u = y if _bl.shl32(h, _C28) < I0 else x  # bit 3 by its sign: one blend
     v = y if h < I4 else (x if _i32(h & I13) == I12 else z)  # h is 12 or 14
-    return (-u if _i32(h & I1) != I0 else u) + (-v if _i32(h & I2) != I0 else v)
+    # the signs, bits 0 and 1, xor-ed into the float bits (no negation and select)
+    return _bl.xorf(u, _bl.shl32(h, _C31)) + _bl.xorf(v, _i32(_bl.shl32(h, _C30) & _SIGN))
 
 
 @njit(inline="always", **_OPTS)
 def _g16_2(h, x, y):
     """:func:`_g16` with z = 0."""
     h = _i32(h & I15)
-    u = x if h < I8 else y
+    u = y if _bl.shl32(h, _C28) < I0 else x
     v = y if h < I4 else (x if _i32(h & I13) == I12 else ZERO)
-    return (-u if _i32(h & I1) != I0 else u) + (-v if _i32(h & I2) != I0 else v)
+    return _bl.xorf(u, _bl.shl32(h, _C31)) + _bl.xorf(v, _i32(_bl.shl32(h, _C30) & _SIGN))
 
 
 @njit(**_OPTS)

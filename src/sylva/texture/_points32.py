@@ -39,7 +39,9 @@ from numba import njit, uint64
 from .. import _jit
 from . import _bytelanes as _bl
 from . import _cellkernels as ck
+from . import _gridkernels32 as _gk32
 from . import _kernels as k
+from . import _simplex32 as _s32
 
 #: bound on the absolute difference from the float64 road (values about [-1, 1]): the
 #: lattice cells and simplices are the float64 road's, the fractions are rounded to float32
@@ -73,27 +75,15 @@ _TD = (0.3872983346207417, -0.5477225575051661, 0.4472135954999579, 0.5916079783
 
 @njit(inline="always", **_OPTS)
 def _g16(h, x, y, z):
-    """``GRAD16[h & 15] . (x, y, z)`` by selects: improved noise's gradients, and simplex's
-    (``GRAD3[g]`` for ``g < 12`` is ``GRAD16[g]``)."""
-    i32 = np.int32
-    h = i32(h & i32(15))  # int32 throughout (numba widens int32 & 15 to int64)
-    u = x if h < i32(8) else y
-    v = y if h < i32(4) else (x if i32(h & i32(13)) == i32(12) else z)  # h is 12 or 14
-    return (-u if i32(h & i32(1)) != i32(0) else u) + (-v if i32(h & i32(2)) != i32(0) else v)
+    """``GRAD16[h & 15] . (x, y, z)``: improved noise's gradients, and simplex's
+    (``GRAD3[g]`` for ``g < 12`` is ``GRAD16[g]``), as the grid roads take them."""
+    return _gk32._g16(h, x, y, z)
 
 
 @njit(inline="always", **_OPTS)
 def _g32(h, x, y, z, w):
-    """``GRAD4[h & 31] . (x, y, z, w)`` by selects: the axis ``h >> 3`` is left out, the
-    other three, in order, take the signs of bits 2, 1, 0."""
-    i32 = np.int32
-    h = i32(h & i32(31))  # int32 throughout: int64 lanes halve the loop's width
-    s = i32(h >> i32(3))
-    a = y if s == i32(0) else x
-    b = z if s <= i32(1) else y
-    c = z if s == i32(3) else w
-    return ((-a if i32(h & i32(4)) != i32(0) else a) + (-b if i32(h & i32(2)) != i32(0) else b)
-            + (-c if i32(h & i32(1)) != i32(0) else c))
+    """``GRAD4[h & 31] . (x, y, z, w)``, as the 4D simplex rows take it."""
+    return _s32._g32(np.int32(h & np.int32(31)), x, y, z, w)
 
 
 @njit(**_OPTS)
