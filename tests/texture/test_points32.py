@@ -110,11 +110,29 @@ def test_warp_float32_within_tolerance(monkeypatch, kind, shape, fractal):
     fields = []
     real = gk32.grid32
     monkeypatch.setattr(gk32, "grid32", lambda *a: fields.append(a[7]) or real(*a))
+    rows = []
+    real_rows = s32.warp_grid2
+    monkeypatch.setattr(s32, "warp_grid2", lambda *a: rows.append(1) or real_rows(*a))
     _both(shape, kind=kind, fractal=fractal, octaves=3, scale=5.0, seed=2, warp=0.8)
     # the warp field of each axis is fBm on the grid's own points: the grid roads take it,
-    # then the warped noise goes on rows of points
+    # then the warped noise goes on rows of points (2D simplex: the grid's own passes at
+    # the warped points, _simplex32.warp_rows2)
     assert fields == [k.FBM] * len(shape)
-    assert calls == [(True, p32.KINDS[KINDS.index(kind)])]
+    by_rows = kind == "simplex" and len(shape) == 2
+    assert calls == [] if by_rows else calls == [(True, p32.KINDS[KINDS.index(kind)])]
+    assert rows == [1] * by_rows
+
+
+@pytest.mark.parametrize("fractal,octaves", [("fbm", 1), ("ridged", 4), ("turbulence", 2)])
+def test_warped_2d_simplex_rows(monkeypatch, fractal, octaves):
+    # rows longer than a block (256), negative offsets: the warped points' octave
+    # coordinates in float32 (2D simplex has no jump at its faces), the grid's passes
+    rows = []
+    real_rows = s32.warp_grid2
+    monkeypatch.setattr(s32, "warp_grid2", lambda *a: rows.append(1) or real_rows(*a))
+    _both((7, 300), kind="simplex", fractal=fractal, octaves=octaves, scale=9.0, seed=6,
+          warp=1.3, offset=(-20.5, -3.25))
+    assert rows == [1]
 
 
 @pytest.mark.parametrize(

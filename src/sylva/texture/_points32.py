@@ -812,11 +812,11 @@ def road(plan, warp) -> str | None:
 
 
 def _field(ws, plan, axes, pts, n):
-    """One warp field (fBm of the kind with the setup ``ws``) at the grid's own points,
-    flat as ``pts``.  Those are a regular grid, so the grid roads of
-    :mod:`._gridkernels32` take it where they have a kernel (2D and 3D of every kind, 4D
-    lattice noise; while they are not compiled, small work stays here): a warped 2D
-    improved grid then costs one pass of points instead of three."""
+    """One warp field (fBm of the kind with the setup ``ws``) at the grid's own points
+    (``pts()``: them flat, built on first need).  Those are a regular grid, so the grid
+    roads of :mod:`._gridkernels32` take it where they have a kernel (2D and 3D of every
+    kind, 4D lattice and simplex noise; while they are not compiled, small work stays
+    here): a warped 2D improved grid then costs one pass of points instead of three."""
     from . import _gridkernels32 as gk32
     from ._gridplan import SCALAR_WORK
 
@@ -828,7 +828,7 @@ def _field(ws, plan, axes, pts, n):
         if g is not None:
             return g.reshape(-1)
     wtail, wa32 = _tables(ws, ndim, k.FBM, plan.amps, plan.norm, plan.gain)
-    return _points(ws.kind, k.FBM, ndim, pts, plan.freqs, wa32, plan.offs, plan.pers, wtail)
+    return _points(ws.kind, k.FBM, ndim, pts(), plan.freqs, wa32, plan.offs, plan.pers, wtail)
 
 
 def grid32(plan, warp, setup):
@@ -856,17 +856,29 @@ def grid32(plan, warp, setup):
         grid_kernel(False, s.kind, mode, ndim, which == "torus", *axes[:4], out, freqs, a32,
                     offs, pers, *tail)
         return out.reshape(plan.shape)
-    grids = np.meshgrid(*axes[:ndim][::-1], indexing="ij")[::-1]
-    pts = [np.ascontiguousarray(g.ravel()) for g in grids]
-    while len(pts) < 4:
-        pts.append(np.zeros(n))
+    made = []
+
+    def pts():
+        if not made:
+            grids = np.meshgrid(*axes[:ndim][::-1], indexing="ij")[::-1]
+            made.extend(np.ascontiguousarray(g.ravel()) for g in grids)
+            while len(made) < 4:
+                made.append(np.zeros(n))
+        return made
+
     base = 0 if s.tables.seed is None else s.tables.seed
+    seeds = [base + 7919 * (a + 1) for a in range(ndim)]  # the float64 road's, per axis
+    if ndim == 2 and s.kind == k.SIMPLEX and not _jit.cold(_s32.warp_rows2, n, SCALAR_WORK):
+        # 2D simplex: the grid's passes at the warped points (no point arrays)
+        fields = [_field(setup(sd), plan, axes, pts, n) for sd in seeds]
+        out = _s32.warp_grid2(s, axes, fields, warp, freqs, plan.amps, offs, mode, plan.norm,
+                              plan.gain)
+        return out.reshape(plan.shape)
     warped = []
     for a in range(ndim):  # the warp fields: fBm of the kind, with the axis's seed
-        ws = setup(base + 7919 * (a + 1))  # the float64 road's seeds
-        d = _field(ws, plan, axes, pts, n)
-        warped.append(pts[a] + float(warp) * d.astype(np.float64))
-    warped += pts[ndim:]
+        d = _field(setup(seeds[a]), plan, axes, pts, n)
+        warped.append(pts()[a] + float(warp) * d.astype(np.float64))
+    warped += pts()[ndim:]
     out = _points(s.kind, mode, ndim, warped, freqs, a32, offs, pers, tail)
     return out.reshape(plan.shape)
 
@@ -886,3 +898,11 @@ def warm() -> None:
         # kernels as well: its warp fields go by the 4D simplex rows (or, while the texture
         # group's kernels are cold, on points), the warped noise on points
         noise_grid((1, 1, 2, 8), kind="simplex", octaves=2, warp=0.5, dtype=np.float32)
+        # 2D simplex at warped points (:func:`._simplex32.warp_rows2`), called directly: a
+        # warped 2D grid's fields would compile the texture group's 2D grid kernel here
+        from .noise import _setup
+
+        ax = [np.arange(8, dtype=np.float64), np.arange(2, dtype=np.float64)]
+        f = np.zeros(16, np.float32)
+        _s32.warp_grid2(_setup("simplex", 1, None), ax, [f, f], 0.5, np.ones((2, 4)),
+                        np.ones(2), np.zeros((2, 4)), k.FBM, 1.0, 0.5)

@@ -728,3 +728,81 @@ def grid4s(setup, axes, freqs, amps, offs, mode, norm, gain, full):
                (mode, *ax, out, np.ascontiguousarray(freqs), a32, np.ascontiguousarray(offs),
                 t.perm, simplex4_table(t.seed, t.perm), np.float32(norm), np.float32(gain)))
     return out
+
+
+# -- 2D simplex noise at warped points ------------------------------------------------------
+# A domain-warped 2D grid's samples are the grid's points moved by ``warp`` times two warp
+# fields.  2D simplex noise has no jump at its faces, so a point's octave coordinates can
+# be float32 (as :func:`_s2_locate`'s): the passes are the grid's, the point's y its own.
+
+
+@njit(**_OPTS64)  # no fast-math: the float64 road's warped points and octave coordinates
+def _warp_octave(xs, y, d0, d1, base, cnt, warp, fx, ox, fy, oy, cx, cy):
+    """The octave coordinates (float32) of samples ``base .. base + cnt`` of a row at
+    ``y``: the point ``(xs[i] + warp d0[i], y + warp d1[i])`` (float64, as the float64
+    road moves it) times the octave's frequency plus its offset."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        i = b0 + uint64(q)
+        cx[q] = (xs[i] + warp * np.float64(d0[i])) * fx + ox
+        cy[q] = (y + warp * np.float64(d1[i])) * fy + oy
+
+
+@njit(**_OPTS)
+def _s2_locate_xy(cx, cy, cnt, bx, by, ba):
+    """:func:`_s2_locate` at points of their own y."""
+    for q in range(cnt):
+        x0, y0, fi, fj = _s2_cell(cx[q], cy[q])
+        bx[q] = x0
+        by[q] = y0
+        ba[q] = _i32(_i32(_i32(np.int32(fi) & _N255) << I8) | _i32(np.int32(fj) & _N255))
+
+
+@njit(nogil=True, **_OPTS64)  # no fast-math: the warped points in float64
+def warp_rows2(r0, r1, mode, xs, ys, d0, d1, warp, out, freqs, amps, offs, perm, tab, norm,
+               gain):
+    """Rows ``r0 .. r1`` of ``out`` (float32, shape (ny, nx)) of 2D simplex noise at the
+    grid's points warped by the fields ``d0, d1`` (float32, shape (ny, nx)), every octave
+    summed into the row (``amps`` carry ``norm`` unless ``mode`` is ridged)."""
+    bx, by, bz, nb, ba, bw, pk, bb, bt, hashed = simplex_work(perm, False)
+    cx = np.empty(BLOCK, np.float32)
+    cy = np.empty(BLOCK, np.float32)
+    nx = out.shape[1]
+    weight = np.empty(nx, np.float32)
+    for j in range(r0, r1):
+        row = out[j]
+        e0 = d0[j]
+        e1 = d1[j]
+        for o in range(freqs.shape[0]):
+            direct = o == 0 and mode == k.FBM
+            amp = amps[o] if direct else ONE
+            for base in range(0, nx, BLOCK):
+                cnt = min(BLOCK, nx - base)
+                dst = row if direct else nb
+                ob = uint64(base) if direct else uint64(0)
+                _warp_octave(xs, ys[j], e0, e1, base, cnt, warp, freqs[o, 0], offs[o, 0],
+                             freqs[o, 1], offs[o, 1], cx, cy)
+                _s2_locate_xy(cx, cy, cnt, bx, by, ba)
+                _gather(cnt, tab, ba, bw)
+                _s2_eval(cnt, bx, by, bw, dst, ob, amp)
+                if not direct:
+                    _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
+        _finish(mode, row, norm)
+
+
+def warp_grid2(setup, axes, fields, warp, freqs, amps, offs, mode, norm, gain):
+    """The float32 2D simplex grid (shape (ny, nx)) at the grid's points warped by
+    ``warp`` times ``fields`` (two float32 arrays of the grid's shape)."""
+    from ._gridplan import run_blocks
+
+    t = setup.tables
+    a32 = (amps if mode == k.RIDGED else amps * norm).astype(np.float32)
+    ny, nx = len(axes[1]), len(axes[0])
+    out = np.empty((ny, nx), np.float32)
+    d0, d1 = (np.ascontiguousarray(f, np.float32).reshape(ny, nx) for f in fields)
+    run_blocks(warp_rows2, ny,
+               (mode, np.ascontiguousarray(axes[0], np.float64),
+                np.ascontiguousarray(axes[1], np.float64), d0, d1, float(warp), out,
+                np.ascontiguousarray(freqs), a32, np.ascontiguousarray(offs), t.perm,
+                simplex_table(t.seed, t.perm, t.perm12), np.float32(norm), np.float32(gain)))
+    return out
