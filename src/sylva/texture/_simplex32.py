@@ -50,6 +50,11 @@ from ._gridkernels32 import (
     _pick_row,
 )
 
+#: the corner passes: fast-math but for reassociation, so that their sums and offsets round
+#: the same in every caller LLVM optimises them into (in a texture graph's fused kernel the
+#: 2D pass with reassociation rounded 4 of 95 samples 1 ulp off the same graph's Python
+#: road, which calls the pass itself; the graph's two roads agree bit for bit)
+_OPTS_NR = dict(_OPTS, fastmath={"nnan", "ninf", "nsz", "arcp", "contract", "afn"})
 _C28 = np.int32(28)
 _C30 = np.int32(30)
 _C31 = np.int32(31)
@@ -142,7 +147,7 @@ def _s2_hash_b(cnt, bt, bb):
         _bl.simplex2_hash(p, r0 + uint64(o), rs)
 
 
-@njit(**_OPTS)
+@njit(**_OPTS_NR)
 def _s2_eval_b(cnt, bx, by, bb, nb, ob, amp):
     """:func:`_s2_eval` with the corners' gradient indices from the byte rows ``G``."""
     for q in range(cnt):
@@ -173,7 +178,7 @@ def _gather(cnt, tab, ba, bw):
         bw[q] = np.int32(tab[uint64(ba[q])])
 
 
-@njit(**_OPTS)
+@njit(**_OPTS_NR)
 def _s2_eval(cnt, bx, by, bw, nb, ob, amp):
     """SIMD pass: the three corner contributions, gradient indices from the packed cell
     corners, the gradients' dot products by selects (:func:`_g12_2`), times ``amp`` into
@@ -296,7 +301,7 @@ def _c3(g, x, y, z):
     return t * t * _g12(g, x, y, z)
 
 
-@njit(**_OPTS)
+@njit(**_OPTS_NR)
 def _s3_eval(cnt, bx, by, bz, ba, bw, nb, ob, amp):
     """SIMD pass: the four corner contributions (float32, 8 or 16 lanes).  Corners 1 and
     2 from the comparisons in ``ba`` (Gustavson's six-way choice as masks: an offset is
@@ -346,7 +351,7 @@ def _obit(c, n):
     return ONE if _i32(c & n) != I0 else ZERO
 
 
-@njit(**_OPTS)
+@njit(**_OPTS_NR)
 def _s3_eval_b(cnt, bx, by, bz, bb, nb, ob, amp):
     """:func:`_s3_eval` with the corners' gradient indices from the byte rows ``G`` and
     their offsets from the code row (:func:`_code3`)."""
@@ -619,7 +624,7 @@ def _mid4(h0, h1, h2, h3, rx, ry, rz, rw, lim, off, x0, y0, z0, w0):
                z0 - f(ONE, mk) + off, w0 - f(ONE, ml) + off)
 
 
-@njit(**_OPTS)
+@njit(**_OPTS_NR)
 def _s4_eval(cnt, bx, by, bz, bw, bc, hw, nb, ob, amp):
     """SIMD pass: the five corner contributions (float32).  The ranks of ``x0 .. w0`` from
     the comparisons (Gustavson's rank ordering), corner ``c`` offset by 1 along the axes
