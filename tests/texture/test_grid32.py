@@ -43,14 +43,17 @@ def test_float32_road_within_tolerance_of_float64(shape, kind, fractal, octaves)
     assert b.std() > 0.05  # a real pattern, not a constant
 
 
+@pytest.mark.parametrize("use", [True, False], ids=["bytelanes", "packed"])
 @pytest.mark.parametrize(
     "offset",
     [(3e9, 1.5, 2.5), (0.5, -3e9, 2.5), (0.5, 1.5, 7e9), (2.0**26 + 0.3, 0.7, -1.2)],
     ids=["x", "y", "z", "octaves-cross"],
 )
-def test_3d_simplex_far_from_the_origin(offset):
+def test_3d_simplex_far_from_the_origin(monkeypatch, use, offset):
     # the 3D locate converts cells to int32 below 2^29 and takes the float64 road's exact
-    # "& 255" beyond (in the last case the finer of six octaves cross the bound)
+    # "& 255" beyond (in the last case the finer of six octaves cross the bound); both
+    # roads (byte lanes: scalar lookups on CPUs without VBMI, the same results)
+    monkeypatch.setattr(gk32._bl, "USE", use)
     kw = dict(kind="simplex", octaves=6, scale=24.0, seed=5, offset=offset)
     a = noise_grid((3, 5, 300), **kw)
     b = noise_grid((3, 5, 300), dtype=np.float64, **kw)
