@@ -307,23 +307,13 @@ def _locate_simplex(nd, m, C, I0, R, FR):
             FR[1, q] = _F(y0)
     elif nd == 3:
         for q in range(m):
-            x = C[0, q]
-            y = C[1, q]
-            z = C[2, q]
-            s = (x + y + z) * k.F3
-            i = np.floor(x + s)
-            j = np.floor(y + s)
-            kk = np.floor(z + s)
-            t = (i + j + kk) * k.G3
-            x0 = x - (i - t)
-            y0 = y - (j - t)
-            z0 = z - (kk - t)
+            x0, y0, z0, ga, gb, gc, i, j, kk = _s32._s3_cell64(C[0, q], C[1, q], C[2, q])
             I0[0, q] = np.int32(i) & 255
             I0[1, q] = np.int32(j) & 255
             I0[2, q] = np.int32(kk) & 255
-            ca = 1 if x0 >= y0 else 0
-            cb = 1 if y0 >= z0 else 0
-            cc = 1 if x0 >= z0 else 0
+            ca = 1 if ga else 0
+            cb = 1 if gb else 0
+            cc = 1 if gc else 0
             R[0, q] = ca + cc
             R[1, q] = 1 - ca + cb
             R[2, q] = 2 - cb - cc
@@ -332,20 +322,7 @@ def _locate_simplex(nd, m, C, I0, R, FR):
             FR[2, q] = _F(z0)
     else:
         for q in range(m):
-            x = C[0, q]
-            y = C[1, q]
-            z = C[2, q]
-            w = C[3, q]
-            s = (x + y + z + w) * k.F4
-            i = np.floor(x + s)
-            j = np.floor(y + s)
-            kk = np.floor(z + s)
-            ll = np.floor(w + s)
-            t = (i + j + kk + ll) * k.G4
-            x0 = x - (i - t)
-            y0 = y - (j - t)
-            z0 = z - (kk - t)
-            w0 = w - (ll - t)
+            x0, y0, z0, w0, i, j, kk, ll = _s32._s4_cell64(C[0, q], C[1, q], C[2, q], C[3, q])
             I0[0, q] = np.int32(i) & 255
             I0[1, q] = np.int32(j) & 255
             I0[2, q] = np.int32(kk) & 255

@@ -222,6 +222,19 @@ def _s3_cell64(xin, yin, zin):
 
 
 @njit(inline="always", cache=True, error_model="numpy")
+def _s4_cell64(x, y, z, w):
+    """Gustavson's 4D skew and cell in float64, as :func:`._kernels.simplex4`: the offsets
+    ``x0 .. w0`` and the cell ``i, j, k, l``."""
+    s = (x + y + z + w) * k.F4
+    fi = np.floor(x + s)
+    fj = np.floor(y + s)
+    fk = np.floor(z + s)
+    fl = np.floor(w + s)
+    t = (fi + fj + fk + fl) * k.G4
+    return x - (fi - t), y - (fj - t), z - (fk - t), w - (fl - t), fi, fj, fk, fl
+
+
+@njit(inline="always", cache=True, error_model="numpy")
 def _low8(f, big):
     """``int(f) & 255`` of an integral float64: by an int32 conversion, or where the
     coordinates may leave int32 (``big``) exactly, as the float64 road takes it."""
@@ -390,14 +403,7 @@ def _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, r0, r1, jfix, mfix, weight,
     ``out[0, 0]`` at ``(mfix, jfix)``, or with ``jfix == -2`` a block of image rows (``mfix``
     rows high) into ``out[0, :r1 - r0]``: both left unnormalised."""
     bx, by, bz, nb, ba, bw, pk, bb, bt, hashed = work
-    nf = freqs.shape[0]
-    xo = np.empty((nf if ndim == 3 else 0, xs.shape[0]))  # 3D: each octave's x (float64)
-    xbig = np.zeros(nf, np.bool_)
-    for o in range(xo.shape[0]):
-        _x_octave(xs, freqs[o, 0], offs[o, 0], xo[o])
-        for q in range(xs.shape[0]):
-            if not abs(xo[o, q]) < _BIG:
-                xbig[o] = True
+    xo, xbig = _x_octaves(xs, freqs, offs, ndim == 3)  # 3D: each octave's x (float64)
     for r in range(r0, r1):
         j, m, row = _pick_row(out, r, r0, jfix, mfix)
         nx = row.shape[0]
@@ -447,6 +453,21 @@ def _x_octave(xs, fx, ox, xo):
     call, not once a row)."""
     for q in range(xs.shape[0]):
         xo[q] = xs[q] * fx + ox
+
+
+@njit(**_OPTS64)  # no fast-math: the float64 road's roundings
+def _x_octaves(xs, freqs, offs, need):
+    """Every octave's x coordinates (:func:`_x_octave`; none unless ``need``), and per
+    octave whether one of them is at least :data:`_BIG` (the locates' exact ``& 255``)."""
+    nf = freqs.shape[0]
+    xo = np.empty((nf if need else 0, xs.shape[0]))
+    xbig = np.zeros(nf, np.bool_)
+    for o in range(xo.shape[0]):
+        _x_octave(xs, freqs[o, 0], offs[o, 0], xo[o])
+        for q in range(xs.shape[0]):
+            if not abs(xo[o, q]) < _BIG:
+                xbig[o] = True
+    return xo, xbig
 
 
 @njit(cache=True)
@@ -553,17 +574,7 @@ def _s4_locate(xo, base, cnt, yin, zin, win, big, bx, by, bz, bw, ba, bc):
     ``bc``."""
     b0 = uint64(base)
     for q in range(cnt):
-        x = xo[b0 + uint64(q)]
-        s = (x + yin + zin + win) * k.F4
-        fi = np.floor(x + s)
-        fj = np.floor(yin + s)
-        fk = np.floor(zin + s)
-        fl = np.floor(win + s)
-        t = (fi + fj + fk + fl) * k.G4
-        x0 = x - (fi - t)
-        y0 = yin - (fj - t)
-        z0 = zin - (fk - t)
-        w0 = win - (fl - t)
+        x0, y0, z0, w0, fi, fj, fk, fl = _s4_cell64(xo[b0 + uint64(q)], yin, zin, win)
         bx[q] = x0
         by[q] = y0
         bz[q] = z0
@@ -671,13 +682,7 @@ def rows4s(r0, r1, mode, xs, ys, zs, ws, out, freqs, amps, offs, perm, tab, norm
     nw, nz, ny, nx = out.shape
     weight = np.empty(nx, np.float32)
     nf = freqs.shape[0]
-    xo = np.empty((nf, nx))
-    xbig = np.zeros(nf, np.bool_)
-    for o in range(nf):
-        _x_octave(xs, freqs[o, 0], offs[o, 0], xo[o])
-        for q in range(nx):
-            if not abs(xo[o, q]) < _BIG:
-                xbig[o] = True
+    xo, xbig = _x_octaves(xs, freqs, offs, True)
     for r in range(r0, r1):
         j = r % ny
         m = (r // ny) % nz
