@@ -14,6 +14,7 @@ from sylva.texture import _kernels as k
 from sylva.texture import _lattice4_32 as l4
 from sylva.texture import _points32 as p32
 from sylva.texture import _simplex32 as s32
+from sylva.texture import _warp32 as wp32
 from sylva.texture import _worley32 as w32
 from sylva.texture import noise_grid
 from sylva.texture._gridplan import grid_plan
@@ -110,29 +111,71 @@ def test_warp_float32_within_tolerance(monkeypatch, kind, shape, fractal):
     fields = []
     real = gk32.grid32
     monkeypatch.setattr(gk32, "grid32", lambda *a: fields.append(a[7]) or real(*a))
-    rows = []
-    real_rows = s32.warp_grid2
-    monkeypatch.setattr(s32, "warp_grid2", lambda *a: rows.append(1) or real_rows(*a))
+    rows = _warp_rows(monkeypatch)
     _both(shape, kind=kind, fractal=fractal, octaves=3, scale=5.0, seed=2, warp=0.8)
     # the warp field of each axis is fBm on the grid's own points: the grid roads take it,
-    # then the warped noise goes on rows of points (2D simplex: the grid's own passes at
-    # the warped points, _simplex32.warp_rows2)
+    # then the warped noise goes on rows of points (2D: rows at the warped points,
+    # _warp32.warp_rows2)
     assert fields == [k.FBM] * len(shape)
-    by_rows = kind == "simplex" and len(shape) == 2
+    by_rows = len(shape) == 2
     assert calls == [] if by_rows else calls == [(True, p32.KINDS[KINDS.index(kind)])]
-    assert rows == [1] * by_rows
+    assert rows == [p32.KINDS[KINDS.index(kind)]] * by_rows
 
 
-@pytest.mark.parametrize("fractal,octaves", [("fbm", 1), ("ridged", 4), ("turbulence", 2)])
-def test_warped_2d_simplex_rows(monkeypatch, fractal, octaves):
-    # rows longer than a block (256), negative offsets: the warped points' octave
-    # coordinates in float32 (2D simplex has no jump at its faces), the grid's passes
+def _warp_rows(monkeypatch):
     rows = []
-    real_rows = s32.warp_grid2
-    monkeypatch.setattr(s32, "warp_grid2", lambda *a: rows.append(1) or real_rows(*a))
-    _both((7, 300), kind="simplex", fractal=fractal, octaves=octaves, scale=9.0, seed=6,
+    real = wp32.warp_grid2
+    monkeypatch.setattr(wp32, "warp_grid2", lambda *a: rows.append(a[0].kind) or real(*a))
+    return rows
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("fractal,octaves", [("fbm", 1), ("ridged", 4), ("turbulence", 2)])
+def test_warped_2d_rows(monkeypatch, kind, fractal, octaves):
+    # rows longer than a block (256), negative offsets: lattice noise located in float64
+    # at the warped points (cells from the packed corner table), simplex in float32 (2D
+    # simplex has no jump at its faces)
+    rows = _warp_rows(monkeypatch)
+    _both((7, 300), kind=kind, fractal=fractal, octaves=octaves, scale=9.0, seed=6,
           warp=1.3, offset=(-20.5, -3.25))
-    assert rows == [1]
+    assert rows == [p32.KINDS[KINDS.index(kind)]]
+
+
+@pytest.mark.parametrize("interpolation", ["linear", "cosine", "cubic", "quintic"])
+@pytest.mark.parametrize("kind", ["value", "perlin", "improved"])
+def test_warped_2d_rows_interpolation(kind, interpolation):
+    # every curve of the lattice noises (the cosine by its polynomial, within tolerance)
+    _both((5, 64), kind=kind, interpolation=interpolation, octaves=2, scale=6.0, seed=3,
+          warp=0.9)
+
+
+@pytest.mark.parametrize("offset", [(2.0**30, -(2.0**31) + 7.3), (1e12, -3e11)])
+def test_warped_2d_rows_far_from_the_origin(offset):
+    # beyond int32 the cells' & 255 is the float64 road's exact one, not a conversion's
+    _both((4, 96), kind="improved", octaves=2, scale=6.0, seed=3, warp=1.1, offset=offset)
+
+
+def test_warped_tileable_lattice_stays_on_points(monkeypatch):
+    # a lattice period wraps a cell's far corner, which the corner tables do not: points
+    calls = _spy(monkeypatch, "grid_kernel")
+    rows = _warp_rows(monkeypatch)
+    _both((16, 40), kind="value", octaves=2, scale=4.0, seed=2, warp=0.7, tileable=True)
+    assert rows == [] and calls == [(True, k.VALUE)]
+
+
+def test_lattice2_table_holds_the_float64_roads_corners():
+    # the packed corners of cell (i, j) are the float64 road's chained lookups
+    from sylva.texture.noise import _setup
+
+    perm = _setup("improved", 11, "quintic").tables.perm
+    imp = wp32.lattice2_table(k.IMPROVED, 11, perm)
+    val = wp32.lattice2_table(k.VALUE, 11, perm).view(np.uint32)
+    for i, j in [(0, 0), (255, 255), (17, 255), (255, 3), (128, 64)]:
+        for c, (di, dj) in enumerate([(0, 0), (1, 0), (0, 1), (1, 1)]):
+            x, y = (i + di) & 255, (j + dj) & 255
+            h = perm[perm[x] + y]
+            assert (int(val[i * 256 + j]) >> (8 * c)) & 255 == h
+            assert (int(imp[i * 256 + j]) >> (4 * c)) & 15 == perm[h] & 15
 
 
 @pytest.mark.parametrize(

@@ -1,7 +1,9 @@
 """The float32 road of the noise grids that :mod:`._gridkernels32` does not cover: 4D
 Worley cell id (and 3D grids with ``time``; 4D value, classic and improved noise go by
 rows, :mod:`._lattice4_32`, as 4D simplex, :func:`._simplex32.rows4s`, and 4D Worley
-F1..F3 do), tileable simplex (its flat 4D torus) and domain warping, of every kind
+F1..F3 do), tileable simplex (its flat 4D torus) and domain warping, of every kind (a
+warped 2D grid of value, classic, improved or simplex noise goes by rows at the warped
+points, :mod:`._warp32`, but for lattice periods; its warp fields are made here too)
 (private; see :func:`sylva.texture.noise_grid`).
 
 One kernel, :func:`_block`, takes the fractal sum of value, classic Perlin, improved
@@ -42,6 +44,7 @@ from . import _cellkernels as ck
 from . import _gridkernels32 as _gk32
 from . import _kernels as k
 from . import _simplex32 as _s32
+from . import _warp32 as _w32
 
 #: bound on the absolute difference from the float64 road (values about [-1, 1]): the
 #: lattice cells and simplices are the float64 road's, the fractions are rounded to float32
@@ -845,10 +848,12 @@ def grid32(plan, warp, setup):
 
     base = 0 if s.tables.seed is None else s.tables.seed
     seeds = [base + 7919 * (a + 1) for a in range(ndim)]  # the float64 road's, per axis
-    if ndim == 2 and s.kind == k.SIMPLEX and not _jit.cold(_s32.warp_rows2, n, SCALAR_WORK):
-        # 2D simplex: the grid's passes at the warped points (no point arrays)
+    if (ndim == 2 and s.kind in _w32.KINDS and (s.kind == k.SIMPLEX or not pers.any())
+            and not _jit.cold(_w32.warp_rows2, n, SCALAR_WORK)):
+        # 2D: rows at the warped points (:mod:`._warp32`, no point arrays; a lattice period
+        # wraps the far corners, which its tables do not)
         fields = [_field(setup(sd), plan, axes, pts, n) for sd in seeds]
-        out = _s32.warp_grid2(s, axes, fields, warp, freqs, plan.amps, offs, mode, plan.norm,
+        out = _w32.warp_grid2(s, axes, fields, warp, freqs, plan.amps, offs, mode, plan.norm,
                               plan.gain)
         return out.reshape(plan.shape)
     warped = []
@@ -875,11 +880,11 @@ def warm() -> None:
         # kernels as well: its warp fields go by the 4D simplex rows (or, while the texture
         # group's kernels are cold, on points), the warped noise on points
         noise_grid((1, 1, 2, 8), kind="simplex", octaves=2, warp=0.5, dtype=np.float32)
-        # 2D simplex at warped points (:func:`._simplex32.warp_rows2`), called directly: a
+        # 2D noise at warped points (:func:`._warp32.warp_rows2`), called directly: a
         # warped 2D grid's fields would compile the texture group's 2D grid kernel here
         from .noise import _setup
 
         ax = [np.arange(8, dtype=np.float64), np.arange(2, dtype=np.float64)]
         f = np.zeros(16, np.float32)
-        _s32.warp_grid2(_setup("simplex", 1, None), ax, [f, f], 0.5, np.ones((2, 4)),
+        _w32.warp_grid2(_setup("simplex", 1, None), ax, [f, f], 0.5, np.ones((2, 4)),
                         np.ones(2), np.zeros((2, 4)), k.FBM, 1.0, 0.5)
