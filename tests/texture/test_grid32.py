@@ -46,6 +46,25 @@ def test_float32_road_within_tolerance_of_float64(shape, kind, fractal, octaves)
 @pytest.mark.parametrize("use", [True, False], ids=["bytelanes", "packed"])
 @pytest.mark.parametrize(
     "offset",
+    [(3000.0, 100.0), (1e5, -1e5), (2.0**30, 5.0), (0.5, 3e9), (20.0, 0.3)],
+    ids=["3e3", "1e5", "2^30", "y", "octaves-cross"],
+)
+def test_2d_simplex_far_from_the_origin(monkeypatch, use, offset):
+    # 2D simplex locates in float32 near the origin only: float32 coordinates of 3,000
+    # cells were 5.9e-4 off the float64 road, of 1e5 cells 0.02; beyond ~32 cells an
+    # octave's amplitude (_simplex32._s2_fits32) it locates in float64 (in the last case
+    # the finer of six octaves cross over); both roads
+    monkeypatch.setattr(gk32._bl, "USE", use)
+    kw = dict(kind="simplex", octaves=6, scale=24.0, seed=5, offset=offset)
+    a = noise_grid((5, 300), **kw)
+    b = noise_grid((5, 300), dtype=np.float64, **kw)
+    assert np.abs(a.astype(np.float64) - b).max() < TOL
+    assert b.std() > 0.05
+
+
+@pytest.mark.parametrize("use", [True, False], ids=["bytelanes", "packed"])
+@pytest.mark.parametrize(
+    "offset",
     [(3e9, 1.5, 2.5), (0.5, -3e9, 2.5), (0.5, 1.5, 7e9), (2.0**26 + 0.3, 0.7, -1.2)],
     ids=["x", "y", "z", "octaves-cross"],
 )

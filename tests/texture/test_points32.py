@@ -114,45 +114,56 @@ def test_warp_float32_within_tolerance(monkeypatch, kind, shape, fractal):
     rows = _warp_rows(monkeypatch)
     _both(shape, kind=kind, fractal=fractal, octaves=3, scale=5.0, seed=2, warp=0.8)
     # the warp field of each axis is fBm on the grid's own points: the grid roads take it,
-    # then the warped noise goes on rows of points (2D: rows at the warped points,
-    # _warp32.warp_rows2)
+    # then the warped noise goes on rows of points (2D and 3D: rows at the warped points,
+    # _warp32.warp_rows)
     assert fields == [k.FBM] * len(shape)
-    by_rows = len(shape) == 2
+    by_rows = len(shape) in (2, 3)
     assert calls == [] if by_rows else calls == [(True, p32.KINDS[KINDS.index(kind)])]
     assert rows == [p32.KINDS[KINDS.index(kind)]] * by_rows
 
 
 def _warp_rows(monkeypatch):
     rows = []
-    real = wp32.warp_grid2
-    monkeypatch.setattr(wp32, "warp_grid2", lambda *a: rows.append(a[0].kind) or real(*a))
+    real = wp32.warp_grid
+    monkeypatch.setattr(wp32, "warp_grid", lambda *a: rows.append(a[0].kind) or real(*a))
     return rows
 
 
 @pytest.mark.parametrize("kind", KINDS)
 @pytest.mark.parametrize("fractal,octaves", [("fbm", 1), ("ridged", 4), ("turbulence", 2)])
-def test_warped_2d_rows(monkeypatch, kind, fractal, octaves):
+@pytest.mark.parametrize("shape", [(7, 300), (3, 4, 300)], ids=["2d", "3d"])
+def test_warped_rows(monkeypatch, kind, fractal, octaves, shape):
     # rows longer than a block (256), negative offsets: lattice noise located in float64
-    # at the warped points (cells from the packed corner table), simplex in float32 (2D
-    # simplex has no jump at its faces)
+    # at the warped points (cells from the packed corner table, in 3D then the z chain),
+    # 2D simplex in float32 (no jump at its faces), 3D simplex in float64
     rows = _warp_rows(monkeypatch)
-    _both((7, 300), kind=kind, fractal=fractal, octaves=octaves, scale=9.0, seed=6,
-          warp=1.3, offset=(-20.5, -3.25))
+    _both(shape, kind=kind, fractal=fractal, octaves=octaves, scale=9.0, seed=6,
+          warp=1.3, offset=(-20.5, -3.25, 7.75)[: len(shape)])
     assert rows == [p32.KINDS[KINDS.index(kind)]]
 
 
 @pytest.mark.parametrize("interpolation", ["linear", "cosine", "cubic", "quintic"])
 @pytest.mark.parametrize("kind", ["value", "perlin", "improved"])
-def test_warped_2d_rows_interpolation(kind, interpolation):
+@pytest.mark.parametrize("shape", [(5, 64), (2, 3, 64)], ids=["2d", "3d"])
+def test_warped_rows_interpolation(kind, interpolation, shape):
     # every curve of the lattice noises (the cosine by its polynomial, within tolerance)
-    _both((5, 64), kind=kind, interpolation=interpolation, octaves=2, scale=6.0, seed=3,
+    _both(shape, kind=kind, interpolation=interpolation, octaves=2, scale=6.0, seed=3,
           warp=0.9)
 
 
-@pytest.mark.parametrize("offset", [(2.0**30, -(2.0**31) + 7.3), (1e12, -3e11)])
-def test_warped_2d_rows_far_from_the_origin(offset):
-    # beyond int32 the cells' & 255 is the float64 road's exact one, not a conversion's
-    _both((4, 96), kind="improved", octaves=2, scale=6.0, seed=3, warp=1.1, offset=offset)
+@pytest.mark.parametrize(
+    "shape,offset",
+    [((4, 96), (3000.0, 100.0)), ((4, 96), (2.0**30, -(2.0**31) + 7.3)),
+     ((4, 96), (3e9, -1e9)), ((2, 3, 96), (2.0**30, -(2.0**31) + 7.3, 3e9))],
+)
+@pytest.mark.parametrize("kind", ["improved", "simplex"])
+def test_warped_rows_far_from_the_origin(kind, shape, offset):
+    # beyond int32 the cells' & 255 is the float64 road's exact one, not a conversion's;
+    # 2D simplex beyond a few hundred cells locates in float64 (float32 coordinates would
+    # round by more than the tolerance).  Not beyond ~1e10 cells: there one float64 step
+    # of a warped point exceeds the fields' float32 rounding times warp, and so does the
+    # difference from the float64 road
+    _both(shape, kind=kind, octaves=2, scale=6.0, seed=3, warp=1.1, offset=offset)
 
 
 def test_warped_tileable_lattice_stays_on_points(monkeypatch):

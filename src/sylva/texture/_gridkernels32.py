@@ -68,7 +68,9 @@ from ._gridkernels import BLOCK, axis_tables
 #: bound on the absolute difference from the float64 road (values about [-1, 1]): value,
 #: classic and improved noise and Worley differ by ~3e-7 (their lattice tables and feature
 #: points are computed in float64);
-#: 2D simplex, located in float32 coordinates (~1e-4 of a cell of rounding at 2000 cells),
+#: 2D simplex, located in float32 coordinates near the origin (their rounding moves a
+#: value by up to ~3.5e-7 per cell of distance times the octave's amplitude; a row's octaves
+#: spend at most 256 of that, ~1e-4, the rest locate in float64: ``_simplex32._s2_near``),
 #: by up to ~7e-5 over 6 octaves; 3D simplex is located in float64 (its kernel, r² = 0.6,
 #: jumps across simplex faces, so the simplex must be the float64 road's) and differs by
 #: ~5e-7

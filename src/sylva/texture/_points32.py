@@ -848,13 +848,13 @@ def grid32(plan, warp, setup):
 
     base = 0 if s.tables.seed is None else s.tables.seed
     seeds = [base + 7919 * (a + 1) for a in range(ndim)]  # the float64 road's, per axis
-    if (ndim == 2 and s.kind in _w32.KINDS and (s.kind == k.SIMPLEX or not pers.any())
-            and not _jit.cold(_w32.warp_rows2, n, SCALAR_WORK)):
-        # 2D: rows at the warped points (:mod:`._warp32`, no point arrays; a lattice period
-        # wraps the far corners, which its tables do not)
+    if (ndim in (2, 3) and s.kind in _w32.KINDS and (s.kind == k.SIMPLEX or not pers.any())
+            and not _jit.cold(_w32.warp_rows, n, SCALAR_WORK)):
+        # 2D and 3D: rows at the warped points (:mod:`._warp32`, no point arrays; a lattice
+        # period wraps the far corners, which its tables do not)
         fields = [_field(setup(sd), plan, axes, pts, n) for sd in seeds]
-        out = _w32.warp_grid2(s, axes, fields, warp, freqs, plan.amps, offs, mode, plan.norm,
-                              plan.gain)
+        out = _w32.warp_grid(s, axes, fields, warp, freqs, plan.amps, offs, mode, plan.norm,
+                             plan.gain)
         return out.reshape(plan.shape)
     warped = []
     for a in range(ndim):  # the warp fields: fBm of the kind, with the axis's seed
@@ -880,11 +880,11 @@ def warm() -> None:
         # kernels as well: its warp fields go by the 4D simplex rows (or, while the texture
         # group's kernels are cold, on points), the warped noise on points
         noise_grid((1, 1, 2, 8), kind="simplex", octaves=2, warp=0.5, dtype=np.float32)
-        # 2D noise at warped points (:func:`._warp32.warp_rows2`), called directly: a
+        # 2D noise at warped points (:func:`._warp32.warp_rows`), called directly: a
         # warped 2D grid's fields would compile the texture group's 2D grid kernel here
         from .noise import _setup
 
         ax = [np.arange(8, dtype=np.float64), np.arange(2, dtype=np.float64)]
         f = np.zeros(16, np.float32)
-        _w32.warp_grid2(_setup("simplex", 1, None), ax, [f, f], 0.5, np.ones((2, 4)),
-                        np.ones(2), np.zeros((2, 4)), k.FBM, 1.0, 0.5)
+        _w32.warp_grid(_setup("simplex", 1, None), ax, [f, f], 0.5, np.ones((2, 4)),
+                       np.ones(2), np.zeros((2, 4)), k.FBM, 1.0, 0.5)

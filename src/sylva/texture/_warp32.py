@@ -11,7 +11,8 @@ improved noise on znver3).  Here each octave of a row goes in three passes per b
 1. *locate* (float64, SIMD): the warped point and octave coordinates as the float64 road
    computes them, their floors, float32 fractions, and the cell's flat address
    ``(i & 255) << 8 | (j & 255)`` (exact ``& 255`` beyond int32, :func:`._simplex32._low8`);
-   2D simplex, which has no jump at its faces, locates in float32 (as its grid pass);
+   2D simplex, which has no jump at its faces, locates in float32 (as its grid pass) but
+   far from the origin (:func:`._simplex32._s2_near`), 3D simplex in float64;
 2. *gather* (scalar): one load a sample from a table of the cell's four corners, their
    chained lookups precomputed per seed (:func:`lattice2_table`: improved noise's four
    gradient indices in nibbles, value and classic noise's four corner hashes in bytes,
@@ -47,6 +48,7 @@ from ._gridkernels32 import (
     _finish,
     _g16_2,
     _i32,
+    _imp3,
     _lerp,
 )
 from ._simplex32 import (
@@ -55,13 +57,19 @@ from ._simplex32 import (
     _gather,
     _low8,
     _s2_cell,
+    _s2_cell64,
     _s2_eval,
+    _s2_near,
+    _s3_cell64,
+    _s3_eval,
+    _s3_gather,
     simplex_table,
     simplex_work,
 )
 
 _SIX, _FIFTEEN, _TEN, _THREE, _TWO, _HALF = (_F(v) for v in (6.0, 15.0, 10.0, 3.0, 2.0, 0.5))
 _PI = _F(math.pi)
+_C16, _C20, _C24, _C28 = (np.int32(v) for v in (16, 20, 24, 28))
 # sin(a) = a (1 + a^2 (S3 + a^2 (S5 + ...))) on |a| <= pi / 2: below 6e-8 off (a^13 / 13!)
 _S3, _S5, _S7, _S9, _S11 = (_F((-1) ** n / math.factorial(2 * n + 1)) for n in range(1, 6))
 #: the noise kinds of this road
@@ -70,11 +78,24 @@ KINDS = (k.VALUE, k.PERLIN, k.IMPROVED, k.SIMPLEX)
 
 @njit(**_OPTS)
 def _curves(interp, cnt, bx, by, cu, cv):
-    """The interpolation weights of the fractions ``bx, by`` into ``cu, cv`` (float32; as
+    """:func:`_curve_pairs` of two axes."""
+    _curve_pairs(interp, cnt, ((bx, cu), (by, cv)))
+
+
+@njit(**_OPTS)
+def _curves3(interp, cnt, bx, by, bz, cu, cv, cw):
+    """:func:`_curve_pairs` of three axes."""
+    _curve_pairs(interp, cnt, ((bx, cu), (by, cv), (bz, cw)))
+
+
+@njit(inline="always", **_OPTS)
+def _curve_pairs(interp, cnt, pairs):
+    """The interpolation weights of the fractions ``src`` into ``dst`` (``pairs`` of
+    them; float32; as
     :func:`._kernels._curve`): one loop per curve (with the choice inside the loop LLVM
     kept the loop scalar, ~11 ns a sample), the cosine by a polynomial (SIMD; ``cosf``
     was a scalar call, 7 ns a sample)."""
-    for src, dst in ((bx, cu), (by, cv)):
+    for src, dst in pairs:
         if interp == 3:
             for q in range(cnt):
                 t = src[q]
@@ -147,6 +168,60 @@ def _lat_locate(xs, y, d0, d1, base, cnt, warp, fx, ox, fy, oy, big, bx, by, ba)
         ba[q] = _i32(_i32(_low8(gx, big) << I8) | _low8(gy, big))
 
 
+@njit(**_OPTS64)  # no fast-math: as :func:`_lat_locate`
+def _lat_locate3(xs, y, z, d0, d1, d2, base, cnt, warp, f, o, big, bx, by, bz, ba, bk):
+    """:func:`_lat_locate` in 3D (``f``, ``o``: the octave's frequencies and offsets):
+    the cell's ``i, j`` table address into ``ba``, its ``k & 255`` into ``bk``."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        i = b0 + uint64(q)
+        cx = (xs[i] + warp * np.float64(d0[i])) * f[0] + o[0]
+        cy = (y + warp * np.float64(d1[i])) * f[1] + o[1]
+        cz = (z + warp * np.float64(d2[i])) * f[2] + o[2]
+        gx = np.floor(cx)
+        gy = np.floor(cy)
+        gz = np.floor(cz)
+        bx[q] = _F(cx - gx)
+        by[q] = _F(cy - gy)
+        bz[q] = _F(cz - gz)
+        ba[q] = _i32(_i32(_low8(gx, big) << I8) | _low8(gy, big))
+        bk[q] = _low8(gz, big)
+
+
+@njit(**_OPTS64)  # no fast-math: the float64 road's simplex (its kernel jumps at faces)
+def _s3_locate_w(xs, y, z, d0, d1, d2, base, cnt, warp, f, o, big, bx, by, bz, ba):
+    """3D simplex: the warped points' octave coordinates and Gustavson's cell and
+    comparisons in float64, packed as :func:`._simplex32._s3_locate` packs them."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        i = b0 + uint64(q)
+        cx = (xs[i] + warp * np.float64(d0[i])) * f[0] + o[0]
+        cy = (y + warp * np.float64(d1[i])) * f[1] + o[1]
+        cz = (z + warp * np.float64(d2[i])) * f[2] + o[2]
+        x0, y0, z0, ca, cb, cc, fi, fj, fk = _s3_cell64(cx, cy, cz)
+        bx[q] = x0
+        by[q] = y0
+        bz[q] = z0
+        c = (np.int64(ca) << 24) | (np.int64(cb) << 25) | (np.int64(cc) << 26)
+        ba[q] = (np.int32(c) | (_low8(fi, big) << I8) | _low8(fj, big)
+                 | (_low8(fk, big) << np.int32(16)))
+
+
+@njit(**_OPTS64)  # no fast-math: the float64 road's warped points
+def _s2_locate_w64(xs, y, d0, d1, base, cnt, warp, fx, ox, fy, oy, big, bx, by, ba):
+    """2D simplex far from the origin: :func:`_s2_locate_xy` from the warped points'
+    float64 octave coordinates (float32 would round them by more than the tolerance,
+    :func:`._simplex32._s2_near`)."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        i = b0 + uint64(q)
+        x0, y0, fi, fj = _s2_cell64((xs[i] + warp * np.float64(d0[i])) * fx + ox,
+                                    (y + warp * np.float64(d1[i])) * fy + oy)
+        bx[q] = x0
+        by[q] = y0
+        ba[q] = _i32(_i32(_low8(fi, big) << I8) | _low8(fj, big))
+
+
 # -- gather ---------------------------------------------------------------------------------
 @njit(**_OPTS)
 def _lat_gather(kind, cnt, tab, ba, vals, grad, vb, gb):
@@ -169,6 +244,37 @@ def _lat_gather(kind, cnt, tab, ba, vals, grad, vb, gb):
                 h = (w >> uint64(8 * c)) & uint64(255)
                 gb[0, c, q] = grad[h, 0]
                 gb[1, c, q] = grad[h, 1]
+
+
+@njit(**_OPTS)
+def _lat_gather3(kind, cnt, tab, ba, bk, perm, vals, grad, hb, vb, gb):
+    """3D: the four ``(i, j)`` corner hashes from the table word, then the eight corners'
+    ``perm[h + k + dk]`` (the float64 road's chain): improved noise's gradient indices
+    packed in one word (corner ``c = di + 2 dj + 4 dk`` in bits ``4c``), value noise's
+    lattice values into ``vb``, classic Perlin noise's gradients into ``gb``."""
+    for q in range(cnt):
+        a = uint64(ba[q]) << uint64(1)
+        w = uint64(tab[a]) | (uint64(tab[a + uint64(1)]) << uint64(16))
+        z0 = uint64(bk[q])
+        z1 = z0 + uint64(1)
+        if kind == k.IMPROVED:
+            m = 0
+            for c in range(4):
+                h = (w >> uint64(8 * c)) & uint64(255)
+                m |= ((perm[h + z0] & 15) << (4 * c)) | ((perm[h + z1] & 15) << (4 * c + 16))
+            hb[q] = np.int32(np.int64(m) - ((np.int64(m) >> 31) << 32))
+        else:
+            for c in range(4):
+                h = (w >> uint64(8 * c)) & uint64(255)
+                g0 = uint64(perm[h + z0])
+                g1 = uint64(perm[h + z1])
+                if kind == k.VALUE:
+                    vb[c, q] = vals[g0]
+                    vb[c + 4, q] = vals[g1]
+                else:
+                    for a in range(3):
+                        gb[a, c, q] = grad[g0, a]
+                        gb[a, c + 4, q] = grad[g1, a]
 
 
 # -- blend ----------------------------------------------------------------------------------
@@ -213,49 +319,118 @@ def _lat_eval(kind, cnt, bx, by, cu, cv, bw, vb, gb, nb, ob, amp):
             nb[ob + uint64(q)] = amp * _lerp(v, _lerp(u, n00, n10), _lerp(u, n01, n11))
 
 
+@njit(**_OPTS)
+def _lat_eval3(kind, cnt, bx, by, bz, cu, cv, cw, hb, vb, gb, nb, ob, amp):
+    """:func:`_lat_eval` in 3D (trilinear; corner ``c``: x1 if ``c & 1``, y1 if ``c & 2``,
+    z1 if ``c & 4``)."""
+    if kind == k.IMPROVED:
+        for q in range(cnt):
+            h = hb[q]
+            n = _imp3(h, _i32(h >> I4), _i32(h >> I8), _i32(h >> I12), _i32(h >> _C16),
+                      _i32(h >> _C20), _i32(h >> _C24), _i32(h >> _C28), bx[q], by[q], bz[q],
+                      cu[q], cv[q], cw[q])
+            nb[ob + uint64(q)] = amp * n
+    elif kind == k.VALUE:
+        for q in range(cnt):
+            u = cu[q]
+            v = cv[q]
+            n = _lerp(cw[q],
+                      _lerp(v, _lerp(u, vb[0, q], vb[1, q]), _lerp(u, vb[2, q], vb[3, q])),
+                      _lerp(v, _lerp(u, vb[4, q], vb[5, q]), _lerp(u, vb[6, q], vb[7, q])))
+            nb[ob + uint64(q)] = amp * n
+    else:
+        for q in range(cnt):
+            x = bx[q]
+            y = by[q]
+            z = bz[q]
+            u = cu[q]
+            v = cv[q]
+            x_1 = x - ONE
+            y_1 = y - ONE
+            z_1 = z - ONE
+            n0 = gb[0, 0, q] * x + gb[1, 0, q] * y + gb[2, 0, q] * z
+            n1 = gb[0, 1, q] * x_1 + gb[1, 1, q] * y + gb[2, 1, q] * z
+            n2 = gb[0, 2, q] * x + gb[1, 2, q] * y_1 + gb[2, 2, q] * z
+            n3 = gb[0, 3, q] * x_1 + gb[1, 3, q] * y_1 + gb[2, 3, q] * z
+            n4 = gb[0, 4, q] * x + gb[1, 4, q] * y + gb[2, 4, q] * z_1
+            n5 = gb[0, 5, q] * x_1 + gb[1, 5, q] * y + gb[2, 5, q] * z_1
+            n6 = gb[0, 6, q] * x + gb[1, 6, q] * y_1 + gb[2, 6, q] * z_1
+            n7 = gb[0, 7, q] * x_1 + gb[1, 7, q] * y_1 + gb[2, 7, q] * z_1
+            n = _lerp(cw[q], _lerp(v, _lerp(u, n0, n1), _lerp(u, n2, n3)),
+                      _lerp(v, _lerp(u, n4, n5), _lerp(u, n6, n7)))
+            nb[ob + uint64(q)] = amp * n
+
+
 # -- rows -----------------------------------------------------------------------------------
 @njit(nogil=True, **_OPTS64)  # no fast-math: the warped points in float64
-def warp_rows2(r0, r1, kind, mode, interp, xs, ys, d0, d1, warp, out, freqs, amps, offs, perm,
-               tab, vals, grad, norm, gain):
-    """Rows ``r0 .. r1`` of ``out`` (float32, shape (ny, nx)) of 2D noise of ``kind`` at
-    the grid's points warped by the fields ``d0, d1`` (float32, shape (ny, nx)), every
-    octave summed into the row (``amps`` carry ``norm`` unless ``mode`` is ridged;
-    ``tab``: :func:`lattice2_table`, or for simplex noise
+def warp_rows(r0, r1, ndim, kind, mode, interp, xs, ys, zs, d0, d1, d2, warp, out, freqs,
+              amps, offs, perm, tab, vals, grad, norm, gain):
+    """Rows ``r0 .. r1`` (row ``r``: slice ``r // ny``, row ``r % ny``) of ``out``
+    (float32, shape (nz, ny, nx); 2D: nz = 1) of 2D or 3D noise of ``kind`` at the grid's
+    points warped by the fields ``d0, d1, d2`` (float32, ``out``'s shape; 2D: ``d2``
+    unused), every octave summed into the row (``amps`` carry ``norm`` unless ``mode`` is
+    ridged; ``tab``: :func:`lattice2_table`, or for simplex noise
     :func:`._simplex32.simplex_table`)."""
     bx, by, bz, nb, ba, bw, pk, bb, bt, hashed = simplex_work(perm, False)
     cx = np.empty(BLOCK, np.float32)
     cy = np.empty(BLOCK, np.float32)
-    vb = np.empty((4, BLOCK), np.float32)
-    gb = np.empty((2, 4, BLOCK), np.float32)
-    nx = out.shape[1]
+    cz = np.empty(BLOCK, np.float32)
+    bk = np.empty(BLOCK, np.int32)
+    vb = np.empty((8, BLOCK), np.float32)
+    gb = np.empty((3, 8, BLOCK), np.float32)
+    ny, nx = out.shape[1], out.shape[2]
     weight = np.empty(nx, np.float32)
     xm = 0.0
     for i in range(nx):
         xm = max(xm, abs(xs[i]))
-    for j in range(r0, r1):
-        row = out[j]
-        e0 = d0[j]
-        e1 = d1[j]
+    for r in range(r0, r1):
+        m = r // ny
+        j = r % ny
+        row = out[m, j]
+        e0 = d0[m, j]
+        e1 = d1[m, j]
+        e2 = d2[m, j] if ndim == 3 else e1
         # how far the warped points may reach: beyond int32 the floors take the exact & 255
-        reach = abs(warp) * np.float64(_absmax(e0, e1))
+        reach = abs(warp) * np.float64(max(_absmax(e0, e1), _absmax(e2, e2)))
+        spent = 0.0  # of the 2D simplex float32 locate's budget (_s2_near)
         for o in range(freqs.shape[0]):
-            fx, ox, fy, oy = freqs[o, 0], offs[o, 0], freqs[o, 1], offs[o, 1]
-            big = ((xm + reach) * abs(fx) + abs(ox) >= _BIG
-                   or (abs(ys[j]) + reach) * abs(fy) + abs(oy) >= _BIG)
+            f = freqs[o]
+            of = offs[o]
+            cx_ = (xm + reach) * abs(f[0]) + abs(of[0])  # the largest coordinates
+            cy_ = (abs(ys[j]) + reach) * abs(f[1]) + abs(of[1])
+            cz_ = (abs(zs[m]) + reach) * abs(f[2]) + abs(of[2]) if ndim == 3 else 0.0
+            big = not max(cx_, cy_, cz_) < _BIG
+            near, spent = _s2_near(spent, amps[o], max(cx_, cy_))
             direct = o == 0 and mode == k.FBM
             amp = amps[o] if direct else ONE
             for base in range(0, nx, BLOCK):
                 cnt = min(BLOCK, nx - base)
                 dst = row if direct else nb
                 ob = uint64(base) if direct else uint64(0)
-                if kind == k.SIMPLEX:
-                    _warp_octave(xs, ys[j], e0, e1, base, cnt, warp, fx, ox, fy, oy, cx, cy)
-                    _s2_locate_xy(cx, cy, cnt, bx, by, ba)
+                if ndim == 3 and kind == k.SIMPLEX:
+                    _s3_locate_w(xs, ys[j], zs[m], e0, e1, e2, base, cnt, warp, f, of, big, bx,
+                                 by, bz, ba)
+                    _s3_gather(cnt, tab, pk, ba, bw)
+                    _s3_eval(cnt, bx, by, bz, ba, bw, dst, ob, amp)
+                elif ndim == 3:
+                    _lat_locate3(xs, ys[j], zs[m], e0, e1, e2, base, cnt, warp, f, of, big, bx,
+                                 by, bz, ba, bk)
+                    _lat_gather3(kind, cnt, tab, ba, bk, perm, vals, grad, bw, vb, gb)
+                    _curves3(interp, cnt, bx, by, bz, cx, cy, cz)
+                    _lat_eval3(kind, cnt, bx, by, bz, cx, cy, cz, bw, vb, gb, dst, ob, amp)
+                elif kind == k.SIMPLEX:
+                    if near:
+                        _warp_octave(xs, ys[j], e0, e1, base, cnt, warp, f[0], of[0], f[1],
+                                     of[1], cx, cy)
+                        _s2_locate_xy(cx, cy, cnt, bx, by, ba)
+                    else:
+                        _s2_locate_w64(xs, ys[j], e0, e1, base, cnt, warp, f[0], of[0], f[1],
+                                       of[1], big, bx, by, ba)
                     _gather(cnt, tab, ba, bw)
                     _s2_eval(cnt, bx, by, bw, dst, ob, amp)
                 else:
-                    _lat_locate(xs, ys[j], e0, e1, base, cnt, warp, fx, ox, fy, oy, big, bx,
-                                by, ba)
+                    _lat_locate(xs, ys[j], e0, e1, base, cnt, warp, f[0], of[0], f[1], of[1],
+                                big, bx, by, ba)
                     if kind == k.IMPROVED:
                         _gather(cnt, tab, ba, bw)
                     else:
@@ -298,26 +473,30 @@ def lattice2_table(kind, seed, perm):
 _TABS: dict = {}
 
 
-def warp_grid2(setup, axes, fields, warp, freqs, amps, offs, mode, norm, gain):
-    """The float32 2D grid (shape (ny, nx)) of ``setup``'s noise at the grid's points
-    warped by ``warp`` times ``fields`` (two float32 arrays of the grid's shape)."""
+def warp_grid(setup, axes, fields, warp, freqs, amps, offs, mode, norm, gain):
+    """The float32 2D or 3D grid (shape (ny, nx) or (nz, ny, nx), by ``len(fields)``) of
+    ``setup``'s noise at the grid's points warped by ``warp`` times ``fields`` (float32
+    arrays of the grid's shape, one per axis)."""
     from ._gridplan import run_blocks
 
     t = setup.tables
     kind = setup.kind
+    ndim = len(fields)
     a32 = (amps if mode == k.RIDGED else amps * norm).astype(np.float32)
+    nz = len(axes[2]) if ndim == 3 else 1
     ny, nx = len(axes[1]), len(axes[0])
-    out = np.empty((ny, nx), np.float32)
-    d0, d1 = (np.ascontiguousarray(f, np.float32).reshape(ny, nx) for f in fields)
+    out = np.empty((nz, ny, nx), np.float32)
+    d = [np.ascontiguousarray(f, np.float32).reshape(nz, ny, nx) for f in fields]
     if kind == k.SIMPLEX:
         tab = simplex_table(t.seed, t.perm, t.perm12)
-    else:
-        tab = lattice2_table(kind, t.seed, t.perm)
-    run_blocks(warp_rows2, ny,
-               (kind, mode, setup.interp, np.ascontiguousarray(axes[0], np.float64),
-                np.ascontiguousarray(axes[1], np.float64), d0, d1, float(warp), out,
-                np.ascontiguousarray(freqs), a32, np.ascontiguousarray(offs), t.perm, tab,
-                t.values.astype(np.float32),
-                np.ascontiguousarray(t.gradients[0], np.float32), np.float32(norm),
+    else:  # 3D: the (i, j) corner hashes for every kind
+        tab = lattice2_table(kind if ndim == 2 else k.VALUE, t.seed, t.perm)
+    zs = axes[2] if ndim == 3 else np.zeros(1)
+    run_blocks(warp_rows, nz * ny,
+               (ndim, kind, mode, setup.interp, np.ascontiguousarray(axes[0], np.float64),
+                np.ascontiguousarray(axes[1], np.float64), np.ascontiguousarray(zs, np.float64),
+                d[0], d[1], d[-1], float(warp), out, np.ascontiguousarray(freqs), a32,
+                np.ascontiguousarray(offs), t.perm, tab, t.values.astype(np.float32),
+                np.ascontiguousarray(t.gradients[ndim - 2], np.float32), np.float32(norm),
                 np.float32(gain)))
-    return out
+    return out.reshape(out.shape[1:]) if ndim == 2 else out
