@@ -166,6 +166,21 @@ def test_warped_rows_far_from_the_origin(kind, shape, offset):
     _both(shape, kind=kind, octaves=2, scale=6.0, seed=3, warp=1.1, offset=offset)
 
 
+@pytest.mark.parametrize("kind,extra", [
+    ("value", {"warp": 0.7}), ("simplex", {"warp": 0.7}), ("worley", {"warp": 0.7}),
+    ("improved", {"warp": 0.7, "tileable": True}), ("worley", {"output": "cell"}),
+])
+def test_points_far_from_the_origin_take_the_float64_road(monkeypatch, kind, extra):
+    # the points road converts cells to int32 (0.4-1.0 off at 3e9 cells before): beyond
+    # 2^29 the grid goes by the float64 road, rounded
+    calls = _spy(monkeypatch, "grid_kernel")
+    kw = dict(kind=kind, octaves=2, scale=6.0, seed=3, offset=(3e9, 1.0, -5e9, 2.5), **extra)
+    a = noise_grid((2, 2, 3, 64), **kw)
+    b = noise_grid((2, 2, 3, 64), dtype=np.float64, **kw)
+    assert b.std() > 0.03 and np.abs(a.astype(np.float64) - b).max() < TOL
+    assert calls == []
+
+
 def test_warped_tileable_lattice_stays_on_points(monkeypatch):
     # a lattice period wraps a cell's far corner, which the corner tables do not: points
     calls = _spy(monkeypatch, "grid_kernel")

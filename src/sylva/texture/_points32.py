@@ -26,7 +26,9 @@ gradient and value noises go in three passes per octave:
    pair of corners) or the simplex sum, and the octave's fBm, turbulence or ridged term.
 
 Driver: :func:`grid_kernel`, rows on threads (:func:`grid_rows`): a grid's rows (with the
-torus embedding when asked) or rows of points (domain warping).  Results differ from the float64
+torus embedding when asked) or rows of points (domain warping).  The cells are converted to
+int32: a grid whose octave coordinates reach 2^29 cells takes the float64 road instead
+(:func:`_within_int32`).  Results differ from the float64
 road by float32 rounding: below :data:`TOLERANCE` (absolute, values about [-1, 1]);
 see ``tests/texture/test_points32.py``.
 """
@@ -811,6 +813,17 @@ def _field(ws, plan, axes, pts, n):
     return _points(ws.kind, k.FBM, ndim, pts(), plan.freqs, wa32, plan.offs, plan.pers, wtail)
 
 
+def _within_int32(coords, freqs, offs):
+    """Whether every octave coordinate ``p * freq + offset`` of the points ``coords`` (one
+    array per axis) stays below :data:`._simplex32._BIG`: this road converts lattice cells
+    to int32 (and hashes Worley's cells in int32); beyond, the float64 road takes the grid."""
+    for a, c in enumerate(coords):
+        m = float(np.abs(c).max()) if c.size else 0.0
+        if not float(np.max(np.abs(freqs[:, a]) * m + np.abs(offs[:, a]))) < _s32._BIG:
+            return False
+    return True
+
+
 def grid32(plan, warp, setup):
     """The float32 road of :func:`.noise.noise_grid` for ``plan`` (4D grids, tileable
     simplex, domain warping; ``setup(seed)``: the noise set-up of another seed, for the
@@ -831,6 +844,8 @@ def grid32(plan, warp, setup):
         if which == "torus":  # x and y become angles (as the float64 road)
             for a in (0, 1):
                 axes[a] = 2.0 * np.pi * np.arange(plan.sizes[a], dtype=np.float64) / plan.sizes[a]
+        if which == "grid" and not _within_int32(axes[:ndim], freqs, offs):
+            return None
         full = tuple(len(a) for a in axes[:4])
         out = np.empty((full[3], full[2], full[1], full[0]), np.float32)
         grid_kernel(False, s.kind, mode, ndim, which == "torus", *axes[:4], out, freqs, a32,
@@ -860,6 +875,8 @@ def grid32(plan, warp, setup):
     for a in range(ndim):  # the warp fields: fBm of the kind, with the axis's seed
         d = _field(setup(seeds[a]), plan, axes, pts, n)
         warped.append(pts()[a] + float(warp) * d.astype(np.float64))
+    if not _within_int32(warped, freqs, offs):
+        return None
     warped += pts()[ndim:]
     out = _points(s.kind, mode, ndim, warped, freqs, a32, offs, pers, tail)
     return out.reshape(plan.shape)
