@@ -373,10 +373,11 @@ def _more_rows(args, fn2, ncores, scale) -> None:
     cellular F1 grids; for warping its gradient warp, ``DomainWarpGradient`` in independent
     fBm octaves, about as much work as sylva's fBm warp field per axis: the nearest, not the
     same texture).  FastNoise Lite has neither 4D noise nor grids of warped noise: not timed
-    here.  As many samples as the 2D grid (4D: 4 x 4 x side/4 x side/4)."""
+    here.  As many samples as the 2D grid (3D: 16 x side/4 x side/4, 4D: 4 x 4 x side/4 x
+    side/4)."""
     n2 = args.size
     s4 = max(1, n2 // 4)
-    shape2, shape4 = (n2, n2), (4, 4, s4, s4)
+    shape2, shape3, shape4 = (n2, n2), (16, s4, s4), (4, 4, s4, s4)
     cases = [
         ("4D simplex", shape4, "simplex", 1, {}, True),
         ("4D value", shape4, "value", 1, {}, True),
@@ -386,6 +387,7 @@ def _more_rows(args, fn2, ncores, scale) -> None:
         ("4D Worley cell id", shape4, "worley", 1, {"output": "cell"}, False),
         ("2D warp improved", shape2, "improved", 1, {"warp": 1.0}, True),
         ("2D warp fBm 3 oct simplex", shape2, "simplex", 3, {"warp": 1.0}, True),
+        ("3D warp improved", shape3, "improved", 1, {"warp": 1.0}, True),
     ]
     cases = [c for c in cases if args.only.lower() in c[0].lower()]
     if not cases:
