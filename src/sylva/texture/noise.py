@@ -34,7 +34,9 @@ float64 road (on values normalised to about [-1, 1]): 2D and 3D grids of every k
 4D lattice and simplex grids (``_gridkernels32.TOLERANCE``), and 4D Worley grids (or 3D
 with ``time``), tileable simplex and
 domain-warped grids (``_points32.TOLERANCE``; only a warped 3D or 4D simplex sample that
-rounding moves across a simplex face, where that kernel jumps, can differ by more; one
+rounding moves across a simplex face, where that kernel jumps, can differ by more, and a
+warped sample beyond ~1e10 cells, where one float64 step of the point exceeds the warp
+fields' float32 rounding; one
 octave of 4D Worley cell id is the float64 road's value, ties apart).  Worley's 2D and 3D
 cell id, its Poisson process and its orders above F3 are computed in float64 and rounded.
 """
