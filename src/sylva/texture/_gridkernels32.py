@@ -58,7 +58,7 @@ import math
 import os
 
 import numpy as np
-from numba import njit, uint64
+from numba import njit, prange, uint64
 
 from .. import _jit
 from . import _bytelanes as _bl
@@ -75,9 +75,9 @@ from ._gridkernels import BLOCK, axis_tables
 #: jumps across simplex faces, so the simplex must be the float64 road's) and differs by
 #: ~5e-7
 TOLERANCE = 2e-4
-#: work items of a grid (:func:`._gridplan.run_blocks` hands them to its threads a few at a
-#: time): each call allocates its row and block buffers once, so a few dozen rather than
-#: one per 8 rows (a 16 x 256 x 256 grid made 4,608 allocations)
+#: work items of a grid (``prange``; numba hands each thread an equal share of them): each
+#: allocates its row and block buffers once, so a few dozen rather than one per
+#: 8 rows (a 16 x 256 x 256 grid made 4,608 allocations)
 CHUNKS = 64
 
 _F = np.float32
@@ -889,21 +889,7 @@ def row_work(xt, hashed):
     )
 
 
-@njit(nogil=True, **_OPTS)
-def lattice_chunks32(c0, c1, nch, kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, grad,
-                     norm, gain, hashed):
-    """Work items ``c0 .. c1`` of ``nch`` (each a share of the rows) of
-    :func:`lattice_grid32` (serial and ``nogil``: :func:`._gridplan.run_blocks` runs them
-    on threads; a ``parallel=True`` kernel compiled about a third longer, issue 25)."""
-    nz, ny, nx = out.shape
-    nrows = ny * nz
-    weight = np.empty(nx, np.float32)
-    work = row_work(xt, hashed)
-    for c in range(c0, c1):
-        _lat_rows(kind, mode, ndim, xt, yt, zt, out, c * nrows // nch, (c + 1) * nrows // nch,
-                  np.int64(-1), np.int64(-1), weight, amps, perm, vals, grad, gain, work, norm)
-
-
+@njit(parallel=True, **_OPTS)
 def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, grad, norm, gain,
                    hashed):
     """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D (``nz == 1``) or 3D value,
@@ -917,14 +903,16 @@ def lattice_grid32(kind, mode, ndim, xt, yt, zt, out, amps, perm, vals, grad, no
     ``mode`` is ridged; ``grad``: classic Perlin's gradient table (float32, 256 x 4).  Each
     block of :data:`BLOCK` samples goes in passes: the table lookups (scalar: LLVM rates
     vector gathers too dear on some CPUs), then the arithmetic (SIMD); the rows in
-    :data:`CHUNKS` work items (:func:`lattice_chunks32`).
+    :data:`CHUNKS` work items.
     """
-    from ._gridplan import run_blocks
-
-    nz, ny, _ = out.shape
-    nch = min(ny * nz, CHUNKS)
-    run_blocks(lattice_chunks32, nch, (nch, kind, mode, ndim, xt, yt, zt, out, amps, perm,
-                                       vals, grad, norm, gain, hashed))
+    nz, ny, nx = out.shape
+    nrows = ny * nz
+    nch = min(nrows, CHUNKS)
+    for c in prange(nch):
+        weight = np.empty(nx, np.float32)
+        work = row_work(xt, hashed)
+        _lat_rows(kind, mode, ndim, xt, yt, zt, out, c * nrows // nch, (c + 1) * nrows // nch,
+                  np.int64(-1), np.int64(-1), weight, amps, perm, vals, grad, gain, work, norm)
 
 
 def lattice_tables32(axis_tab, perm, is_x):

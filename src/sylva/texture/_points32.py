@@ -803,7 +803,7 @@ def _field(ws, plan, axes, pts, n):
     from ._gridplan import SCALAR_WORK
 
     ndim = plan.ndim
-    if not _jit.cold(gk32.lattice_chunks32, n, SCALAR_WORK):
+    if not _jit.cold(gk32.lattice_grid32, n, SCALAR_WORK):
         full = tuple(len(a) for a in axes[:4])
         g = gk32.grid32(ws, ndim, axes, plan.freqs, plan.amps, plan.offs, plan.pers, k.FBM,
                         plan.norm, plan.gain, False, full)

@@ -17,7 +17,7 @@ routine.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, uint64
+from numba import njit, prange, uint64
 
 from . import _bytelanes as _bl
 from . import _kernels as k
@@ -557,36 +557,23 @@ def simplex_work(perm, hashed):
             np.empty(BLOCK, i), np.empty(BLOCK, i), pk, bb, bt, hashed)
 
 
-@njit(nogil=True, **_OPTS64)  # no fast-math: yin, zin as in float64
-def simplex_chunks32(c0, c1, nch, ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm,
-                     tab, norm, gain, hashed):
-    """Work items ``c0 .. c1`` of ``nch`` (each a share of the rows) of
-    :func:`simplex_grid32` (serial and ``nogil``, on threads by
-    :func:`._gridplan.run_blocks`)."""
-    nz, ny, nx = out.shape
-    nrows = ny * nz
-    weight = np.empty(nx, np.float32)
-    work = simplex_work(perm, hashed)
-    for c in range(c0, c1):
-        _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, c * nrows // nch,
-                      (c + 1) * nrows // nch, np.int64(-1), np.int64(-1), weight, freqs, amps,
-                      offs, perm, tab, gain, work, norm)
-
-
+@njit(parallel=True, **_OPTS64)  # no fast-math: yin, zin as in float64
 def simplex_grid32(ndim, mode, xs, xs32, ys, zs, out, freqs, amps, offs, perm, tab, norm, gain,
                    hashed):
     """Fill ``out`` (float32, shape (nz, ny, nx)) with 2D or 3D simplex noise (Gustavson's
     corners, hashes and gradients), every octave in one pass per row.  ``xs, ys, zs``,
     ``freqs``, ``offs`` as for :func:`._gridkernels.simplex_grid` (float64; ``xs32``:
     ``xs`` in float32 for the 2D pass); ``amps`` already carry ``norm`` unless ``mode``
-    is ridged; ``tab``: :func:`simplex_table`; the rows in ``CHUNKS`` work items
-    (:func:`simplex_chunks32`)."""
-    from ._gridplan import run_blocks
-
-    nz, ny, _ = out.shape
-    nch = min(ny * nz, CHUNKS)
-    run_blocks(simplex_chunks32, nch, (nch, ndim, mode, xs, xs32, ys, zs, out, freqs, amps,
-                                       offs, perm, tab, norm, gain, hashed))
+    is ridged; ``tab``: :func:`simplex_table`."""
+    nz, ny, nx = out.shape
+    nrows = ny * nz
+    nch = min(nrows, CHUNKS)
+    for c in prange(nch):
+        weight = np.empty(nx, np.float32)
+        work = simplex_work(perm, hashed)
+        _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, c * nrows // nch,
+                      (c + 1) * nrows // nch, np.int64(-1), np.int64(-1), weight, freqs, amps,
+                      offs, perm, tab, gain, work, norm)
 
 
 def simplex_table(seed, perm, perm12):

@@ -1070,7 +1070,7 @@ def noise_grid(
         full = tuple(len(a) for a in axes[:4])  # nx, ny, nz, nw
         # on a cold cache, small float32 grids take the float64 road (interpreted) and round
         if dt == np.float32 and not _jit.cold(
-            _gk32.lattice_chunks32, math.prod(shape), _gp.SCALAR_WORK
+            _gk32.lattice_grid32, math.prod(shape), _gp.SCALAR_WORK
         ) and (o32 := _gk32.grid32(
                 setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, full
         )) is not None:
