@@ -39,7 +39,7 @@ the scalar hash pass), improved Perlin, simplex, and Worley F1..F3 and their com
 (:mod:`._worley32`, which also takes 4D Worley F1..F3 by rows).  4D lattice grids (and 3D
 grids with ``time``) go by rows too (:mod:`._lattice4_32`), as 4D simplex does
 (``_simplex32.rows4s``); tileable simplex (its 4D torus) and domain warping take the
-float32 road of :mod:`._points32` (warped 2D grids by rows, :mod:`._warp32`).  The rest
+float32 road of :mod:`._points32` (warped 2D and 3D grids by rows, :mod:`._warp32`).  The rest
 takes the float64 road and is rounded once: Worley's cell id and Poisson process on 2D and 3D grids,
 and its orders above F3.  A work item's rows go in one call (:func:`_lat_rows`,
 ``_simplex32._simplex_rows``, ``_worley32._worley_rows``: a call per row cost more than a

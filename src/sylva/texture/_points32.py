@@ -2,8 +2,8 @@
 Worley cell id (and 3D grids with ``time``; 4D value, classic and improved noise go by
 rows, :mod:`._lattice4_32`, as 4D simplex, :func:`._simplex32.rows4s`, and 4D Worley
 F1..F3 do), tileable simplex (its flat 4D torus) and domain warping, of every kind (a
-warped 2D grid of value, classic, improved or simplex noise goes by rows at the warped
-points, :mod:`._warp32`, but for lattice periods; its warp fields are made here too)
+warped 2D or 3D grid of value, classic, improved or simplex noise goes by rows at the
+warped points, :mod:`._warp32`, but for lattice periods; its warp fields are made here too)
 (private; see :func:`sylva.texture.noise_grid`).
 
 One kernel, :func:`_block`, takes the fractal sum of value, classic Perlin, improved

@@ -1,7 +1,8 @@
-"""Domain-warped 2D grids by rows: the float32 road of :func:`sylva.texture.noise_grid`
-with ``warp`` for 2D value, classic Perlin, improved Perlin and simplex noise (private).
+"""Domain-warped 2D and 3D grids by rows: the float32 road of
+:func:`sylva.texture.noise_grid` with ``warp`` for 2D and 3D value, classic Perlin,
+improved Perlin and simplex noise (private).
 
-A warped grid's sample is the grid's point moved by ``warp`` times two warp fields (fBm of
+A warped grid's sample is the grid's point moved by ``warp`` times a warp field per axis (fBm of
 the same kind with other seeds; :mod:`._points32` makes them on the grid roads).  Its
 lattice cell is then the sample's own, so the row passes of :mod:`._gridkernels32` (a
 cell's corners hashed once for a run of samples) do not apply; nor do rows of points
@@ -13,12 +14,14 @@ improved noise on znver3).  Here each octave of a row goes in three passes per b
    ``(i & 255) << 8 | (j & 255)`` (exact ``& 255`` beyond int32, :func:`._simplex32._low8`);
    2D simplex, which has no jump at its faces, locates in float32 (as its grid pass) but
    far from the origin (:func:`._simplex32._s2_near`), 3D simplex in float64;
-2. *gather* (scalar): one load a sample from a table of the cell's four corners, their
-   chained lookups precomputed per seed (:func:`lattice2_table`: improved noise's four
-   gradient indices in nibbles, value and classic noise's four corner hashes in bytes,
-   then their lattice values or gradients; simplex: :func:`._simplex32.simplex_table`);
+2. *gather* (scalar): one load a sample from a table of the cell's four (x, y) corners,
+   their chained lookups precomputed per seed (:func:`lattice2_table`: 2D improved noise's
+   four gradient indices in nibbles, value and classic noise's four corner hashes in bytes,
+   then their lattice values or gradients; in 3D the hashes, then the eight corners'
+   ``perm[h + k + dk]``; simplex: :func:`._simplex32.simplex_table`, its 3D gather);
 3. *blend* (float32, SIMD): the corner gradients by selects, the interpolation curve and
-   the bilinear blend, or the simplex sum, and the octave's fBm, turbulence or ridged term.
+   the bi- or trilinear blend, or the simplex sum, and the octave's fBm, turbulence or
+   ridged term.
 
 Lattice periods (``tileable``) wrap a cell's far corner by the period, which the tables
 do not: a tileable warped grid stays on rows of points.  Results differ from the float64
