@@ -93,11 +93,10 @@ def _curves3(interp, cnt, bx, by, bz, cu, cv, cw):
 
 @njit(inline="always", **_OPTS)
 def _curve_pairs(interp, cnt, pairs):
-    """The interpolation weights of the fractions ``src`` into ``dst`` (``pairs`` of
-    them; float32; as
-    :func:`._kernels._curve`): one loop per curve (with the choice inside the loop LLVM
-    kept the loop scalar, ~11 ns a sample), the cosine by a polynomial (SIMD; ``cosf``
-    was a scalar call, 7 ns a sample)."""
+    """The interpolation weights (float32, as :func:`._kernels._curve`) of the fractions
+    ``src`` into ``dst``, for each ``(src, dst)`` of ``pairs``: one loop per curve (with
+    the choice inside the loop LLVM kept the loop scalar, ~11 ns a sample), the cosine by
+    a polynomial (SIMD; ``cosf`` was a scalar call, 7 ns a sample)."""
     for src, dst in pairs:
         if interp == 3:
             for q in range(cnt):
