@@ -358,3 +358,29 @@ def test_simplex_4d_rows_within_tolerance(monkeypatch, shape, kw):
     from sylva.texture import _simplex32 as s32
 
     _rows_match_float64(monkeypatch, s32, "grid4s", shape, dict(kind="simplex", seed=9, **kw))
+
+
+@pytest.mark.parametrize("scale", [16.0, 64.0], ids=["quarter-cells", "whole-cells"])
+def test_simplex_4d_rows_on_a_regular_grid(monkeypatch, scale):
+    # On a grid of quarter or whole cells many samples sit on simplex faces in exact
+    # arithmetic, where the float64 road's rank ordering is decided by its rounding and
+    # the kernel (r² = 0.6) jumps by up to ~1e-2: the float32 road must take the same
+    # comparisons (the sign bits of the float64 differences, _simplex32._s4_locate), not
+    # compare the offsets after rounding them to float32.
+    from sylva.texture import _simplex32 as s32
+
+    kw = dict(kind="simplex", seed=1, octaves=2, scale=scale)
+    _rows_match_float64(monkeypatch, s32, "grid4s", (4, 4, 16, 64), kw)
+
+
+@pytest.mark.parametrize("scale", [6.0, 24.0], ids=["quarter-cells", "whole-cells"])
+def test_3d_simplex_on_a_regular_grid(scale):
+    # as the 4D test above: 3D simplex on a grid of quarter or whole cells, where the
+    # six-way choice of many samples is a float64 rounding (_simplex32._diff_sign), on
+    # the packed road (the byte-lane road packs its own comparisons) and warped
+    kw = dict(kind="simplex", seed=3, octaves=2, scale=scale)
+    for extra in ({}, {"warp": 0.5}):
+        a = noise_grid((6, 8, 24), **kw, **extra)
+        b = noise_grid((6, 8, 24), dtype=np.float64, **kw, **extra)
+        assert np.abs(a.astype(np.float64) - b).max() < TOL
+        assert b.std() > 0.05

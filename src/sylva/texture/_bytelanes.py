@@ -449,3 +449,15 @@ def andf(typingctx, x, mask):
         return b.bitcast(b.and_(b.bitcast(args[0], _I32), args[1]), _F32)
 
     return sig, codegen
+
+
+@intrinsic
+def signm(typingctx, x):
+    """-1 where float32 ``x`` has its sign bit set (negative numbers and ``-0.0``), else 0
+    (int32; one ``vpsrad``)."""
+    sig = types.int32(types.float32)
+
+    def codegen(context, b, signature, args):
+        return b.ashr(b.bitcast(args[0], _I32), ir.Constant(_I32, 31))
+
+    return sig, codegen

@@ -280,23 +280,45 @@ def _low8(f, big):
 
 
 @njit(**_OPTS64)  # no fast-math: the float64 road's roundings
-def _s3_locate(xo, base, cnt, yin, zin, big, bx, by, bz, ba):
+def _s3_locate(xo, base, cnt, yin, zin, big, bx, by, bz, ba, bd):
     """SIMD pass, in float64 (``xo``: the octave's x coordinates, ``yin``, ``zin``):
     Gustavson's 3D kernel (r² = 0.6) jumps by up to 1e-2 across simplex faces, so the
     simplex must be the one the float64 road picks.  Into float32 rows: the offsets
     ``x0, y0, z0`` (rounded); into ``ba`` one word: ``i & 255`` in bits 8..15, ``j & 255``
     in 0..7 (the cell's :func:`simplex_table` row and column but for ``perm[k]``),
-    ``k & 255`` in 16..23 and the comparisons ``x0 >= y0``, ``y0 >= z0``, ``x0 >= z0`` of
-    Gustavson's six-way choice in bits 24, 25, 26 (one store, not six)."""
+    ``k & 255`` in 16..23; into the rows of ``bd`` the float64 differences ``x0 - y0``,
+    ``y0 - z0``, ``x0 - z0`` rounded to float32, whose sign bits are the comparisons
+    ``x0 >= y0`` .. of Gustavson's six-way choice exactly (:func:`_diff_sign`)."""
     b0 = uint64(base)
     for q in range(cnt):
         x0, y0, z0, ca, cb, cc, fi, fj, fk = _s3_cell64(xo[b0 + uint64(q)], yin, zin)
-        bx[q] = x0
-        by[q] = y0
-        bz[q] = z0
-        c = (np.int64(ca) << 24) | (np.int64(cb) << 25) | (np.int64(cc) << 26)
-        ba[q] = (np.int32(c) | (_low8(fi, big) << I8) | _low8(fj, big)
-                 | (_low8(fk, big) << np.int32(16)))
+        _diffs3(q, x0, y0, z0, bx, by, bz, bd)
+        ba[q] = (_low8(fi, big) << I8) | _low8(fj, big) | (_low8(fk, big) << np.int32(16))
+
+
+@njit(inline="always", cache=True, error_model="numpy")
+def _diffs3(q, x0, y0, z0, bx, by, bz, bd):
+    """Sample ``q``'s float64 offsets into the float32 rows, and their differences into
+    ``bd`` (the comparisons as sign bits: :func:`_diff_sign`)."""
+    x0 += 0.0
+    y0 += 0.0
+    z0 += 0.0
+    bx[q] = x0
+    by[q] = y0
+    bz[q] = z0
+    bd[0, q] = x0 - y0
+    bd[1, q] = y0 - z0
+    bd[2, q] = x0 - z0
+
+
+@njit(inline="always", **_OPTS)
+def _diff_sign(d):
+    """-1 where the float64 comparison ``a >= b`` behind ``d = float32(a - b)`` holds, else
+    0.  Exact: the difference of two float64 numbers is 0 only where they are equal, and
+    rounding it to float32 keeps its sign, a tiny negative one as ``-0.0``; the offsets
+    are taken ``+ 0.0`` first, so that two zeros differ by ``+0.0``.  (Packing float64
+    comparisons into bits in the locate cost more than its float64 arithmetic.)"""
+    return _i32(_bl.signm(d) ^ _M1)
 
 
 @njit(inline="always", **_OPTS)
@@ -351,16 +373,15 @@ def _c3(g, x, y, z):
 
 
 @njit(**_OPTS_NR)
-def _s3_eval(cnt, bx, by, bz, ba, bw, nb, ob, amp):
+def _s3_eval(cnt, bx, by, bz, bd, bw, nb, ob, amp):
     """SIMD pass: the four corner contributions (float32, 8 or 16 lanes).  Corners 1 and
-    2 from the comparisons in ``ba`` (Gustavson's six-way choice as masks: an offset is
-    ``andf(1, mask)``, a gradient index a variable shift of the word ``bw`` by
-    ``16 k + 8 i + 4 j``)."""
+    2 from the comparisons (sign bits of ``bd``, :func:`_diff_sign`; Gustavson's six-way
+    choice as masks: an offset is ``andf(1, mask)``, a gradient index a variable shift of
+    the word ``bw`` by ``16 k + 8 i + 4 j``)."""
     for q in range(cnt):
-        c = ba[q]
-        ma = _bl.sar32(_bl.shl32(c, np.int32(7)), _C31)  # x0 >= y0
-        mb = _bl.sar32(_bl.shl32(c, np.int32(6)), _C31)  # y0 >= z0
-        mc = _bl.sar32(_bl.shl32(c, np.int32(5)), _C31)  # x0 >= z0
+        ma = _diff_sign(bd[0, q])  # x0 >= y0
+        mb = _diff_sign(bd[1, q])  # y0 >= z0
+        mc = _diff_sign(bd[2, q])  # x0 >= z0
         na = _i32(ma ^ _M1)
         mi1 = _i32(ma & mc)
         mj1 = _i32(mb & na)
@@ -438,7 +459,7 @@ def _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, r0, r1, jfix, mfix, weight,
     call per row cost more than a short row's work), or with ``jfix >= 0`` the one row
     ``out[0, 0]`` at ``(mfix, jfix)``, or with ``jfix == -2`` a block of image rows (``mfix``
     rows high) into ``out[0, :r1 - r0]``: both left unnormalised."""
-    bx, by, bz, nb, ba, bw, pk, bb, bt, hashed = work
+    bx, by, bz, nb, ba, bw, pk, bb, bt, hashed, bd = work
     xo, xbig, xmax = _x_octaves(xs, freqs, offs, ndim == 3)  # 3D: each octave's x
     for r in range(r0, r1):
         j, m, row = _pick_row(out, r, r0, jfix, mfix)
@@ -484,9 +505,9 @@ def _simplex_rows(ndim, mode, xs, xs32, ys, zs, out, r0, r1, jfix, mfix, weight,
                     _s3_hash_b(cnt, bt, bb)
                     _s3_eval_b(cnt, bx, by, bz, bb, dst, ob, amp)
                 else:
-                    _s3_locate(xo[o], base, cnt, yin, zin, big, bx, by, bz, ba)
+                    _s3_locate(xo[o], base, cnt, yin, zin, big, bx, by, bz, ba, bd)
                     _s3_gather(cnt, tab, pk, ba, bw)
-                    _s3_eval(cnt, bx, by, bz, ba, bw, dst, ob, amp)
+                    _s3_eval(cnt, bx, by, bz, bd, bw, dst, ob, amp)
                 if not direct:
                     _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
         if jfix == -1:
@@ -554,7 +575,8 @@ def simplex_work(perm, hashed):
         bt[256 + m] = perm[m] % 12
         pk[m] = perm[m] | (perm[m + 1] << 16)
     return (np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f), np.empty(BLOCK, f),
-            np.empty(BLOCK, i), np.empty(BLOCK, i), pk, bb, bt, hashed)
+            np.empty(BLOCK, i), np.empty(BLOCK, i), pk, bb, bt, hashed,
+            np.empty((3, BLOCK + 16), f))  # bd: rows off each other's L1 sets
 
 
 @njit(parallel=True, **_OPTS64)  # no fast-math: yin, zin as in float64
@@ -603,8 +625,8 @@ _TABS: dict = {}
 # As 3D: x along the row, y, z and w fixed, so a sample is located in float64 (the 4D
 # kernel, r² = 0.6, jumps across simplex faces too) and the rest is float32.  The chained
 # lookups ``perm[i + perm[j + perm[k + perm[l]]]] & 31`` of the hypercube's sixteen corners
-# take seven loads a sample (:func:`_s4_gather`: two of :func:`simplex_work`'s pair table,
-# four of :func:`simplex4_table`) instead of the five corners' twenty chained ones.
+# take five loads a sample (:func:`_s4_gather`: one of :func:`simplex4_table`'s ``kl``, four
+# of its ``tab``) instead of the five corners' twenty chained ones.
 
 _G4 = _F(k.G4)
 _G4X2 = _F(2.0 * k.G4)
@@ -634,44 +656,53 @@ def _g32(h, x, y, z, w):
 
 
 @njit(**_OPTS64)  # no fast-math: the float64 road's roundings
-def _s4_locate(xo, base, cnt, yin, zin, win, big, bx, by, bz, bw, ba, bc):
+def _s4_locate(xo, base, cnt, yin, zin, win, big, bx, by, bz, bw, ba, bd):
     """SIMD pass, in float64 as :func:`._kernels.simplex4`: the offsets ``x0 .. w0``
     (float32 rows), the cell ``i, j, k, l & 255`` in one word (``j`` in bits 0..7, ``i``
     in 8..15, ``k`` in 16..23, ``l`` in 24..31: :func:`_s4_gather`'s table row and
-    column) into ``ba``, and the six comparisons of the rank ordering, ``x0 > y0``,
-    ``x0 > z0``, ``x0 > w0``, ``y0 > z0``, ``y0 > w0``, ``z0 > w0``, as bits 0..5 of
-    ``bc``."""
+    columns) into ``ba``, and for the six comparisons of the rank ordering, ``x0 > y0``,
+    ``x0 > z0``, ``x0 > w0``, ``y0 > z0``, ``y0 > w0``, ``z0 > w0``, the float64
+    differences ``y0 - x0 .. w0 - z0`` rounded to float32 into the rows of ``bd``: their
+    sign bits are the comparisons exactly (rounding keeps a sign, even to ``-0.0``; the
+    offsets ``+ 0.0`` so that no difference of two zeros is ``-0.0``), and the corner pass
+    takes them in float32 lanes (packing float64 comparisons into bits here cost ~40 % of
+    the pass)."""
     b0 = uint64(base)
     for q in range(cnt):
         x0, y0, z0, w0, fi, fj, fk, fl = _s4_cell64(xo[b0 + uint64(q)], yin, zin, win)
+        x0 += 0.0
+        y0 += 0.0
+        z0 += 0.0
+        w0 += 0.0
         bx[q] = x0
         by[q] = y0
         bz[q] = z0
         bw[q] = w0
-        bc[q] = np.int32(np.int64(x0 > y0) | (np.int64(x0 > z0) << 1) | (np.int64(x0 > w0) << 2)
-                          | (np.int64(y0 > z0) << 3) | (np.int64(y0 > w0) << 4)
-                          | (np.int64(z0 > w0) << 5))
+        bd[0, q] = y0 - x0
+        bd[1, q] = z0 - x0
+        bd[2, q] = w0 - x0
+        bd[3, q] = z0 - y0
+        bd[4, q] = w0 - y0
+        bd[5, q] = w0 - z0
         ba[q] = (_low8(fj, big) | (_low8(fi, big) << I8) | (_low8(fk, big) << np.int32(16))
                  | (_low8(fl, big) << np.int32(24)))
 
 
 @njit(**_OPTS)
-def _s4_gather(cnt, tab, pk, ba, hw):
+def _s4_gather(cnt, tab, kl, ba, hw):
     """Scalar pass: the gradient indices of the cell's sixteen corners, four words a
     sample: ``hw[k1 + 2 l1]`` holds corners ``(i1, j1, k1, l1)`` in bits ``5 (2 i1 + j1)``
-    (:func:`simplex4_table` row ``i``, column ``(j + perm[k + k1 + perm[l + l1]]) & 255``;
-    ``pk``: :func:`simplex_work`'s ``perm[m] | perm[m + 1] << 16``)."""
+    (:func:`simplex4_table` row ``i``, column ``(j + perm[k + k1 + perm[l + l1]]) & 255``,
+    the four ``perm[..]`` one word of :func:`simplex4_kl` at ``k + 256 l``): five loads a
+    sample, two deep."""
     for q in range(cnt):
         a = ba[q]
         row = _i32(a & _ROW)
-        kk = _i32(_i32(a >> _N16) & _N255)
-        pl = pk[uint64(_i32(a >> np.int32(24)) & _N255)]  # perm[l], perm[l + 1]
-        p0 = pk[uint64(_i32(kk + _i32(pl & _N65535)) & _N255)]  # l1 = 0: k1 = 0, 1
-        p1 = pk[uint64(_i32(kk + _i32(pl >> _N16)) & _N255)]  # l1 = 1
-        hw[0, q] = tab[uint64(row | _i32(_i32(a + _i32(p0 & _N65535)) & _N255))]
-        hw[1, q] = tab[uint64(row | _i32(_i32(a + _i32(p0 >> _N16)) & _N255))]
-        hw[2, q] = tab[uint64(row | _i32(_i32(a + _i32(p1 & _N65535)) & _N255))]
-        hw[3, q] = tab[uint64(row | _i32(_i32(a + _i32(p1 >> _N16)) & _N255))]
+        p = kl[uint64(_bl.srl32(a, _N16))]
+        hw[0, q] = tab[uint64(row | _i32(_i32(a + _i32(p & _N255)) & _N255))]
+        hw[1, q] = tab[uint64(row | _i32(_i32(a + _i32(_bl.srl32(p, I8) & _N255)) & _N255))]
+        hw[2, q] = tab[uint64(row | _i32(_i32(a + _i32(_bl.srl32(p, _N16) & _N255)) & _N255))]
+        hw[3, q] = tab[uint64(row | _i32(_i32(a + _bl.srl32(p, np.int32(24))) & _N255))]
 
 
 @njit(inline="always", **_OPTS)
@@ -705,22 +736,22 @@ def _mid4(h0, h1, h2, h3, rx, ry, rz, rw, lim, off, x0, y0, z0, w0):
 
 
 @njit(**_OPTS_NR)
-def _s4_eval(cnt, bx, by, bz, bw, bc, hw, nb, ob, amp):
+def _s4_eval(cnt, bx, by, bz, bw, bd, hw, nb, ob, amp):
     """SIMD pass: the five corner contributions (float32).  The ranks of ``x0 .. w0`` from
-    the comparisons (Gustavson's rank ordering), corner ``c`` offset by 1 along the axes
-    of rank at least ``4 - c``."""
+    the comparisons (Gustavson's rank ordering; their masks the sign bits of ``bd``,
+    :func:`_s4_locate`), corner ``c`` offset by 1 along the axes of rank at least
+    ``4 - c``."""
     for q in range(cnt):
-        c = bc[q]
-        a = _i32(c & I1)
-        b = _i32(_bl.srl32(c, I1) & I1)
-        e3 = _i32(_bl.srl32(c, I2) & I1)
-        d = _i32(_bl.srl32(c, np.int32(3)) & I1)
-        e = _i32(_bl.srl32(c, I4) & I1)
-        g = _i32(_bl.srl32(c, np.int32(5)) & I1)
-        rx = _i32(_i32(a + b) + e3)
-        ry = _i32(_i32(_i32(I1 - a) + d) + e)
-        rz = _i32(_i32(_i32(I2 - b) - d) + g)
-        rw = _i32(_i32(_i32(np.int32(3) - e3) - e) - g)
+        a = _bl.signm(bd[0, q])  # -1 where x0 > y0
+        b = _bl.signm(bd[1, q])  # x0 > z0
+        e3 = _bl.signm(bd[2, q])  # x0 > w0
+        d = _bl.signm(bd[3, q])  # y0 > z0
+        e = _bl.signm(bd[4, q])  # y0 > w0
+        g = _bl.signm(bd[5, q])  # z0 > w0
+        rx = _i32(-_i32(_i32(a + b) + e3))
+        ry = _i32(_i32(_i32(I1 + a) - d) - e)
+        rz = _i32(_i32(_i32(I2 + b) + d) - g)
+        rw = _i32(_i32(_i32(np.int32(3) + e3) + e) + g)
         x0 = bx[q]
         y0 = by[q]
         z0 = bz[q]
@@ -739,15 +770,15 @@ def _s4_eval(cnt, bx, by, bz, bw, bc, hw, nb, ob, amp):
 
 
 @njit(nogil=True, **_OPTS64)  # no fast-math: y, z, w as in float64
-def rows4s(r0, r1, mode, xs, ys, zs, ws, out, freqs, amps, offs, perm, tab, norm, gain):
+def rows4s(r0, r1, mode, xs, ys, zs, ws, out, freqs, amps, offs, perm, tab, kl, norm, gain):
     """Rows ``r0 .. r1`` of ``out`` (float32, shape (nw, nz, ny, nx); row ``r`` is
     ``(r // (ny nz), r // ny % nz, r % ny)``) of 4D simplex noise, every octave summed
     into the row (as :func:`._lattice4_32.rows4`; ``amps`` carry ``norm`` unless ``mode``
-    is ridged; ``tab``: :func:`simplex4_table`)."""
-    bx, by, bz, nb, ba, bw1, pk, bb, bt, hashed = simplex_work(perm, False)
+    is ridged; ``tab``, ``kl``: :func:`simplex4_table`)."""
+    bx, by, bz, nb, ba, bw1, pk, bb, bt, hashed, _ = simplex_work(perm, False)
     bw = np.empty(BLOCK, np.float32)
-    bc = np.empty(BLOCK, np.int32)
-    hw = np.empty((4, BLOCK + 16), np.int32)  # rows off each other's L1 sets
+    bd = np.empty((6, BLOCK + 16), np.float32)  # rows off each other's L1 sets
+    hw = np.empty((4, BLOCK + 16), np.int32)
     nw, nz, ny, nx = out.shape
     weight = np.empty(nx, np.float32)
     nf = freqs.shape[0]
@@ -768,30 +799,39 @@ def rows4s(r0, r1, mode, xs, ys, zs, ws, out, freqs, amps, offs, perm, tab, norm
                 cnt = min(BLOCK, nx - base)
                 dst = row if direct else nb
                 ob = uint64(base) if direct else uint64(0)
-                _s4_locate(xo[o], base, cnt, yin, zin, win, big, bx, by, bz, bw, ba, bc)
-                _s4_gather(cnt, tab, pk, ba, hw)
-                _s4_eval(cnt, bx, by, bz, bw, bc, hw, dst, ob, amp)
+                _s4_locate(xo[o], base, cnt, yin, zin, win, big, bx, by, bz, bw, ba, bd)
+                _s4_gather(cnt, tab, kl, ba, hw)
+                _s4_eval(cnt, bx, by, bz, bw, bd, hw, dst, ob, amp)
                 if not direct:
                     _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
         _finish(mode, row, norm)
 
 
 def simplex4_table(seed, perm):
-    """The packed corner gradients of 4D simplex noise (cached per seed):
-    ``tab[i * 256 + m]`` (int32, i and m in 0..255; 256 KB) holds
+    """The packed corner gradients of 4D simplex noise (cached per seed): ``tab`` and
+    ``kl``.  ``tab[i * 256 + m]`` (int32, i and m in 0..255; 256 KB) holds
     ``perm[i + di + perm[m + dj]] & 31`` in bits ``5 (2 di + dj)``: with
     ``m = (j + perm[k + k1 + perm[l + l1]]) & 255`` the four corners ``(di, dj)`` of the
-    cell's ``(k1, l1)`` plane (the float64 road's chain, :func:`._kernels.simplex4`)."""
+    cell's ``(k1, l1)`` plane (the float64 road's chain, :func:`._kernels.simplex4`).
+    ``kl[k + 256 l]`` (int32, 256 KB) holds those four ``perm[k + k1 + perm[l + l1]]``,
+    byte ``k1 + 2 l1``: a row's cells share few ``(k, l)``, so its loads stay in L1."""
     key = ("4d", seed)
-    tab = _TABS.get(key)
-    if tab is None:
+    tabs = _TABS.get(key)
+    if tabs is None:
         g = (perm[np.arange(257)[:, None] + perm[np.arange(257)][None, :]] & 31).astype(np.int32)
         tab = g[:-1, :-1] | (g[:-1, 1:] << 5) | (g[1:, :-1] << 10) | (g[1:, 1:] << 15)
         tab = np.ascontiguousarray(tab.astype(np.int32).reshape(256 * TAB_STRIDE))
+        kk = np.arange(256)[None, :]
+        ll = np.arange(256)[:, None]
+        kl = np.zeros((256, 256), np.int64)
+        for k1 in (0, 1):
+            for l1 in (0, 1):
+                kl |= perm[kk + k1 + perm[ll + l1]].astype(np.int64) << (8 * (k1 + 2 * l1))
+        kl = np.ascontiguousarray(kl.astype(np.uint32).view(np.int32).reshape(65536))
         if len(_TABS) > 16:
             _TABS.clear()
-        _TABS[key] = tab
-    return tab
+        tabs = _TABS[key] = (tab, kl)
+    return tabs
 
 
 def grid4s(setup, axes, freqs, amps, offs, mode, norm, gain, full):
@@ -805,5 +845,5 @@ def grid4s(setup, axes, freqs, amps, offs, mode, norm, gain, full):
     ax = [np.ascontiguousarray(a, np.float64) for a in axes[:4]]
     run_blocks(rows4s, full[1] * full[2] * full[3],
                (mode, *ax, out, np.ascontiguousarray(freqs), a32, np.ascontiguousarray(offs),
-                t.perm, simplex4_table(t.seed, t.perm), np.float32(norm), np.float32(gain)))
+                t.perm, *simplex4_table(t.seed, t.perm), np.float32(norm), np.float32(gain)))
     return out

@@ -57,6 +57,7 @@ from ._gridkernels32 import (
 from ._simplex32 import (
     _BIG,
     _N255,
+    _diffs3,
     _gather,
     _low8,
     _s2_cell,
@@ -191,7 +192,7 @@ def _lat_locate3(xs, y, z, d0, d1, d2, base, cnt, warp, f, o, big, bx, by, bz, b
 
 
 @njit(**_OPTS64)  # no fast-math: the float64 road's simplex (its kernel jumps at faces)
-def _s3_locate_w(xs, y, z, d0, d1, d2, base, cnt, warp, f, o, big, bx, by, bz, ba):
+def _s3_locate_w(xs, y, z, d0, d1, d2, base, cnt, warp, f, o, big, bx, by, bz, ba, bd):
     """3D simplex: the warped points' octave coordinates and Gustavson's cell and
     comparisons in float64, packed as :func:`._simplex32._s3_locate` packs them."""
     b0 = uint64(base)
@@ -201,12 +202,8 @@ def _s3_locate_w(xs, y, z, d0, d1, d2, base, cnt, warp, f, o, big, bx, by, bz, b
         cy = (y + warp * np.float64(d1[i])) * f[1] + o[1]
         cz = (z + warp * np.float64(d2[i])) * f[2] + o[2]
         x0, y0, z0, ca, cb, cc, fi, fj, fk = _s3_cell64(cx, cy, cz)
-        bx[q] = x0
-        by[q] = y0
-        bz[q] = z0
-        c = (np.int64(ca) << 24) | (np.int64(cb) << 25) | (np.int64(cc) << 26)
-        ba[q] = (np.int32(c) | (_low8(fi, big) << I8) | _low8(fj, big)
-                 | (_low8(fk, big) << np.int32(16)))
+        _diffs3(q, x0, y0, z0, bx, by, bz, bd)
+        ba[q] = (_low8(fi, big) << I8) | _low8(fj, big) | (_low8(fk, big) << np.int32(16))
 
 
 @njit(**_OPTS64)  # no fast-math: the float64 road's warped points
@@ -373,7 +370,7 @@ def warp_rows(r0, r1, ndim, kind, mode, interp, xs, ys, zs, d0, d1, d2, warp, ou
     unused), every octave summed into the row (``amps`` carry ``norm`` unless ``mode`` is
     ridged; ``tab``: :func:`lattice2_table`, or for simplex noise
     :func:`._simplex32.simplex_table`)."""
-    bx, by, bz, nb, ba, bw, pk, bb, bt, hashed = simplex_work(perm, False)
+    bx, by, bz, nb, ba, bw, pk, bb, bt, hashed, bd = simplex_work(perm, False)
     cx = np.empty(BLOCK, np.float32)
     cy = np.empty(BLOCK, np.float32)
     cz = np.empty(BLOCK, np.float32)
@@ -411,9 +408,9 @@ def warp_rows(r0, r1, ndim, kind, mode, interp, xs, ys, zs, d0, d1, d2, warp, ou
                 ob = uint64(base) if direct else uint64(0)
                 if ndim == 3 and kind == k.SIMPLEX:
                     _s3_locate_w(xs, ys[j], zs[m], e0, e1, e2, base, cnt, warp, f, of, big, bx,
-                                 by, bz, ba)
+                                 by, bz, ba, bd)
                     _s3_gather(cnt, tab, pk, ba, bw)
-                    _s3_eval(cnt, bx, by, bz, ba, bw, dst, ob, amp)
+                    _s3_eval(cnt, bx, by, bz, bd, bw, dst, ob, amp)
                 elif ndim == 3:
                     _lat_locate3(xs, ys[j], zs[m], e0, e1, e2, base, cnt, warp, f, of, big, bx,
                                  by, bz, ba, bk)
