@@ -625,8 +625,9 @@ _TABS: dict = {}
 # As 3D: x along the row, y, z and w fixed, so a sample is located in float64 (the 4D
 # kernel, r² = 0.6, jumps across simplex faces too) and the rest is float32.  The chained
 # lookups ``perm[i + perm[j + perm[k + perm[l]]]] & 31`` of the hypercube's sixteen corners
-# take five loads a sample (:func:`_s4_gather`: one of :func:`simplex4_table`'s ``kl``, four
-# of its ``tab``) instead of the five corners' twenty chained ones.
+# take four loads a sample (:func:`_s4_gather`: one of :func:`simplex4_table`'s ``kl``, one
+# of its ``tab`` for each of the three (k, l) planes the simplex visits) instead of the
+# five corners' twenty chained ones.
 
 _G4 = _F(k.G4)
 _G4X2 = _F(2.0 * k.G4)
@@ -689,20 +690,22 @@ def _s4_locate(xo, base, cnt, yin, zin, win, big, bx, by, bz, bw, ba, bd):
 
 
 @njit(**_OPTS)
-def _s4_gather(cnt, tab, kl, ba, hw):
-    """Scalar pass: the gradient indices of the cell's sixteen corners, four words a
-    sample: ``hw[k1 + 2 l1]`` holds corners ``(i1, j1, k1, l1)`` in bits ``5 (2 i1 + j1)``
-    (:func:`simplex4_table` row ``i``, column ``(j + perm[k + k1 + perm[l + l1]]) & 255``,
-    the four ``perm[..]`` one word of :func:`simplex4_kl` at ``k + 256 l``): five loads a
-    sample, two deep."""
+def _s4_gather(cnt, tab, kl, ba, bd, hw):
+    """Scalar pass: the gradient indices of the corners of the cell's three ``(k, l)``
+    planes the simplex visits, three words a sample: ``hw[0]`` plane ``(0, 0)``, ``hw[1]``
+    ``(1, 0)`` where ``z0 > w0`` (z ranks above w, so the simplex offsets k before l;
+    the sign of ``bd[5]``, :func:`_s4_locate`) else ``(0, 1)``, ``hw[2]`` ``(1, 1)``; each
+    holds corners ``(i1, j1)`` in bits ``5 (2 i1 + j1)`` (:func:`simplex4_table` row
+    ``i``, column ``(j + perm[k + k1 + perm[l + l1]]) & 255``, the four ``perm[..]`` one
+    word of ``kl`` at ``k + 256 l``): four loads a sample, two deep."""
     for q in range(cnt):
         a = ba[q]
         row = _i32(a & _ROW)
         p = kl[uint64(_bl.srl32(a, _N16))]
+        mid = _i32(_bl.srl32(p, I8 if _bl.signm(bd[5, q]) != I0 else _N16) & _N255)
         hw[0, q] = tab[uint64(row | _i32(_i32(a + _i32(p & _N255)) & _N255))]
-        hw[1, q] = tab[uint64(row | _i32(_i32(a + _i32(_bl.srl32(p, I8) & _N255)) & _N255))]
-        hw[2, q] = tab[uint64(row | _i32(_i32(a + _i32(_bl.srl32(p, _N16) & _N255)) & _N255))]
-        hw[3, q] = tab[uint64(row | _i32(_i32(a + _bl.srl32(p, np.int32(24))) & _N255))]
+        hw[1, q] = tab[uint64(row | _i32(_i32(a + mid) & _N255))]
+        hw[2, q] = tab[uint64(row | _i32(_i32(a + _bl.srl32(p, np.int32(24))) & _N255))]
 
 
 @njit(inline="always", **_OPTS)
@@ -713,25 +716,24 @@ def _c4(g, x, y, z, w):
 
 
 @njit(inline="always", **_OPTS)
-def _h4(h0, h1, h2, h3, mi, mj, mk, ml):
-    """The gradient index of the corner offset by the masks ``mi .. ml`` (-1 or 0): word
-    ``k + 2 l`` of :func:`_s4_gather` (loaded: selecting loads of rows would be gathers),
-    field ``2 i + j``."""
-    lo = h1 if mk != I0 else h0
-    hi = h3 if mk != I0 else h2
-    v = hi if ml != I0 else lo
+def _h4(h0, h1, h2, mi, mj, mk, ml):
+    """The gradient index of the corner offset by the masks ``mi .. ml`` (-1 or 0): plane
+    word ``h0`` where neither k nor l is offset, ``h2`` where both are, else ``h1``
+    (:func:`_s4_gather`; loaded: selecting loads of rows would be gathers), field
+    ``2 i + j``."""
+    v = h2 if _i32(mk & ml) != I0 else (h1 if _i32(mk | ml) != I0 else h0)
     return _i32(_bl.srl32(v, _i32(_i32(mi & _N10) | _i32(mj & _N5))) & _N31)
 
 
 @njit(inline="always", **_OPTS)
-def _mid4(h0, h1, h2, h3, rx, ry, rz, rw, lim, off, x0, y0, z0, w0):
+def _mid4(h0, h1, h2, rx, ry, rz, rw, lim, off, x0, y0, z0, w0):
     """Corner ``4 - lim`` (1, 2 or 3): offset by 1 along the axes of rank >= ``lim``."""
     f = _bl.andf
     mi = _i32(-np.int32(rx >= lim))
     mj = _i32(-np.int32(ry >= lim))
     mk = _i32(-np.int32(rz >= lim))
     ml = _i32(-np.int32(rw >= lim))
-    return _c4(_h4(h0, h1, h2, h3, mi, mj, mk, ml), x0 - f(ONE, mi) + off, y0 - f(ONE, mj) + off,
+    return _c4(_h4(h0, h1, h2, mi, mj, mk, ml), x0 - f(ONE, mi) + off, y0 - f(ONE, mj) + off,
                z0 - f(ONE, mk) + off, w0 - f(ONE, ml) + off)
 
 
@@ -759,12 +761,11 @@ def _s4_eval(cnt, bx, by, bz, bw, bd, hw, nb, ob, amp):
         h0 = hw[0, q]
         h1 = hw[1, q]
         h2 = hw[2, q]
-        h3 = hw[3, q]
         n = _c4(_i32(h0 & _N31), x0, y0, z0, w0)
-        n += _mid4(h0, h1, h2, h3, rx, ry, rz, rw, I3, _G4, x0, y0, z0, w0)
-        n += _mid4(h0, h1, h2, h3, rx, ry, rz, rw, I2, _G4X2, x0, y0, z0, w0)
-        n += _mid4(h0, h1, h2, h3, rx, ry, rz, rw, I1, _G4X3, x0, y0, z0, w0)
-        n += _c4(_i32(_bl.srl32(h3, np.int32(15)) & _N31), x0 + _G4X4, y0 + _G4X4,
+        n += _mid4(h0, h1, h2, rx, ry, rz, rw, I3, _G4, x0, y0, z0, w0)
+        n += _mid4(h0, h1, h2, rx, ry, rz, rw, I2, _G4X2, x0, y0, z0, w0)
+        n += _mid4(h0, h1, h2, rx, ry, rz, rw, I1, _G4X3, x0, y0, z0, w0)
+        n += _c4(_i32(_bl.srl32(h2, np.int32(15)) & _N31), x0 + _G4X4, y0 + _G4X4,
                  z0 + _G4X4, w0 + _G4X4)
         nb[ob + uint64(q)] = amp * (_S4 * n)
 
@@ -778,7 +779,7 @@ def rows4s(r0, r1, mode, xs, ys, zs, ws, out, freqs, amps, offs, perm, tab, kl, 
     bx, by, bz, nb, ba, bw1, pk, bb, bt, hashed, _ = simplex_work(perm, False)
     bw = np.empty(BLOCK, np.float32)
     bd = np.empty((6, BLOCK + 16), np.float32)  # rows off each other's L1 sets
-    hw = np.empty((4, BLOCK + 16), np.int32)
+    hw = np.empty((3, BLOCK + 16), np.int32)
     nw, nz, ny, nx = out.shape
     weight = np.empty(nx, np.float32)
     nf = freqs.shape[0]
@@ -800,7 +801,7 @@ def rows4s(r0, r1, mode, xs, ys, zs, ws, out, freqs, amps, offs, perm, tab, kl, 
                 dst = row if direct else nb
                 ob = uint64(base) if direct else uint64(0)
                 _s4_locate(xo[o], base, cnt, yin, zin, win, big, bx, by, bz, bw, ba, bd)
-                _s4_gather(cnt, tab, kl, ba, hw)
+                _s4_gather(cnt, tab, kl, ba, bd, hw)
                 _s4_eval(cnt, bx, by, bz, bw, bd, hw, dst, ob, amp)
                 if not direct:
                     _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
