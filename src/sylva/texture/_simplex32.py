@@ -625,9 +625,9 @@ _TABS: dict = {}
 # As 3D: x along the row, y, z and w fixed, so a sample is located in float64 (the 4D
 # kernel, r² = 0.6, jumps across simplex faces too) and the rest is float32.  The chained
 # lookups ``perm[i + perm[j + perm[k + perm[l]]]] & 31`` of the hypercube's sixteen corners
-# take four loads a sample (:func:`_s4_gather`: one of :func:`simplex4_table`'s ``kl``, one
-# of its ``tab`` for each of the three (k, l) planes the simplex visits) instead of the
-# five corners' twenty chained ones.
+# take six loads a sample (:func:`_s4_gather`: three of :func:`simplex_work`'s pair table,
+# one of :func:`simplex4_table` for each of the three (k, l) planes the simplex visits)
+# instead of the five corners' twenty chained ones.
 
 _G4 = _F(k.G4)
 _G4X2 = _F(2.0 * k.G4)
@@ -690,22 +690,27 @@ def _s4_locate(xo, base, cnt, yin, zin, win, big, bx, by, bz, bw, ba, bd):
 
 
 @njit(**_OPTS)
-def _s4_gather(cnt, tab, kl, ba, bd, hw):
+def _s4_gather(cnt, tab, pk, ba, bd, hw):
     """Scalar pass: the gradient indices of the corners of the cell's three ``(k, l)``
     planes the simplex visits, three words a sample: ``hw[0]`` plane ``(0, 0)``, ``hw[1]``
     ``(1, 0)`` where ``z0 > w0`` (z ranks above w, so the simplex offsets k before l;
     the sign of ``bd[5]``, :func:`_s4_locate`) else ``(0, 1)``, ``hw[2]`` ``(1, 1)``; each
     holds corners ``(i1, j1)`` in bits ``5 (2 i1 + j1)`` (:func:`simplex4_table` row
-    ``i``, column ``(j + perm[k + k1 + perm[l + l1]]) & 255``, the four ``perm[..]`` one
-    word of ``kl`` at ``k + 256 l``): four loads a sample, two deep."""
+    ``i``, column ``(j + perm[k + k1 + perm[l + l1]]) & 255``; ``pk``:
+    :func:`simplex_work`'s ``perm[m] | perm[m + 1] << 16``, 1 KB: a table of the four
+    ``perm[..]`` by ``(k, l)``, 256 KB, measured 0.9x on 4-octave fBm, the two tables
+    then filling this CPU's L2)."""
     for q in range(cnt):
         a = ba[q]
         row = _i32(a & _ROW)
-        p = kl[uint64(_bl.srl32(a, _N16))]
-        mid = _i32(_bl.srl32(p, I8 if _bl.signm(bd[5, q]) != I0 else _N16) & _N255)
-        hw[0, q] = tab[uint64(row | _i32(_i32(a + _i32(p & _N255)) & _N255))]
+        kk = _i32(_i32(a >> _N16) & _N255)
+        pl = pk[uint64(_i32(a >> np.int32(24)) & _N255)]  # perm[l], perm[l + 1]
+        p0 = pk[uint64(_i32(kk + _i32(pl & _N65535)) & _N255)]  # l1 = 0: k1 = 0, 1
+        p1 = pk[uint64(_i32(kk + _i32(pl >> _N16)) & _N255)]  # l1 = 1
+        mid = _i32(p0 >> _N16) if _bl.signm(bd[5, q]) != I0 else _i32(p1 & _N65535)
+        hw[0, q] = tab[uint64(row | _i32(_i32(a + _i32(p0 & _N65535)) & _N255))]
         hw[1, q] = tab[uint64(row | _i32(_i32(a + mid) & _N255))]
-        hw[2, q] = tab[uint64(row | _i32(_i32(a + _bl.srl32(p, np.int32(24))) & _N255))]
+        hw[2, q] = tab[uint64(row | _i32(_i32(a + _i32(p1 >> _N16)) & _N255))]
 
 
 @njit(inline="always", **_OPTS)
@@ -771,11 +776,11 @@ def _s4_eval(cnt, bx, by, bz, bw, bd, hw, nb, ob, amp):
 
 
 @njit(nogil=True, **_OPTS64)  # no fast-math: y, z, w as in float64
-def rows4s(r0, r1, mode, xs, ys, zs, ws, out, freqs, amps, offs, perm, tab, kl, norm, gain):
+def rows4s(r0, r1, mode, xs, ys, zs, ws, out, freqs, amps, offs, perm, tab, norm, gain):
     """Rows ``r0 .. r1`` of ``out`` (float32, shape (nw, nz, ny, nx); row ``r`` is
     ``(r // (ny nz), r // ny % nz, r % ny)``) of 4D simplex noise, every octave summed
     into the row (as :func:`._lattice4_32.rows4`; ``amps`` carry ``norm`` unless ``mode``
-    is ridged; ``tab``, ``kl``: :func:`simplex4_table`)."""
+    is ridged; ``tab``: :func:`simplex4_table`)."""
     bx, by, bz, nb, ba, bw1, pk, bb, bt, hashed, _ = simplex_work(perm, False)
     bw = np.empty(BLOCK, np.float32)
     bd = np.empty((6, BLOCK + 16), np.float32)  # rows off each other's L1 sets
@@ -801,7 +806,7 @@ def rows4s(r0, r1, mode, xs, ys, zs, ws, out, freqs, amps, offs, perm, tab, kl, 
                 dst = row if direct else nb
                 ob = uint64(base) if direct else uint64(0)
                 _s4_locate(xo[o], base, cnt, yin, zin, win, big, bx, by, bz, bw, ba, bd)
-                _s4_gather(cnt, tab, kl, ba, bd, hw)
+                _s4_gather(cnt, tab, pk, ba, bd, hw)
                 _s4_eval(cnt, bx, by, bz, bw, bd, hw, dst, ob, amp)
                 if not direct:
                     _combine_block(mode, row, weight, base, cnt, nb, amps[o], gain, o == 0)
@@ -809,30 +814,21 @@ def rows4s(r0, r1, mode, xs, ys, zs, ws, out, freqs, amps, offs, perm, tab, kl, 
 
 
 def simplex4_table(seed, perm):
-    """The packed corner gradients of 4D simplex noise (cached per seed): ``tab`` and
-    ``kl``.  ``tab[i * 256 + m]`` (int32, i and m in 0..255; 256 KB) holds
+    """The packed corner gradients of 4D simplex noise (cached per seed):
+    ``tab[i * 256 + m]`` (int32, i and m in 0..255; 256 KB) holds
     ``perm[i + di + perm[m + dj]] & 31`` in bits ``5 (2 di + dj)``: with
     ``m = (j + perm[k + k1 + perm[l + l1]]) & 255`` the four corners ``(di, dj)`` of the
-    cell's ``(k1, l1)`` plane (the float64 road's chain, :func:`._kernels.simplex4`).
-    ``kl[k + 256 l]`` (int32, 256 KB) holds those four ``perm[k + k1 + perm[l + l1]]``,
-    byte ``k1 + 2 l1``: a row's cells share few ``(k, l)``, so its loads stay in L1."""
+    cell's ``(k1, l1)`` plane (the float64 road's chain, :func:`._kernels.simplex4`)."""
     key = ("4d", seed)
-    tabs = _TABS.get(key)
-    if tabs is None:
+    tab = _TABS.get(key)
+    if tab is None:
         g = (perm[np.arange(257)[:, None] + perm[np.arange(257)][None, :]] & 31).astype(np.int32)
         tab = g[:-1, :-1] | (g[:-1, 1:] << 5) | (g[1:, :-1] << 10) | (g[1:, 1:] << 15)
         tab = np.ascontiguousarray(tab.astype(np.int32).reshape(256 * TAB_STRIDE))
-        kk = np.arange(256)[None, :]
-        ll = np.arange(256)[:, None]
-        kl = np.zeros((256, 256), np.int64)
-        for k1 in (0, 1):
-            for l1 in (0, 1):
-                kl |= perm[kk + k1 + perm[ll + l1]].astype(np.int64) << (8 * (k1 + 2 * l1))
-        kl = np.ascontiguousarray(kl.astype(np.uint32).view(np.int32).reshape(65536))
         if len(_TABS) > 16:
             _TABS.clear()
-        tabs = _TABS[key] = (tab, kl)
-    return tabs
+        _TABS[key] = tab
+    return tab
 
 
 def grid4s(setup, axes, freqs, amps, offs, mode, norm, gain, full):
@@ -846,5 +842,5 @@ def grid4s(setup, axes, freqs, amps, offs, mode, norm, gain, full):
     ax = [np.ascontiguousarray(a, np.float64) for a in axes[:4]]
     run_blocks(rows4s, full[1] * full[2] * full[3],
                (mode, *ax, out, np.ascontiguousarray(freqs), a32, np.ascontiguousarray(offs),
-                t.perm, *simplex4_table(t.seed, t.perm), np.float32(norm), np.float32(gain)))
+                t.perm, simplex4_table(t.seed, t.perm), np.float32(norm), np.float32(gain)))
     return out
