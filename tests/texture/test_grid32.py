@@ -373,11 +373,14 @@ def test_simplex_4d_rows_on_a_regular_grid(monkeypatch, scale):
     _rows_match_float64(monkeypatch, s32, "grid4s", (4, 4, 16, 64), kw)
 
 
+@pytest.mark.parametrize("use", [True, False], ids=["bytelanes", "packed"])
 @pytest.mark.parametrize("scale", [6.0, 24.0], ids=["quarter-cells", "whole-cells"])
-def test_3d_simplex_on_a_regular_grid(scale):
+def test_3d_simplex_on_a_regular_grid(monkeypatch, use, scale):
     # as the 4D test above: 3D simplex on a grid of quarter or whole cells, where the
-    # six-way choice of many samples is a float64 rounding (_simplex32._diff_sign), on
-    # the packed road (the byte-lane road packs its own comparisons) and warped
+    # six-way choice of many samples is a float64 rounding, on both roads (the packed
+    # road's comparisons are sign bits, _simplex32._diff_sign; the byte-lane road packs
+    # its own) and warped
+    monkeypatch.setattr(gk32._bl, "USE", use)
     kw = dict(kind="simplex", seed=3, octaves=2, scale=scale)
     for extra in ({}, {"warp": 0.5}):
         a = noise_grid((6, 8, 24), **kw, **extra)
