@@ -121,3 +121,47 @@ def test_a_bigger_pool_leaves_the_old_one_usable_for_a_call_that_took_it():
     bigger = gp._threads(gp._pool["size"] + 1)
     assert bigger is not old and gp._threads(1) is bigger
     assert old.submit(lambda: 7).result(timeout=30) == 7  # not shut down under it
+
+
+def test_run_tasks_gives_each_result_in_order_one_numba_thread_each(two_threads):
+    import time
+
+    seen = []
+
+    def task(i):
+        def run():
+            seen.append((threading.get_ident(), numba.get_num_threads()))
+            time.sleep(0.02)  # long enough that the pool's thread takes some
+            return i * i
+
+        return run
+
+    assert gp.run_tasks([task(i) for i in range(6)]) == [0, 1, 4, 9, 16, 25]
+    assert len(seen) == 6 and {n for _, n in seen} == {1}
+    assert numba.get_num_threads() == two_threads  # the caller's count is back
+    if two_threads >= 2:
+        assert len({t for t, _ in seen}) == 2
+
+
+def test_run_tasks_raises_a_tasks_error_and_restores_the_thread_count(two_threads):
+    def bad():
+        raise ValueError("task failed")
+
+    with pytest.raises(ValueError, match="task failed"):
+        gp.run_tasks([lambda: 1, bad, lambda: 3])
+    assert numba.get_num_threads() == two_threads
+
+
+@pytest.mark.parametrize("shape", [(96, 128), (4, 48, 64), (4, 4, 32, 32)], ids=["2d", "3d", "4d"])
+@pytest.mark.parametrize("kind", ["improved", "simplex"])
+def test_warped_grids_do_not_depend_on_the_thread_count(two_threads, shape, kind):
+    # the warp fields go side by side (run_tasks), the rows on run_blocks' threads (work
+    # enough for noise_grid to use both)
+    from sylva.texture import noise_grid
+
+    kw = dict(kind=kind, octaves=2, scale=5.0, seed=3, warp=0.8)
+    many = noise_grid(shape, **kw)
+    numba.set_num_threads(1)
+    one = noise_grid(shape, **kw)
+    np.testing.assert_array_equal(one, many)
+    assert one.std() > 0.05

@@ -79,8 +79,6 @@ def run_blocks(kernel, nblocks, args):
     The threads are one pool per process, started by the first call that needs them.  A
     serial kernel compiles in a third to a half of the time its ``parallel=True`` version
     takes (issue 25), and runs the same code."""
-    from concurrent.futures import wait
-
     import numba
 
     nt = min(numba.get_num_threads(), nblocks)
@@ -88,28 +86,69 @@ def run_blocks(kernel, nblocks, args):
         kernel(0, nblocks, *args)
         return
     step = max(1, nblocks // (8 * nt))
-    starts = iter(range(0, nblocks, step))
+    _spread(nt, range(0, nblocks, step),
+            lambda c0: kernel(c0, min(nblocks, c0 + step), *args))
+
+
+def run_tasks(tasks):
+    """The results of the callables ``tasks``, run side by side on :func:`run_blocks`' threads,
+    each on one thread (numba's thread count 1 inside it: the ``parallel=True`` grid kernels
+    then run on their caller's thread).  For a few independent grids, such as a warped
+    grid's warp fields: one grid at a time on every thread left GNU OpenMP's threads
+    spinning for milliseconds after each (its default wait policy), and on two cores that
+    spin took the CPU from the :func:`run_blocks` rows that follow, which then ran no
+    faster than on one core."""
+    import numba
+
+    nt = min(numba.get_num_threads(), len(tasks))
+    if nt <= 1 or getattr(_in_pool, "inside", False):
+        return [t() for t in tasks]
+    out = [None] * len(tasks)
+
+    def one(i):
+        out[i] = tasks[i]()
+
+    _spread(nt, range(len(tasks)), one, serial=True)
+    return out
+
+
+def _spread(nt, items, do, serial=False):
+    """``do(item)`` for every item, taken one by one by ``nt`` threads (the calling thread and
+    ``nt - 1`` of the pool's); ``serial``: numba's thread count 1 on each while it works.  The
+    first error stops the hand-out and is raised once every thread has stopped."""
+    from concurrent.futures import wait
+
+    import numba
+
+    items = iter(items)
     lock = threading.Lock()
     failed = []
 
     def work():
-        while True:
-            with lock:
-                c0 = None if failed else next(starts, None)
-            if c0 is None:
-                return
-            try:
-                kernel(c0, min(nblocks, c0 + step), *args)
-            except BaseException:
-                failed.append(True)  # the other threads take no more blocks
-                raise
+        before = numba.get_num_threads()
+        if serial:
+            numba.set_num_threads(1)
+        try:
+            while True:
+                with lock:
+                    item = None if failed else next(items, None)
+                if item is None:
+                    return
+                try:
+                    do(item)
+                except BaseException:
+                    failed.append(True)  # the other threads take no more items
+                    raise
+        finally:
+            if serial:
+                numba.set_num_threads(before)
 
     pool = _threads(nt)
     futures = [pool.submit(work) for _ in range(nt - 1)]
     try:
         work()  # the calling thread takes its share too
     finally:
-        wait(futures)  # no block of ``args`` is still being written when this returns
+        wait(futures)  # no item is still being worked on when this returns
     for f in futures:
         f.result()
 

@@ -35,7 +35,9 @@ see ``tests/texture/test_points32.py``.
 
 from __future__ import annotations
 
+import functools
 import math
+import threading
 
 import numpy as np
 from numba import njit, uint64
@@ -830,7 +832,7 @@ def grid32(plan, warp, setup):
     warp fields), or None
     where :func:`road` names none, or while the kernel is not compiled and the grid is
     small (the float64 road's interpreted source is then quicker than compiling)."""
-    from ._gridplan import SCALAR_WORK
+    from ._gridplan import SCALAR_WORK, run_tasks
 
     which = road(plan, warp)
     n = math.prod(plan.shape)
@@ -852,29 +854,34 @@ def grid32(plan, warp, setup):
                     offs, pers, *tail)
         return out.reshape(plan.shape)
     made = []
+    making = threading.Lock()  # the warp fields may ask for them side by side
 
     def pts():
-        if not made:
-            grids = np.meshgrid(*axes[:ndim][::-1], indexing="ij")[::-1]
-            made.extend(np.ascontiguousarray(g.ravel()) for g in grids)
-            while len(made) < 4:
-                made.append(np.zeros(n))
+        with making:
+            if not made:
+                grids = np.meshgrid(*axes[:ndim][::-1], indexing="ij")[::-1]
+                made.extend(np.ascontiguousarray(g.ravel()) for g in grids)
+                while len(made) < 4:
+                    made.append(np.zeros(n))
         return made
 
     base = 0 if s.tables.seed is None else s.tables.seed
     seeds = [base + 7919 * (a + 1) for a in range(ndim)]  # the float64 road's, per axis
+
+    def fields():
+        # the warp fields, fBm of the kind with the axis's seed: side by side, one a thread
+        # (_gridplan.run_tasks: not one after another on every thread)
+        wsets = [setup(sd) for sd in seeds]
+        return run_tasks([functools.partial(_field, ws, plan, axes, pts, n) for ws in wsets])
+
     if (ndim in (2, 3) and s.kind in _w32.KINDS and (s.kind == k.SIMPLEX or not pers.any())
             and not _jit.cold(_w32.warp_rows, n, SCALAR_WORK)):
         # 2D and 3D: rows at the warped points (:mod:`._warp32`, no point arrays; a lattice
         # period wraps the far corners, which its tables do not)
-        fields = [_field(setup(sd), plan, axes, pts, n) for sd in seeds]
-        out = _w32.warp_grid(s, axes, fields, warp, freqs, plan.amps, offs, mode, plan.norm,
+        out = _w32.warp_grid(s, axes, fields(), warp, freqs, plan.amps, offs, mode, plan.norm,
                              plan.gain)
         return out.reshape(plan.shape)
-    warped = []
-    for a in range(ndim):  # the warp fields: fBm of the kind, with the axis's seed
-        d = _field(setup(seeds[a]), plan, axes, pts, n)
-        warped.append(pts()[a] + float(warp) * d.astype(np.float64))
+    warped = [pts()[a] + float(warp) * d.astype(np.float64) for a, d in enumerate(fields())]
     if not _within_int32(warped, freqs, offs):
         return None
     warped += pts()[ndim:]
