@@ -116,10 +116,35 @@ def test_warp_float32_within_tolerance(monkeypatch, kind, shape, fractal):
     # the warp field of each axis is fBm on the grid's own points: the grid roads take it,
     # then the warped noise goes on rows of points (2D and 3D: rows at the warped points,
     # _warp32.warp_rows)
-    assert fields == [k.FBM] * len(shape)
+    pairs = len(shape) == 2 and kind == "simplex"  # both fields at once: simplex_pair32
+    assert fields == [k.FBM] * len(shape) * (not pairs)
     by_rows = len(shape) in (2, 3)
     assert calls == [] if by_rows else calls == [(True, p32.KINDS[KINDS.index(kind)])]
     assert rows == [p32.KINDS[KINDS.index(kind)]] * by_rows
+
+
+@pytest.mark.parametrize("use", [True, False], ids=["bytelanes", "packed"])
+@pytest.mark.parametrize("offset,octaves", [((0.0, 0.0), 1), ((-7.25, 3.5), 3),
+                                            ((3000.0, 100.0), 2)], ids=["one", "fbm", "far"])
+def test_2d_simplex_warp_fields_as_a_pair_equal_each_field_alone(monkeypatch, use, offset,
+                                                                   octaves):
+    # a warped 2D simplex grid's two fields go in one pass (one locate a block, the kernel
+    # weights shared): bit for bit the fields of the grid road one by one, in float32 near
+    # the origin and located in float64 far from it, on both hash roads
+    from sylva.texture.noise import _setup
+
+    monkeypatch.setattr(s32._bl, "USE", use)
+    plan = grid_plan((9, 300), "simplex", "fbm", 7.0, octaves, 0.5, 2.0, 2.0, 4, None, False,
+                     None, offset, 0.8, True, "f1", "euclidean", 1.0, np.float32, None)
+    sets = [_setup("simplex", 4 + 7919 * a, None) for a in (1, 2)]
+    axes = [np.ascontiguousarray(a, np.float64) for a in plan.axes]
+    pair = s32.simplex_pair32(sets, axes, plan.freqs, plan.amps, plan.offs, plan.norm,
+                              plan.gain)
+    for ws, got in zip(sets, pair):
+        alone = gk32.grid32(ws, 2, axes, plan.freqs, plan.amps, plan.offs, plan.pers, k.FBM,
+                            plan.norm, plan.gain, False, (300, 9, 1, 1))
+        np.testing.assert_array_equal(got, alone.reshape(9, 300))
+    assert not np.array_equal(pair[0], pair[1]) and pair[0].std() > 0.05
 
 
 def _warp_rows(monkeypatch):

@@ -872,6 +872,12 @@ def grid32(plan, warp, setup):
         # the warp fields, fBm of the kind with the axis's seed: side by side, one a thread
         # (_gridplan.run_tasks: not one after another on every thread)
         wsets = [setup(sd) for sd in seeds]
+        if ndim == 2 and s.kind == k.SIMPLEX and not _jit.cold(_s32.simplex_pair_rows32, n,
+                                                               SCALAR_WORK):
+            # both at once: one locate a block, the kernel weights shared
+            pair = _s32.simplex_pair32(wsets, axes, freqs, plan.amps, offs, plan.norm,
+                                       plan.gain)
+            return [f.reshape(-1) for f in pair]
         return run_tasks([functools.partial(_field, ws, plan, axes, pts, n) for ws in wsets])
 
     if (ndim in (2, 3) and s.kind in _w32.KINDS and (s.kind == k.SIMPLEX or not pers.any())
@@ -912,3 +918,7 @@ def warm() -> None:
         f = np.zeros(16, np.float32)
         _w32.warp_grid(_setup("simplex", 1, None), ax, [f, f], 0.5, np.ones((2, 4)),
                        np.ones(2), np.zeros((2, 4)), k.FBM, 1.0, 0.5)
+        # and a warped 2D simplex grid's two fields at once (:func:`._simplex32.simplex_pair32`)
+        _s32.simplex_pair32([_setup("simplex", 1, None), _setup("simplex", 2, None)],
+                            ax + [np.zeros(1)], np.ones((2, 4)), np.ones(2), np.zeros((2, 4)),
+                            1.0, 0.5)
