@@ -672,7 +672,7 @@ def simplex_pair_rows32(r0, r1, xs, xs32, ys, zs, out, out2, freqs, amps, offs, 
     bx, by, _, nb, ba, bw, _, bb, bt, _, _ = simplex_work(perm, hashed)
     _, _, _, nb2, _, bw2, _, _, bt2, _, _ = simplex_work(perm2, hashed)
     weight = np.empty(0, np.float32)  # fBm has no ridged weights
-    xo, xbig, xmax = _x_octaves(xs, freqs, offs, False)
+    _, xbig, xmax = _x_octaves(xs, freqs, offs, False)
     nx = out.shape[2]
     for r in range(r0, r1):
         row = out[0, r]
