@@ -165,3 +165,27 @@ def test_warped_grids_do_not_depend_on_the_thread_count(two_threads, shape, kind
     one = noise_grid(shape, **kw)
     np.testing.assert_array_equal(one, many)
     assert one.std() > 0.05
+
+
+def test_warped_grids_under_numbas_workqueue_layer_run_their_fields_one_by_one():
+    # numba's own threading layer (where neither OpenMP nor TBB is installed, as on macOS)
+    # aborts the process when two threads launch parallel kernels at once: run_tasks then
+    # runs the warp fields one by one (without that, this child died of SIGABRT)
+    import subprocess
+
+    code = (
+        "import numba, numpy as np\n"
+        "from sylva.texture import noise_grid, _gridplan as gp\n"
+        "numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))\n"
+        "a = noise_grid((96, 128), kind='improved', octaves=2, scale=5.0, seed=3, warp=0.8)\n"
+        "assert numba.threading_layer() == 'workqueue' and not gp._concurrent_kernels()\n"
+        "print(round(float(a.std()), 6))\n"
+    )
+    env = dict(os.environ, NUMBA_THREADING_LAYER="workqueue")
+    got = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                         text=True, timeout=300)
+    assert got.returncode == 0, got.stderr[-2000:]
+    from sylva.texture import noise_grid
+
+    here = noise_grid((96, 128), kind="improved", octaves=2, scale=5.0, seed=3, warp=0.8)
+    assert float(got.stdout.split()[-1]) == round(float(here.std()), 6)

@@ -101,7 +101,7 @@ def run_tasks(tasks):
     import numba
 
     nt = min(numba.get_num_threads(), len(tasks))
-    if nt <= 1 or getattr(_in_pool, "inside", False):
+    if nt <= 1 or getattr(_in_pool, "inside", False) or not _concurrent_kernels():
         return [t() for t in tasks]
     out = [None] * len(tasks)
 
@@ -110,6 +110,19 @@ def run_tasks(tasks):
 
     _spread(nt, range(len(tasks)), one, serial=True)
     return out
+
+
+def _concurrent_kernels() -> bool:
+    """Whether numba's threading layer takes ``parallel=True`` kernels from several threads at
+    once: OpenMP and TBB do; numba's own workqueue (where neither library is installed)
+    aborts the process on a concurrent launch (``run_tasks`` then runs its tasks one by
+    one).  ``numba.get_num_threads`` chooses the layer if nothing has yet."""
+    import numba
+
+    try:
+        return numba.threading_layer() in ("omp", "tbb")
+    except ValueError:  # no parallel kernel has run in this process yet
+        return False
 
 
 def _spread(nt, items, do, serial=False):
