@@ -278,3 +278,36 @@ def test_roads():
     assert _road((3, 4, 20)) is None
     assert _road((3, 4, 20), kind="worley") is None
     assert _road((3, 4, 20), kind="worley", output="cell") is None  # float64's runs: faster
+
+
+def test_warp_field_buffers_are_reused_and_never_leak_into_results(monkeypatch):
+    # the warp fields' buffers go from one warped grid to the next (_Scratch: fresh
+    # multi-megabyte arrays each call page-faulted as long as the arithmetic took); a
+    # result is never one of them, and a later call does not change an earlier result
+    kw = dict(kind="improved", octaves=2, scale=5.0, seed=2, warp=0.8)
+    first = noise_grid((24, 40), **kw)
+    kept = first.copy()
+    taken = []
+    real = p32._SCRATCH.take
+    monkeypatch.setattr(p32._SCRATCH, "take", lambda n: taken.append(real(n)) or taken[-1])
+    again = noise_grid((24, 40), **kw)
+    other = noise_grid((24, 40), **dict(kw, seed=9))
+    np.testing.assert_array_equal(first, kept)
+    np.testing.assert_array_equal(again, first)
+    assert not np.array_equal(other, first)
+    assert len(taken) == 4 and len({id(b) for b in taken}) == 2  # two buffers, reused
+    assert not any(np.shares_memory(b, r) for b in taken for r in (first, again, other))
+
+
+def test_scratch_keeps_the_newest_buffers_within_its_budget(monkeypatch):
+    monkeypatch.setattr(p32, "SCRATCH_BYTES", 3 * 400)
+    sc = p32._Scratch()
+    a, b = sc.take(100), sc.take(100)
+    assert a is not b and a.dtype == np.float32 and a.size == 100
+    sc.give([a, b])
+    assert sc.take(100) is a and sc.take(50).size == 50  # a size it has not: a new one
+    sc.give([a])
+    c, d = sc.take(100), sc.take(100)
+    assert {id(c), id(d)} == {id(a), id(b)}
+    sc.give([c, d, np.empty(100, np.float32), np.empty(100, np.float32)])
+    assert len(sc.free) == 3 and sc.free[0] is d  # the oldest (c) beyond the budget dropped

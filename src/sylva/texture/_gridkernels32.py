@@ -994,11 +994,13 @@ def cell_tables(i0, i1, px0, px1):
     return cid, cp0, cp1, kspan
 
 
-def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, full):
+def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, full,
+           out=None):
     """The float32 road of :func:`.noise.noise_grid` (its arguments as it computes them;
-    ``full``: the grid's (nx, ny, nz, nw)), shape (nz, ny, nx) (4D Worley: (nw, nz, ny,
-    nx)), or None where this module has no kernel (:mod:`._points32`'s road, or the
-    float64 road, which then runs and rounds)."""
+    ``full``: the grid's (nx, ny, nz, nw); ``out``: a float32 buffer of the grid's size that
+    2D and 3D lattice and simplex noise fill instead of a new array), shape (nz, ny, nx)
+    (4D Worley: (nw, nz, ny, nx)), or None where this module has no kernel
+    (:mod:`._points32`'s road, or the float64 road, which then runs and rounds)."""
     lattice = setup.kind in (k.VALUE, k.PERLIN, k.IMPROVED)
     if ndim not in (2, 3) and not (ndim == 4 and (setup.kind == k.WORLEY or lattice)):
         if ndim != 4 or setup.kind != k.SIMPLEX or torus:
@@ -1026,7 +1028,7 @@ def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, 
             lattice_tables32(axis_tables(axes[a], *cols[a], setup.interp), t.perm, False)
             for a in range(1, ndim)
         ]
-        out = np.empty(shape3, np.float32)
+        out = np.empty(shape3, np.float32) if out is None else out.reshape(shape3)
         lattice_grid32(
             setup.kind,
             mode,
@@ -1058,7 +1060,7 @@ def grid32(setup, ndim, axes, freqs, amps, offs, pers, mode, norm, gain, torus, 
     if setup.kind == k.SIMPLEX and not torus:
         from ._simplex32 import simplex_grid32, simplex_table
 
-        out = np.empty(shape3, np.float32)
+        out = np.empty(shape3, np.float32) if out is None else out.reshape(shape3)
         f32 = np.float32
         simplex_grid32(
             ndim,

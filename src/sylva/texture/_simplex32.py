@@ -718,17 +718,17 @@ def simplex_pair_rows32(r0, r1, xs, xs32, ys, zs, out, out2, freqs, amps, offs, 
                     _combine_block(k.FBM, row2, weight, base, cnt, nb2, amps[o], gain, False)
 
 
-def simplex_pair32(setups, axes, freqs, amps, offs, norm, gain):
+def simplex_pair32(setups, axes, freqs, amps, offs, norm, gain, outs=(None, None)):
     """Two 2D simplex fBm grids of the setups ``setups`` (float32, shape (ny, nx)) at the
-    grid ``axes`` (float64; x, y, z), as :func:`._gridkernels32.grid32` makes each: the
-    warp fields of a warped 2D simplex grid, by :func:`simplex_pair_rows32` on
-    :func:`._gridplan.run_blocks`' threads."""
+    grid ``axes`` (float64; x, y, z), as :func:`._gridkernels32.grid32` makes each (into
+    the float32 buffers ``outs`` where given): the warp fields of a warped 2D simplex
+    grid, by :func:`simplex_pair_rows32` on :func:`._gridplan.run_blocks`' threads."""
     from ._gridplan import run_blocks
 
     (t, t2) = (s.tables for s in setups)
     ny, nx = len(axes[1]), len(axes[0])
-    out = np.empty((1, ny, nx), np.float32)
-    out2 = np.empty((1, ny, nx), np.float32)
+    out, out2 = (np.empty((1, ny, nx), np.float32) if b is None else b.reshape(1, ny, nx)
+                 for b in outs)
     run_blocks(simplex_pair_rows32, ny,
                (axes[0], axes[0].astype(np.float32), axes[1], axes[2], out, out2, freqs,
                 (amps * norm).astype(np.float32), offs, t.perm, t2.perm,
