@@ -191,6 +191,17 @@ def test_warped_rows_far_from_the_origin(kind, shape, offset):
     _both(shape, kind=kind, octaves=2, scale=6.0, seed=3, warp=1.1, offset=offset)
 
 
+@pytest.mark.parametrize("kind", ["value", "perlin", "improved"])
+@pytest.mark.parametrize("shape", [(6, 300), (2, 3, 300)], ids=["2d", "3d"])
+def test_warped_lattice_octaves_beyond_the_float32_budget_locate_in_float64(kind, shape):
+    # warped lattice noise locates an octave in float32 while sum(amplitude x coordinate
+    # magnitude) stays within _warp32._LAT_REACH (128 cells; its value is continuous at
+    # cell faces, so a float32 floor differing at a face costs rounding only): at 100 cells
+    # across, the first two of three octaves do, the third goes in float64
+    assert wp32._LAT_REACH == 128.0
+    _both(shape, kind=kind, octaves=3, scale=100.0, seed=4, warp=1.0)
+
+
 @pytest.mark.parametrize("kind,extra", [
     ("value", {"warp": 0.7}), ("simplex", {"warp": 0.7}), ("worley", {"warp": 0.7}),
     ("improved", {"warp": 0.7, "tileable": True}), ("worley", {"output": "cell"}),

@@ -192,6 +192,56 @@ def _lat_locate3(xs, y, z, d0, d1, d2, base, cnt, warp, f, o, big, bx, by, bz, b
         bk[q] = _low8(gz, big)
 
 
+#: the budget of sum(amplitude x coordinate magnitude in cells) over a row's octaves up to
+#: which warped lattice noise locates in float32 (:func:`_lat_near`)
+_LAT_REACH = 128.0
+
+
+@njit(inline="always", cache=True, error_model="numpy")
+def _lat_near(spent, amp, cmax):
+    """:func:`._simplex32._s2_near` for warped lattice noise, whose value is continuous
+    across cell faces (a float32 floor that differs from the float64 one at a face moves
+    the value by rounding only): within :data:`_LAT_REACH` an octave's warped points,
+    floors and fractions go in float32 (:func:`_lat_locate32`), rounding a coordinate by
+    ~3e-7 of its magnitude, beyond it in float64."""
+    cost = abs(amp) * cmax
+    if spent + cost <= _LAT_REACH:
+        return True, spent + cost
+    return False, spent
+
+
+@njit(inline="always", **_OPTS)
+def _lat_cell32(c, fr, q):
+    """The floor of float32 coordinate ``c`` (its ``& 255``) and its fraction into ``fr``."""
+    g = np.floor(c)
+    fr[q] = c - g
+    return _i32(np.int32(g) & _N255)
+
+
+@njit(**_OPTS)
+def _lat_locate32(xs32, y, d0, d1, base, cnt, warp, fx, ox, fy, oy, bx, by, ba):
+    """:func:`_lat_locate` in float32 lanes near the origin (:func:`_lat_near`)."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        i = b0 + uint64(q)
+        gx = _lat_cell32((xs32[i] + warp * d0[i]) * fx + ox, bx, q)
+        gy = _lat_cell32((y + warp * d1[i]) * fy + oy, by, q)
+        ba[q] = _i32(_i32(gx << I8) | gy)
+
+
+@njit(**_OPTS)
+def _lat_locate3_32(xs32, y, z, d0, d1, d2, base, cnt, warp, fx, fy, fz, ox, oy, oz, bx, by,
+                    bz, ba, bk):
+    """:func:`_lat_locate3` in float32 lanes near the origin (:func:`_lat_near`)."""
+    b0 = uint64(base)
+    for q in range(cnt):
+        i = b0 + uint64(q)
+        gx = _lat_cell32((xs32[i] + warp * d0[i]) * fx + ox, bx, q)
+        gy = _lat_cell32((y + warp * d1[i]) * fy + oy, by, q)
+        bk[q] = _lat_cell32((z + warp * d2[i]) * fz + oz, bz, q)
+        ba[q] = _i32(_i32(gx << I8) | gy)
+
+
 @njit(**_OPTS64)  # no fast-math: the float64 road's simplex (its kernel jumps at faces)
 def _s3_locate_w(xs, y, z, d0, d1, d2, base, cnt, warp, f, o, big, bx, by, bz, ba, bd):
     """3D simplex: the warped points' octave coordinates and Gustavson's cell and
@@ -412,6 +462,8 @@ def warp_rows(r0, r1, ndim, kind, mode, interp, xs, ys, zs, d0, d1, d2, warp, ou
     xm = 0.0
     for i in range(nx):
         xm = max(xm, abs(xs[i]))
+    xs32 = xs.astype(np.float32)
+    w32 = _F(warp)
     for r in range(r0, r1):
         m = r // ny
         j = r % ny
@@ -422,6 +474,7 @@ def warp_rows(r0, r1, ndim, kind, mode, interp, xs, ys, zs, d0, d1, d2, warp, ou
         # how far the warped points may reach: beyond int32 the floors take the exact & 255
         reach = abs(warp) * np.float64(max(_absmax(e0, e1), _absmax(e2, e2)))
         spent = 0.0  # of the 2D simplex float32 locate's budget (_s2_near)
+        spent_l = 0.0  # of the lattice noises' (_lat_near)
         for o in range(freqs.shape[0]):
             f = freqs[o]
             of = offs[o]
@@ -430,6 +483,9 @@ def warp_rows(r0, r1, ndim, kind, mode, interp, xs, ys, zs, d0, d1, d2, warp, ou
             cz_ = (abs(zs[m]) + reach) * abs(f[2]) + abs(of[2]) if ndim == 3 else 0.0
             big = not max(cx_, cy_, cz_) < _BIG
             near, spent = _s2_near(spent, amps[o], max(cx_, cy_))
+            near_l, spent_l = _lat_near(spent_l, amps[o], max(cx_, cy_, cz_))
+            f32 = (_F(f[0]), _F(f[1]), _F(f[2]))
+            o32 = (_F(of[0]), _F(of[1]), _F(of[2]))
             direct = o == 0 and mode == k.FBM
             amp = amps[o] if direct else ONE
             for base in range(0, nx, BLOCK):
@@ -442,8 +498,13 @@ def warp_rows(r0, r1, ndim, kind, mode, interp, xs, ys, zs, d0, d1, d2, warp, ou
                     _s3_gather(cnt, tab, pk, ba, bw)
                     _s3_eval(cnt, bx, by, bz, bd, bw, dst, ob, amp)
                 elif ndim == 3:
-                    _lat_locate3(xs, ys[j], zs[m], e0, e1, e2, base, cnt, warp, f, of, big, bx,
-                                 by, bz, ba, bk)
+                    if near_l:
+                        _lat_locate3_32(xs32, _F(ys[j]), _F(zs[m]), e0, e1, e2, base, cnt, w32,
+                                        f32[0], f32[1], f32[2], o32[0], o32[1], o32[2], bx, by,
+                                        bz, ba, bk)
+                    else:
+                        _lat_locate3(xs, ys[j], zs[m], e0, e1, e2, base, cnt, warp, f, of, big,
+                                     bx, by, bz, ba, bk)
                     _lat_gather3(kind, cnt, tab32, pz, vz, gz, ba, bk, bw, vb, gb)
                     _curves3(interp, cnt, bx, by, bz, cx, cy, cz)
                     _lat_eval3(kind, cnt, bx, by, bz, cx, cy, cz, bw, vb, gb, dst, ob, amp)
@@ -458,8 +519,12 @@ def warp_rows(r0, r1, ndim, kind, mode, interp, xs, ys, zs, d0, d1, d2, warp, ou
                     _gather(cnt, tab, ba, bw)
                     _s2_eval(cnt, bx, by, bw, dst, ob, amp)
                 else:
-                    _lat_locate(xs, ys[j], e0, e1, base, cnt, warp, f[0], of[0], f[1], of[1],
-                                big, bx, by, ba)
+                    if near_l:
+                        _lat_locate32(xs32, _F(ys[j]), e0, e1, base, cnt, w32, f32[0], o32[0],
+                                      f32[1], o32[1], bx, by, ba)
+                    else:
+                        _lat_locate(xs, ys[j], e0, e1, base, cnt, warp, f[0], of[0], f[1],
+                                    of[1], big, bx, by, ba)
                     if kind == k.IMPROVED:
                         _gather(cnt, tab, ba, bw)
                     else:
