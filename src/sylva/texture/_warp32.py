@@ -13,7 +13,8 @@ improved noise on znver3).  Here each octave of a row goes in three passes per b
    computes them, their floors, float32 fractions, and the cell's flat address
    ``(i & 255) << 8 | (j & 255)`` (exact ``& 255`` beyond int32, :func:`._simplex32._low8`);
    2D simplex, which has no jump at its faces, locates in float32 (as its grid pass) but
-   far from the origin (:func:`._simplex32._s2_near`), 3D simplex in float64;
+   far from the origin (:func:`._simplex32._s2_near`), and so do the lattice noises, whose
+   value is continuous at cell faces (:func:`_lat_near`); 3D simplex in float64;
 2. *gather* (scalar): one load a sample from a table of the cell's four (x, y) corners,
    their chained lookups precomputed per seed (:func:`lattice2_table`: 2D improved noise's
    four gradient indices in nibbles, value and classic noise's four corner hashes in bytes,
