@@ -214,32 +214,45 @@ def _gather(cnt, tab, ba, bw):
         bw[q] = np.int32(tab[uint64(ba[q])])
 
 
+@njit(inline="always", **_OPTS_NR)
+def _s2_corners(x0, y0):
+    """The middle and far corners' offsets of a 2D simplex, the three kernel weights t^4
+    and the shift of the middle corner's nibble in a packed word (corner (1, 0) is nibble
+    2, (0, 1) nibble 1: one variable shift, vpsrlvd)."""
+    m = _i32(-np.int32(x0 > y0))  # the middle corner is (1, 0)
+    x1 = x0 - _bl.andf(ONE, m) + G2
+    y1 = y0 - _bl.andf(ONE, _i32(m ^ _M1)) + G2
+    x2 = x0 + G2X2
+    y2 = y0 + G2X2
+    t0 = max(R2 - x0 * x0 - y0 * y0, ZERO)
+    t1 = max(R2 - x1 * x1 - y1 * y1, ZERO)
+    t2 = max(R2 - x2 * x2 - y2 * y2, ZERO)
+    t0 *= t0
+    t1 *= t1
+    t2 *= t2
+    return x1, y1, x2, y2, t0 * t0, t1 * t1, t2 * t2, _i32(I4 + _i32(m & I4))
+
+
+@njit(inline="always", **_OPTS_NR)
+def _s2_sum(w, x0, y0, x1, y1, x2, y2, t0, t1, t2, sh):
+    """The three corner contributions of the packed corners ``w`` (:func:`_s2_corners`'
+    offsets and weights), the gradients' dot products by selects (:func:`_g12_2`)."""
+    n = t0 * _g12_2(_i32(w & _N15), x0, y0)
+    n += t1 * _g12_2(_i32(_bl.srl32(w, sh) & _N15), x1, y1)
+    n += t2 * _g12_2(_bl.srl32(w, np.int32(12)), x2, y2)
+    return S2 * n
+
+
 @njit(**_OPTS_NR)
 def _s2_eval(cnt, bx, by, bw, nb, ob, amp):
     """SIMD pass: the three corner contributions, gradient indices from the packed cell
-    corners, the gradients' dot products by selects (:func:`_g12_2`), times ``amp`` into
-    ``nb[ob:]`` (the block buffer with ``amp`` 1, or the first fBm octave's row)."""
+    corners (:func:`_s2_corners`, :func:`_s2_sum`), times ``amp`` into ``nb[ob:]`` (the
+    block buffer with ``amp`` 1, or the first fBm octave's row)."""
     for q in range(cnt):
         x0 = bx[q]
         y0 = by[q]
-        w = bw[q]
-        m = _i32(-np.int32(x0 > y0))  # the middle corner is (1, 0)
-        x1 = x0 - _bl.andf(ONE, m) + G2
-        y1 = y0 - _bl.andf(ONE, _i32(m ^ _M1)) + G2
-        x2 = x0 + G2X2
-        y2 = y0 + G2X2
-        t0 = max(R2 - x0 * x0 - y0 * y0, ZERO)
-        t1 = max(R2 - x1 * x1 - y1 * y1, ZERO)
-        t2 = max(R2 - x2 * x2 - y2 * y2, ZERO)
-        t0 *= t0
-        t1 *= t1
-        t2 *= t2
-        # corner (1, 0) is nibble 2, (0, 1) nibble 1: one variable shift (vpsrlvd)
-        b = _i32(_bl.srl32(w, _i32(I4 + _i32(m & I4))) & _N15)
-        n = t0 * t0 * _g12_2(_i32(w & _N15), x0, y0)
-        n += t1 * t1 * _g12_2(b, x1, y1)
-        n += t2 * t2 * _g12_2(_bl.srl32(w, np.int32(12)), x2, y2)
-        nb[ob + uint64(q)] = amp * (S2 * n)
+        x1, y1, x2, y2, t0, t1, t2, sh = _s2_corners(x0, y0)
+        nb[ob + uint64(q)] = amp * _s2_sum(bw[q], x0, y0, x1, y1, x2, y2, t0, t1, t2, sh)
 
 
 @njit(inline="always", cache=True, error_model="numpy")
@@ -630,35 +643,13 @@ _TABS: dict = {}
 @njit(**_OPTS_NR)
 def _s2_eval2(cnt, bx, by, bw, bw2, nb, nb2, ob, amp):
     """:func:`_s2_eval` for two seeds' packed corners ``bw``, ``bw2`` into ``nb``, ``nb2``:
-    the same operations per field, the offsets and weights computed once."""
+    the offsets and weights computed once."""
     for q in range(cnt):
         x0 = bx[q]
         y0 = by[q]
-        m = _i32(-np.int32(x0 > y0))  # the middle corner is (1, 0)
-        x1 = x0 - _bl.andf(ONE, m) + G2
-        y1 = y0 - _bl.andf(ONE, _i32(m ^ _M1)) + G2
-        x2 = x0 + G2X2
-        y2 = y0 + G2X2
-        t0 = max(R2 - x0 * x0 - y0 * y0, ZERO)
-        t1 = max(R2 - x1 * x1 - y1 * y1, ZERO)
-        t2 = max(R2 - x2 * x2 - y2 * y2, ZERO)
-        t0 *= t0
-        t1 *= t1
-        t2 *= t2
-        t0 *= t0
-        t1 *= t1
-        t2 *= t2
-        sh = _i32(I4 + _i32(m & I4))
-        w = bw[q]
-        n = t0 * _g12_2(_i32(w & _N15), x0, y0)
-        n += t1 * _g12_2(_i32(_bl.srl32(w, sh) & _N15), x1, y1)
-        n += t2 * _g12_2(_bl.srl32(w, np.int32(12)), x2, y2)
-        nb[ob + uint64(q)] = amp * (S2 * n)
-        w = bw2[q]
-        n = t0 * _g12_2(_i32(w & _N15), x0, y0)
-        n += t1 * _g12_2(_i32(_bl.srl32(w, sh) & _N15), x1, y1)
-        n += t2 * _g12_2(_bl.srl32(w, np.int32(12)), x2, y2)
-        nb2[ob + uint64(q)] = amp * (S2 * n)
+        x1, y1, x2, y2, t0, t1, t2, sh = _s2_corners(x0, y0)
+        nb[ob + uint64(q)] = amp * _s2_sum(bw[q], x0, y0, x1, y1, x2, y2, t0, t1, t2, sh)
+        nb2[ob + uint64(q)] = amp * _s2_sum(bw2[q], x0, y0, x1, y1, x2, y2, t0, t1, t2, sh)
 
 
 @njit(nogil=True, **_OPTS64)  # no fast-math: yin, zin as in float64
